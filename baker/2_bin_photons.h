@@ -1,0 +1,29 @@
+// Stage 2: photon hits grouped per surface (the paper's "hits are binned per surface"). Only hits on a
+// surface's front side are kept for estimation: that side is the one the display mesh shows. Hits on back sides
+// are counted per surface. Arrays are structure-of-arrays in surface order: (u,v) [m] and flux [W].
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "baker/1_trace_photons.h"
+
+namespace pb {
+
+struct SurfaceBins {
+  std::vector<uint32_t> start;  // surface s owns entries [start[s], start[s+1])
+  std::vector<Point2> uv;       // chart position [m]
+  std::vector<Rgb> power;       // flux [W]
+  std::vector<uint64_t> backHits;  // per surface: hits on its back side, not estimated
+
+  size_t SurfaceCount() const { return start.size() - 1; }
+  uint64_t FrontHits(size_t s) const { return start[s + 1] - start[s]; }
+  std::span<const Point2> Uv(size_t s) const { return {uv.data() + start[s], start[s + 1] - start[s]}; }
+  std::span<const Rgb> Power(size_t s) const { return {power.data() + start[s], start[s + 1] - start[s]}; }
+};
+
+// Stable: within a surface, hits keep their trace order, so sums over them are reproducible.
+SurfaceBins BinPhotons(const Scene& scene, const std::vector<PhotonHit>& hits, size_t surfaceCount);
+
+}  // namespace pb

@@ -1,0 +1,104 @@
+#include "baker/5_write_ply.h"
+
+#include <fmt/format.h>
+
+#include <bit>
+#include <cstring>
+
+#include "baker/atomic_file.h"
+#include "baker/tone_map.h"
+
+namespace pb {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "binary PLY is written as raw little-endian memory");
+
+std::string Header(const BakedMesh& baked, bool ascii, float exposure) {
+  std::string h = "ply\n";
+  h += ascii ? "format ascii 1.0\n" : "format binary_little_endian 1.0\n";
+  h += "comment photonbake: irradiance [W/m^2], radiance [W/(m^2 sr)] = Le + Kd*H/pi, quality = luminance of H\n";
+  h += fmt::format("comment red/green/blue: sRGB of Reinhard(exposure * radiance), exposure {:.6g}\n", exposure);
+  h += fmt::format("element vertex {}\n", baked.mesh.VertexCount());
+  for (const char* p : {"x", "y", "z", "nx", "ny", "nz"}) h += fmt::format("property float {}\n", p);
+  for (const char* p : {"red", "green", "blue"}) h += fmt::format("property uchar {}\n", p);
+  for (const char* p : {"irradiance_r", "irradiance_g", "irradiance_b", "radiance_r", "radiance_g", "radiance_b",
+                        "quality"})
+    h += fmt::format("property float {}\n", p);
+  h += fmt::format("element face {}\n", baked.mesh.faces.size());
+  h += "property list uchar int vertex_indices\nend_header\n";
+  return h;
+}
+
+// One vertex's properties in header order.
+struct VertexRecord {
+  float position[3], normal[3];
+  std::array<uint8_t, 3> colour;
+  float irradiance[3], radiance[3], quality;
+};
+
+VertexRecord RecordOf(const BakedMesh& baked, size_t v, float exposure) {
+  const Point3 p = baked.mesh.positions[v];
+  const Normal3 n = baked.mesh.normals[v];
+  const Rgb H = baked.irradiance[v], L = baked.Radiance(v);
+  return {{p.x, p.y, p.z}, {n.x, n.y, n.z}, ToneMap(L, exposure), {H.r, H.g, H.b}, {L.r, L.g, L.b}, Luminance(H)};
+}
+
+template <typename T>
+void Put(std::string& out, const T& value) {
+  out.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
+void AppendBinary(std::string& out, const VertexRecord& r) {
+  for (float f : r.position) Put(out, f);
+  for (float f : r.normal) Put(out, f);
+  for (uint8_t c : r.colour) Put(out, c);
+  for (float f : r.irradiance) Put(out, f);
+  for (float f : r.radiance) Put(out, f);
+  Put(out, r.quality);
+}
+
+void AppendAscii(std::string& out, const VertexRecord& r) {
+  out += fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}\n", r.position[0], r.position[1], r.position[2],
+                     r.normal[0], r.normal[1], r.normal[2], r.colour[0], r.colour[1], r.colour[2], r.irradiance[0],
+                     r.irradiance[1], r.irradiance[2], r.radiance[0], r.radiance[1], r.radiance[2], r.quality);
+}
+
+std::string Body(const BakedMesh& baked, bool ascii, float exposure) {
+  std::string out;
+  out.reserve(baked.mesh.VertexCount() * 49 + baked.mesh.faces.size() * 13);
+  for (size_t v = 0; v < baked.mesh.VertexCount(); ++v) {
+    const VertexRecord r = RecordOf(baked, v, exposure);
+    ascii ? AppendAscii(out, r) : AppendBinary(out, r);
+  }
+  for (const auto& f : baked.mesh.faces) {
+    if (ascii) {
+      out += fmt::format("3 {} {} {}\n", f[0], f[1], f[2]);
+    } else {
+      Put(out, uint8_t(3));
+      for (uint32_t i : f) Put(out, int32_t(i));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+float WritePly(const std::string& path, const BakedMesh& baked, const PlyOptions& options) {
+  float exposure = 1.0f;
+  if (options.exposure) {
+    exposure = *options.exposure;
+  } else {
+    std::vector<Rgb> radiance(baked.mesh.VertexCount());
+    for (size_t v = 0; v < radiance.size(); ++v) radiance[v] = baked.Radiance(v);
+    exposure = AutoExposure(radiance);
+  }
+  const std::string header = Header(baked, options.ascii, exposure);
+  const std::string body = Body(baked, options.ascii, exposure);
+  WriteFileAtomically(path, [&](std::ostream& out) {
+    out.write(header.data(), std::streamsize(header.size()));
+    out.write(body.data(), std::streamsize(body.size()));
+  });
+  return exposure;
+}
+
+}  // namespace pb

@@ -1,0 +1,22 @@
+// The bake's result: the split display mesh with, per vertex, irradiance H [W/m^2], diffuse reflectance R
+// (Kd, dimensionless) and emitted radiance Le [W/(m^2 sr)]. H and R are stored apart, as the paper advises;
+// the outgoing radiance is derived: L = Le + R H / pi [W/(m^2 sr)].
+#pragma once
+
+#include <vector>
+
+#include "mesh/color.h"
+#include "mesh/split_mesh.h"
+
+namespace pb {
+
+struct BakedMesh {
+  SplitMesh mesh;
+  std::vector<Rgb> irradiance;  // H [W/m^2]
+  std::vector<Rgb> albedo;      // R
+  std::vector<Rgb> emitted;     // Le [W/(m^2 sr)], non-zero on lights' front sides
+
+  Rgb Radiance(size_t vertex) const { return emitted[vertex] + albedo[vertex] * irradiance[vertex] * kInvPi; }
+};
+
+}  // namespace pb

@@ -1,0 +1,29 @@
+// Options of one bake, as the user gives them. Units: lengths in metres, counts dimensionless.
+// Each field states its range and a typical value; tools/bake.cpp shows the same text in --help.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "estimators/kernels.h"
+
+namespace pb {
+
+struct BakeOptions {
+  std::string scenePath;   // OBJ file; its MTL files are found relative to it.
+  std::string outputPath;  // PLY file, written atomically (temporary file, then rename).
+  std::string reportPath;  // JSON report; empty for none.
+  Kernel kernel = Kernel::kEpanechnikov;
+  float bandwidth = 0.05f;        // h [m]: kernel support radius; range (0, inf), typical 0.02-0.1 for a room.
+  uint64_t photons = 1'000'000;   // photons emitted over all lights; range [1, 2^40], typical 1e6-1e7.
+  uint64_t seed = 1;              // any value; the same seed gives the same bytes for any thread count.
+  unsigned threads = 0;           // worker threads; 0 = all cores.
+  float scale = 1.0f;             // metres per scene unit; (0, inf), typical 1 or 0.001 (millimetres).
+  bool asciiPly = false;          // ASCII instead of binary little-endian PLY.
+  std::optional<float> exposure;  // display exposure multiplier on radiance; unset = automatic.
+  uint32_t maxBounces = 10'000;   // safety cap on path length; photons cut there are counted.
+  bool quiet = false;             // no progress or summary on stderr.
+};
+
+}  // namespace pb

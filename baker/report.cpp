@@ -1,0 +1,119 @@
+#include "baker/report.h"
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "baker/atomic_file.h"
+
+namespace pb {
+namespace {
+
+nlohmann::json Json(Rgb c) { return {c.r, c.g, c.b}; }
+nlohmann::json Json(const RgbSum& c) { return {c.r, c.g, c.b}; }
+std::string Text(Rgb c) { return fmt::format("({:.4g}, {:.4g}, {:.4g})", c.r, c.g, c.b); }
+
+nlohmann::json OptionsJson(const BakeOptions& o) {
+  return {{"scene", o.scenePath},        {"output", o.outputPath}, {"kernel", KernelName(o.kernel)},
+          {"h_m", o.bandwidth},          {"photons", o.photons},   {"seed", o.seed},
+          {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly}};
+}
+
+nlohmann::json TraceJson(const TraceStats& t) {
+  return {{"emitted", t.emitted},
+          {"hits_stored", t.hits},
+          {"absorbed", t.absorbed},
+          {"escaped", t.escaped},
+          {"truncated", t.truncated},
+          {"power_emitted_W", Json(t.powerEmitted)},
+          {"power_absorbed_W", Json(t.powerAbsorbed)},
+          {"power_escaped_W", Json(t.powerEscaped)}};
+}
+
+}  // namespace
+
+double BakeReport::TotalSeconds() const {
+  double total = 0;
+  for (const auto& [name, seconds] : stageSeconds) total += seconds;
+  return total;
+}
+
+std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<AreaLight>& lights,
+                                        const std::vector<uint64_t>& photonsPerLight) {
+  std::vector<LightReport> out;
+  for (size_t l = 0; l < lights.size(); ++l) {
+    const std::string& name = scene.materials[scene.triangles[lights[l].triangles.front()].material].name;
+    out.push_back({lights[l].surface, name, lights[l].area, lights[l].Power(), photonsPerLight[l]});
+  }
+  return out;
+}
+
+std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins) {
+  std::vector<SurfaceReport> out;
+  for (size_t s = 0; s < surfaces.surfaces.size(); ++s) {
+    const Surface& surface = surfaces.surfaces[s];
+    RgbSum flux;
+    for (const Rgb& p : bins.Power(s)) flux.Add(p);
+    out.push_back({scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.backHits[s],
+                   flux.ToRgb() / float(surface.area)});
+  }
+  return out;
+}
+
+void PrintSummary(const BakeReport& r, const Log& log) {
+  if (log.Quiet()) return;
+  const TraceStats& t = r.trace;
+  std::string s = fmt::format("\nphotonbake summary: {} -> {}\n", r.options.scenePath, r.options.outputPath);
+  s += fmt::format("  scene     {} triangles ({} zero-area skipped), {} surfaces, {} lights\n", r.triangles,
+                   r.degenerateTrianglesSkipped, r.surfaces.size(), r.lights.size());
+  for (const LightReport& l : r.lights)
+    s += fmt::format("  light     {:<20} area {:.4g} m^2  Phi {} W  {} photons\n", l.material, l.area, Text(l.power),
+                     l.photons);
+  s += fmt::format("  photons   {} emitted, {} hits stored, {} absorbed, {} escaped, {} truncated\n", t.emitted,
+                   t.hits, t.absorbed, t.escaped, t.truncated);
+  const double balance = t.powerEmitted.Mean() > 0
+                             ? (t.powerAbsorbed.Mean() + t.powerEscaped.Mean()) / t.powerEmitted.Mean() - 1.0
+                             : 0.0;
+  s += fmt::format("  flux      emitted {:.5g} W = absorbed {:.5g} W + escaped {:.5g} W  (balance {:+.3f}%)\n",
+                   t.powerEmitted.Mean(), t.powerAbsorbed.Mean(), t.powerEscaped.Mean(), 100.0 * balance);
+  s += fmt::format("  {:>4}  {:<20} {:>9} {:>11} {:>9} {:>12}\n", "surf", "material", "area m^2", "front hits",
+                   "back hits", "mean H W/m^2");
+  for (size_t i = 0; i < r.surfaces.size(); ++i) {
+    const SurfaceReport& sr = r.surfaces[i];
+    s += fmt::format("  {:>4}  {:<20} {:>9.4f} {:>11} {:>9} {:>12.4g}\n", i, sr.material, sr.area, sr.frontHits,
+                     sr.backHits, Luminance(sr.meanIrradiance));
+  }
+  s += "  seconds  ";
+  for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
+  s += fmt::format(" total {:.3f} ({} threads)\n", r.TotalSeconds(), r.threads);
+  for (const auto& [effect, status] : r.effects) s += fmt::format("  effect    {}: {}\n", effect, status);
+  s += fmt::format("  output    {}: {} vertices, {} triangles, display exposure {:.4g}\n", r.options.outputPath,
+                   r.vertices, r.faces, r.exposure);
+  log.Info(s);
+}
+
+void WriteReportJson(const std::string& path, const BakeReport& r) {
+  nlohmann::json j;
+  j["options"] = OptionsJson(r.options);
+  j["threads"] = r.threads;
+  j["scene"] = {{"triangles", r.triangles},
+                {"zero_area_triangles_skipped", r.degenerateTrianglesSkipped},
+                {"surfaces", r.surfaces.size()}};
+  for (const LightReport& l : r.lights)
+    j["lights"].push_back({{"surface", l.surface}, {"material", l.material}, {"area_m2", l.area},
+                           {"power_W", Json(l.power)}, {"photons", l.photons}});
+  j["photons"] = TraceJson(r.trace);
+  for (const SurfaceReport& s : r.surfaces)
+    j["surfaces"].push_back({{"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
+                             {"back_hits", s.backHits}, {"mean_irradiance_W_m2", Json(s.meanIrradiance)}});
+  for (const auto& [name, seconds] : r.stageSeconds) j["seconds"][name] = seconds;
+  j["seconds"]["total"] = r.TotalSeconds();
+  for (const auto& [effect, status] : r.effects) j["effects"][effect] = status;
+  j["output"] = {{"path", r.options.outputPath}, {"vertices", r.vertices}, {"faces", r.faces},
+                 {"display_exposure", r.exposure}};
+  j["warnings"] = r.warnings;
+  const std::string text = j.dump(2) + "\n";
+  WriteFileAtomically(path, [&](std::ostream& out) { out << text; });
+}
+
+}  // namespace pb

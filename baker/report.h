@@ -1,0 +1,54 @@
+// What a bake did, in figures: photon counts, flux balance [W], hits per surface, seconds per stage, the
+// transport effects simulated, and the output. Printed as a summary on stderr and written as JSON (--report).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "baker/1_trace_photons.h"
+#include "baker/2_bin_photons.h"
+#include "baker/baked_mesh.h"
+#include "baker/options.h"
+#include "mesh/lights.h"
+
+namespace pb {
+
+struct LightReport {
+  uint32_t surface = 0;
+  std::string material;
+  double area = 0;  // [m^2]
+  Rgb power;        // Phi [W]
+  uint64_t photons = 0;
+};
+
+struct SurfaceReport {
+  std::string material;
+  double area = 0;  // [m^2]
+  uint64_t frontHits = 0, backHits = 0;
+  Rgb meanIrradiance;  // front-side flux / area [W/m^2], independent of the estimator
+};
+
+struct BakeReport {
+  BakeOptions options;
+  unsigned threads = 0;
+  size_t triangles = 0, degenerateTrianglesSkipped = 0, vertices = 0, faces = 0;
+  std::vector<LightReport> lights;
+  std::vector<SurfaceReport> surfaces;
+  TraceStats trace;
+  std::vector<std::pair<std::string, double>> stageSeconds;  // in pipeline order
+  std::vector<std::pair<std::string, std::string>> effects;  // effect -> "simulated" or "skipped: why"
+  std::vector<std::string> warnings;
+  float exposure = 1;
+
+  double TotalSeconds() const;
+};
+
+std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<AreaLight>& lights,
+                                        const std::vector<uint64_t>& photonsPerLight);
+std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins);
+
+void PrintSummary(const BakeReport& report, const Log& log);
+void WriteReportJson(const std::string& path, const BakeReport& report);
+
+}  // namespace pb

@@ -1,0 +1,37 @@
+// Times pipeline stages in wall-clock seconds and records them, in order, as (name, seconds) pairs.
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace pb {
+
+class StageClock {
+ public:
+  explicit StageClock(std::vector<std::pair<std::string, double>>& record) : record_(record) {}
+
+  // Runs `stage` and records its time under `name`; returns what it returns.
+  template <typename F>
+  auto Time(const std::string& name, F&& stage) {
+    const auto start = std::chrono::steady_clock::now();
+    auto finish = [&] {
+      record_.emplace_back(name, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    };
+    if constexpr (std::is_void_v<decltype(stage())>) {
+      stage();
+      finish();
+    } else {
+      auto result = stage();
+      finish();
+      return result;
+    }
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>>& record_;
+};
+
+}  // namespace pb

@@ -1,0 +1,32 @@
+#include "baker/tone_map.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pb {
+namespace {
+
+float EncodeSrgb(float linear) {
+  return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+uint8_t ToByte(float x) {
+  const float display = EncodeSrgb(x / (1.0f + x));
+  return uint8_t(std::clamp(std::lround(display * 255.0f), 0l, 255l));
+}
+
+}  // namespace
+
+float AutoExposure(std::span<const Rgb> radiance) {
+  if (radiance.empty()) return 1.0f;
+  double logSum = 0;
+  for (const Rgb& L : radiance) logSum += std::log(1e-6 + std::max(0.0f, Luminance(L)));
+  return float(0.18 / std::exp(logSum / double(radiance.size())));
+}
+
+std::array<uint8_t, 3> ToneMap(Rgb radiance, float exposure) {
+  const Rgb x = radiance * exposure;
+  return {ToByte(std::max(0.0f, x.r)), ToByte(std::max(0.0f, x.g)), ToByte(std::max(0.0f, x.b))};
+}
+
+}  // namespace pb

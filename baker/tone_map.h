@@ -1,0 +1,20 @@
+// Display colour for the PLY's uchar red/green/blue: radiance L [W/(m^2 sr)] times an exposure, compressed
+// per channel by Reinhard's x / (1 + x), then encoded with the sRGB transfer curve to 8 bits.
+// Automatic exposure (Reinhard et al. 2002, "Photographic Tone Reproduction") maps the log-average luminance
+// of the vertices to the key 0.18. The float properties of the PLY are never tone-mapped.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "mesh/color.h"
+
+namespace pb {
+
+// 0.18 / exp(mean ln(1e-6 + Y)) over the given radiances; 1 when there are none.
+float AutoExposure(std::span<const Rgb> radiance);
+
+std::array<uint8_t, 3> ToneMap(Rgb radiance, float exposure);
+
+}  // namespace pb

@@ -1,0 +1,46 @@
+#include "estimators/emission.h"
+
+#include "estimators/warps.h"
+#include "mesh/errors.h"
+
+namespace pb {
+
+EmissionSample SampleEmission(const Scene& scene, const AreaLight& light, Rng& rng) {
+  const auto pick = SampleDiscreteCdf(light.triangleCdf, rng.Uniform());
+  PB_CHECK(pick.has_value(), "a light has at least one triangle");
+  const uint32_t triangle = light.triangles[pick->index];
+  const Barycentrics b = SampleUniformTriangle(rng.Uniform2());
+  const Normal3 n = scene.FrontNormal(triangle);
+  const DirectionSample d = SampleCosineHemisphere(rng.Uniform2());
+  return {scene.PointAt(triangle, b.b1, b.b2), n, Frame::FromNormal(n).ToWorld(d.direction), triangle,
+          float(1.0 / light.area), d.pdf};
+}
+
+}  // namespace pb
+
+#include <algorithm>
+#include <numeric>
+
+namespace pb {
+
+std::vector<uint64_t> AllocatePhotons(const std::vector<AreaLight>& lights, uint64_t n) {
+  double total = 0;
+  for (const AreaLight& l : lights) total += l.Power().Mean();
+  std::vector<uint64_t> count(lights.size(), 0);
+  if (lights.empty() || !(total > 0)) return count;
+  std::vector<double> remainder(lights.size());
+  uint64_t assigned = 0;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const double exact = double(n) * lights[i].Power().Mean() / total;
+    count[i] = uint64_t(exact);
+    remainder[i] = exact - double(count[i]);
+    assigned += count[i];
+  }
+  std::vector<size_t> order(lights.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return remainder[a] > remainder[b]; });
+  for (size_t k = 0; assigned < n; k = (k + 1) % order.size(), ++assigned) ++count[order[k]];
+  return count;
+}
+
+}  // namespace pb

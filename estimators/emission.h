@@ -1,0 +1,36 @@
+// Photon emission from an area light (Shirley et al. 1995, "Global Illumination via Density Estimation": each
+// light emits according to its own characteristic). The position is uniform over the light's area
+// (pdf 1/A per unit area [1/m^2]) and the direction is cosine-distributed about the front normal
+// (pdf cos(theta)/pi [1/sr]). With N photons the light's flux Phi = pi Ke A [W] splits into N equal parts:
+// Ke cos / (N pdfArea pdfDirection) = Phi / N.
+#pragma once
+
+#include "estimators/rng.h"
+#include "mesh/lights.h"
+#include "mesh/scene.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace pb {
+
+struct EmissionSample {
+  Point3 position;     // on the light [m]
+  Normal3 normal;      // the light's front normal there
+  Vector3 direction;   // unit, world, into the front hemisphere
+  uint32_t triangle = 0;
+  float pdfArea = 0;       // [1/m^2]
+  float pdfDirection = 0;  // [1/sr]
+};
+
+EmissionSample SampleEmission(const Scene& scene, const AreaLight& light, Rng& rng);
+
+}  // namespace pb
+
+namespace pb {
+
+// Photons per light, N_i = n Phi_i / Phi (Shirley et al. 1995), with Phi the mean over RGB channels.
+// Rounded by largest remainder, so the counts sum to exactly n; ties go to the lower index.
+std::vector<uint64_t> AllocatePhotons(const std::vector<AreaLight>& lights, uint64_t n);
+
+}  // namespace pb

@@ -1,0 +1,72 @@
+#include "estimators/kernel_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesh/errors.h"
+
+namespace pb {
+namespace {
+// Cap on grid cells per photon, so that a tiny h on a large, sparsely hit surface cannot exhaust memory;
+// cells then grow beyond h and each query scans more of them.
+constexpr double kMaxCellsPerPhoton = 4.0;
+constexpr double kMinCellBudget = 1 << 12;
+}  // namespace
+
+KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h, Kernel kernel)
+    : h_(h), kernel_(kernel) {
+  PB_CHECK(h > 0 && std::isfinite(h), "bandwidth is positive and finite");
+  PB_CHECK(uv.size() == power.size(), "one flux per photon");
+  if (uv.empty()) return;
+  Bounds2 bounds;
+  for (const Point2& p : uv) bounds.Extend(p);
+  const double su = double(bounds.hi.u) - bounds.lo.u, sv = double(bounds.hi.v) - bounds.lo.v;
+  double cell = h;
+  const double budget = std::max(kMinCellBudget, kMaxCellsPerPhoton * double(uv.size()));
+  while ((su / cell + 1) * (sv / cell + 1) > budget) cell *= 2;
+  cellSize_ = float(cell);
+  lo_ = bounds.lo;
+  nu_ = int(su / cell) + 1;
+  nv_ = int(sv / cell) + 1;
+
+  // Counting sort by cell: stable, so photons within a cell stay in input order.
+  std::vector<uint32_t> cellOf(uv.size());
+  cellStart_.assign(size_t(nu_) * nv_ + 1, 0);
+  for (size_t i = 0; i < uv.size(); ++i) {
+    cellOf[i] = uint32_t(CellIndex(uv[i].v, lo_.v, nv_) * nu_ + CellIndex(uv[i].u, lo_.u, nu_));
+    ++cellStart_[cellOf[i] + 1];
+  }
+  for (size_t c = 1; c < cellStart_.size(); ++c) cellStart_[c] += cellStart_[c - 1];
+  std::vector<uint32_t> cursor(cellStart_.begin(), cellStart_.end() - 1);
+  uv_.resize(uv.size());
+  power_.resize(uv.size());
+  for (size_t i = 0; i < uv.size(); ++i) {
+    const uint32_t slot = cursor[cellOf[i]]++;
+    uv_[slot] = uv[i];
+    power_[slot] = power[i];
+  }
+}
+
+int KernelEstimator::CellIndex(float coordinate, float lo, int count) const {
+  return std::clamp(int(std::floor((coordinate - lo) / cellSize_)), 0, count - 1);
+}
+
+Rgb KernelEstimator::Estimate(Point2 x) const {
+  if (uv_.empty()) return {};
+  const int u0 = int(std::floor((x.u - h_ - lo_.u) / cellSize_)), u1 = int(std::floor((x.u + h_ - lo_.u) / cellSize_));
+  const int v0 = int(std::floor((x.v - h_ - lo_.v) / cellSize_)), v1 = int(std::floor((x.v + h_ - lo_.v) / cellSize_));
+  const float h2 = h_ * h_;
+  RgbSum sum;
+  for (int cv = std::max(v0, 0); cv <= std::min(v1, nv_ - 1); ++cv) {
+    for (int cu = std::max(u0, 0); cu <= std::min(u1, nu_ - 1); ++cu) {
+      const size_t c = size_t(cv) * nu_ + cu;
+      for (uint32_t i = cellStart_[c]; i < cellStart_[c + 1]; ++i) {
+        const float r2 = LengthSquared(uv_[i] - x);
+        if (r2 < h2) sum.Add(power_[i], KernelDensity(kernel_, r2, h_));
+      }
+    }
+  }
+  return sum.ToRgb();
+}
+
+}  // namespace pb

@@ -1,0 +1,71 @@
+#include "estimators/warps.h"
+
+#include <algorithm>
+
+namespace pb {
+
+Point2 SampleUniformDiskConcentric(Point2 u) {
+  const float a = 2.0f * u.u - 1.0f, b = 2.0f * u.v - 1.0f;
+  if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
+  float r, phi;
+  if (std::fabs(a) > std::fabs(b)) {
+    r = a;
+    phi = (kPi / 4.0f) * (b / a);
+  } else {
+    r = b;
+    phi = (kPi / 2.0f) - (kPi / 4.0f) * (a / b);
+  }
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+Point2 InvertUniformDiskConcentric(Point2 p) {
+  const float r = std::sqrt(p.u * p.u + p.v * p.v);
+  if (r == 0.0f) return {0.5f, 0.5f};
+  float phi = std::atan2(p.v, p.u);  // (-pi, pi]
+  if (phi < -kPi / 4.0f) phi += 2.0f * kPi;  // [-pi/4, 7pi/4)
+  float a, b;
+  if (phi < kPi / 4.0f) {  // right wedge: r = a
+    a = r;
+    b = phi * a / (kPi / 4.0f);
+  } else if (phi < 3.0f * kPi / 4.0f) {  // top wedge: r = b
+    b = r;
+    a = -(phi - kPi / 2.0f) * b / (kPi / 4.0f);
+  } else if (phi < 5.0f * kPi / 4.0f) {  // left wedge: r = -a
+    a = -r;
+    b = (phi - kPi) * a / (kPi / 4.0f);
+  } else {  // bottom wedge: r = -b
+    b = -r;
+    a = -(phi - 3.0f * kPi / 2.0f) * b / (kPi / 4.0f);
+  }
+  return {std::clamp((a + 1.0f) * 0.5f, 0.0f, 1.0f), std::clamp((b + 1.0f) * 0.5f, 0.0f, 1.0f)};
+}
+
+DirectionSample SampleCosineHemisphere(Point2 u) {
+  const Point2 d = SampleUniformDiskConcentric(u);
+  const float z = std::sqrt(std::max(0.0f, 1.0f - d.u * d.u - d.v * d.v));
+  return {{d.u, d.v, z}, CosineHemispherePdf(z)};
+}
+
+Point2 InvertCosineHemisphere(Vector3 w) { return InvertUniformDiskConcentric({w.x, w.y}); }
+
+Barycentrics SampleUniformTriangle(Point2 u) {
+  const float s = std::sqrt(u.u);
+  return {s * (1.0f - u.v), s * u.v};
+}
+
+Point2 InvertUniformTriangle(Barycentrics b) {
+  const float s = b.b1 + b.b2;
+  return {s * s, s > 0 ? b.b2 / s : 0.0f};
+}
+
+std::optional<DiscreteSample> SampleDiscreteCdf(std::span<const double> cdf, float u) {
+  if (cdf.empty()) return std::nullopt;
+  const auto it = std::upper_bound(cdf.begin(), cdf.end(), double(u));
+  const auto index = uint32_t(std::min<ptrdiff_t>(it - cdf.begin(), ptrdiff_t(cdf.size()) - 1));
+  const double lo = index == 0 ? 0.0 : cdf[index - 1];
+  const double pmf = cdf[index] - lo;
+  const float remapped = pmf > 0 ? float((double(u) - lo) / pmf) : 0.0f;
+  return DiscreteSample{index, pmf, std::clamp(remapped, 0.0f, std::nextafter(1.0f, 0.0f))};
+}
+
+}  // namespace pb

@@ -1,0 +1,47 @@
+// Warps from the unit square [0,1)^2 to sampling domains, as Sample / Pdf / Invert sets (pbrt-v4 style).
+// Each pdf states its measure: disk and triangle pdfs are per unit area of the domain, hemisphere pdfs are per
+// unit solid angle [1/sr]. Directions are in a local frame whose z axis is the surface normal.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <span>
+
+#include "mesh/geometry.h"
+
+namespace pb {
+
+// Shirley & Chiu 1997, "A Low Distortion Map Between Disk and Square": concentric map onto the unit disk.
+// pdf = 1/pi per unit disk area.
+Point2 SampleUniformDiskConcentric(Point2 u);
+Point2 InvertUniformDiskConcentric(Point2 p);
+
+// Cosine-weighted hemisphere (Malley's method on the concentric disk): pdf = cos(theta)/pi [1/sr].
+struct DirectionSample {
+  Vector3 direction;  // unit, local frame, z >= 0
+  float pdf = 0;      // [1/sr]
+};
+DirectionSample SampleCosineHemisphere(Point2 u);
+inline float CosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0.0f; }
+Point2 InvertCosineHemisphere(Vector3 localDirection);
+
+// Uniform point on a triangle as barycentrics (b1, b2), point = (1-b1-b2) p0 + b1 p1 + b2 p2.
+// pdf = 1/A per unit triangle area. Invert maps the barycentrics back to the square.
+struct Barycentrics {
+  float b1 = 0, b2 = 0;
+};
+Barycentrics SampleUniformTriangle(Point2 u);
+Point2 InvertUniformTriangle(Barycentrics b);
+
+// Picks index i with probability (cdf[i] - cdf[i-1]) from a non-decreasing CDF whose last entry is 1.
+// Returns the index, its probability (pmf, dimensionless) and u rescaled to [0,1) within the chosen interval,
+// so one uniform number can drive two decisions. Empty when the CDF is empty.
+struct DiscreteSample {
+  uint32_t index = 0;
+  double pmf = 0;
+  float uRemapped = 0;
+};
+std::optional<DiscreteSample> SampleDiscreteCdf(std::span<const double> cdf, float u);
+
+}  // namespace pb

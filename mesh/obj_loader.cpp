@@ -1,0 +1,239 @@
+#include "mesh/obj_loader.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <unordered_map>
+
+#include "mesh/errors.h"
+
+namespace pb {
+namespace {
+
+// One line of an OBJ or MTL file, split into whitespace-separated tokens, with its location for messages.
+struct Line {
+  const std::string* file = nullptr;
+  int number = 0;
+  std::vector<std::string> tokens;
+
+  [[noreturn]] void Fail(const std::string& message) const { throw InputError(*file, number, message); }
+  std::string Warning(const std::string& message) const {
+    return *file + ":" + std::to_string(number) + ": warning: " + message;
+  }
+  const std::string& Keyword() const { return tokens[0]; }
+  void ExpectArguments(size_t atLeast, size_t atMost) const {
+    const size_t n = tokens.size() - 1;
+    if (n < atLeast || n > atMost)
+      Fail("'" + Keyword() + "' takes " +
+           (atLeast == atMost ? std::to_string(atLeast) : std::to_string(atLeast) + " to " + std::to_string(atMost)) +
+           " values, found " + std::to_string(n));
+  }
+  float Number(size_t i) const {
+    const std::string& t = tokens[i];
+    const char* begin = t.data() + (t.size() > 1 && t[0] == '+');  // from_chars refuses a leading '+'.
+    float value = 0;
+    const auto [end, ec] = std::from_chars(begin, t.data() + t.size(), value);
+    if (ec != std::errc() || end != t.data() + t.size()) Fail("malformed number '" + t + "' in '" + Keyword() + "'");
+    if (!std::isfinite(value)) Fail("non-finite number '" + t + "' in '" + Keyword() + "'");
+    return value;
+  }
+  // The rest of the line after the keyword, for names that may contain spaces.
+  std::string Rest() const {
+    std::string s;
+    for (size_t i = 1; i < tokens.size(); ++i) s += (i > 1 ? " " : "") + tokens[i];
+    return s;
+  }
+};
+
+// Reads a text file line by line, skipping blanks and comments.
+class LineReader {
+ public:
+  explicit LineReader(const std::string& path) : path_(path), in_(path) {}
+  bool IsOpen() const { return in_.is_open(); }
+  bool Next(Line& line) {
+    std::string text;
+    while (std::getline(in_, text)) {
+      ++number_;
+      if (const size_t hash = text.find('#'); hash != std::string::npos) text.resize(hash);
+      std::istringstream words(text);
+      line = Line{&path_, number_, {}};
+      for (std::string w; words >> w;) line.tokens.push_back(w);
+      if (!line.tokens.empty()) return true;
+    }
+    return false;
+  }
+
+ private:
+  std::string path_;
+  std::ifstream in_;
+  int number_ = 0;
+};
+
+std::string Directory(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+Rgb ReadRgb(const Line& line) {
+  line.ExpectArguments(1, 3);
+  const float r = line.Number(1);
+  if (line.tokens.size() == 2) return {r, r, r};  // "Kd 0.5" is grey, as in the MTL spec.
+  line.ExpectArguments(3, 3);
+  return {r, line.Number(2), line.Number(3)};
+}
+
+void CheckMaterial(const Material& m, const Line& where) {
+  auto inUnit = [](float c) { return c >= 0.0f && c <= 1.0f; };
+  if (!inUnit(m.albedo.r) || !inUnit(m.albedo.g) || !inUnit(m.albedo.b))
+    where.Fail("material '" + m.name + "': Kd must lie in [0, 1] per channel (energy conservation)");
+  if (m.emission.r < 0 || m.emission.g < 0 || m.emission.b < 0)
+    where.Fail("material '" + m.name + "': Ke must be non-negative");
+}
+
+// Parses an MTL file into `materials`, keyed by name in `byName`.
+void LoadMtl(const std::string& path, const Line& mtllibLine, std::vector<Material>& materials,
+             std::unordered_map<std::string, uint32_t>& byName, std::vector<std::string>& warnings) {
+  LineReader reader(path);
+  if (!reader.IsOpen()) mtllibLine.Fail("cannot open material library '" + path + "'");
+  int current = -1;  // index, not pointer: `materials` grows while we read.
+  Line currentStart;
+  auto finish = [&] {
+    if (current >= 0) CheckMaterial(materials[size_t(current)], currentStart);
+  };
+  for (Line line; reader.Next(line);) {
+    const std::string& k = line.Keyword();
+    if (k == "newmtl") {
+      finish();
+      line.ExpectArguments(1, 64);
+      const std::string name = line.Rest();
+      if (byName.count(name)) line.Fail("material '" + name + "' defined twice");
+      byName[name] = uint32_t(materials.size());
+      materials.push_back(Material{name, {}, {}});
+      current = int(materials.size()) - 1;
+      currentStart = line;
+      continue;
+    }
+    if (current < 0) line.Fail("'" + k + "' before any 'newmtl'");
+    if (k == "Kd") {
+      materials[size_t(current)].albedo = ReadRgb(line);
+    } else if (k == "Ke") {
+      materials[size_t(current)].emission = ReadRgb(line);
+    } else if (k == "Ka" || k == "Ks" || k == "Tf") {
+      ReadRgb(line);
+    } else if (k == "Ns" || k == "Ni" || k == "d" || k == "Tr") {
+      line.ExpectArguments(1, 1);
+      line.Number(1);
+    } else if (k == "illum") {
+      line.ExpectArguments(1, 1);
+      if (const float illum = line.Number(1); illum > 2)
+        warnings.push_back(line.Warning("illum " + line.tokens[1] + " (specular) is baked as diffuse Kd for now"));
+    } else if (k.rfind("map_", 0) == 0 || k == "bump" || k == "disp" || k == "refl") {
+      warnings.push_back(line.Warning("'" + k + "' is ignored (textures are not used yet)"));
+    } else {
+      line.Fail("unknown MTL statement '" + k + "'");
+    }
+  }
+  finish();
+}
+
+// Resolves one OBJ face corner "v", "v/t", "v//n" or "v/t/n" to a 0-based position index.
+uint32_t PositionIndex(const Line& line, const std::string& corner, size_t positionCount) {
+  const std::string first = corner.substr(0, corner.find('/'));
+  long index = 0;
+  const auto [end, ec] = std::from_chars(first.data(), first.data() + first.size(), index);
+  if (ec != std::errc() || end != first.data() + first.size() || index == 0)
+    line.Fail("malformed face index '" + corner + "'");
+  const long resolved = index > 0 ? index - 1 : long(positionCount) + index;
+  if (resolved < 0 || resolved >= long(positionCount))
+    line.Fail("face index " + first + " is out of range (" + std::to_string(positionCount) + " vertices so far)");
+  return uint32_t(resolved);
+}
+
+bool IsDegenerate(const Point3& a, const Point3& b, const Point3& c) {
+  // In double, so that slivers of aspect ratio up to ~1e9 are kept and only zero-area faces are dropped.
+  const double e1[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
+  const double e2[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
+  const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+               cz = e1[0] * e2[1] - e1[1] * e2[0];
+  const double twiceArea = std::sqrt(cx * cx + cy * cy + cz * cz);
+  const double longest2 = std::max({e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2],
+                                    e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]});
+  return !(twiceArea > 1e-18 * longest2) || twiceArea == 0.0;
+}
+
+class ObjParser {
+ public:
+  ObjParser(const std::string& path, const LoadOptions& options) : path_(path), options_(options) {
+    result_.scene.path = path;
+  }
+
+  LoadedScene Parse() {
+    if (!(options_.scale > 0.0f) || !std::isfinite(options_.scale))
+      throw InputError(path_, 0, "scale must be a finite number > 0");
+    LineReader reader(path_);
+    if (!reader.IsOpen()) throw InputError(path_, 0, "cannot open scene file");
+    for (Line line; reader.Next(line);) Statement(line);
+    if (result_.scene.triangles.empty()) throw InputError(path_, 0, "scene has no faces");
+    return std::move(result_);
+  }
+
+ private:
+  void Statement(const Line& line) {
+    const std::string& k = line.Keyword();
+    if (k == "v") {
+      line.ExpectArguments(3, 7);  // x y z [w] or x y z r g b (vertex colours, ignored).
+      const float s = options_.scale;
+      result_.scene.positions.push_back({line.Number(1) * s, line.Number(2) * s, line.Number(3) * s});
+    } else if (k == "vn" || k == "vt") {
+      line.ExpectArguments(k == "vn" ? 3 : 1, 3);
+      for (size_t i = 1; i < line.tokens.size(); ++i) line.Number(i);
+    } else if (k == "f") {
+      Face(line);
+    } else if (k == "usemtl") {
+      line.ExpectArguments(1, 64);
+      const auto it = materialByName_.find(line.Rest());
+      if (it == materialByName_.end()) line.Fail("unknown material '" + line.Rest() + "'");
+      currentMaterial_ = int(it->second);
+    } else if (k == "mtllib") {
+      line.ExpectArguments(1, 64);
+      LoadMtl(Directory(path_) + line.Rest(), line, result_.scene.materials, materialByName_, result_.warnings);
+    } else if (k == "o" || k == "g" || k == "s") {
+      // Object, group and smoothing names carry nothing the baker uses.
+    } else if (k == "l" || k == "p") {
+      result_.warnings.push_back(line.Warning("'" + k + "' (lines/points) is ignored"));
+    } else {
+      line.Fail("unknown OBJ statement '" + k + "'");
+    }
+  }
+
+  void Face(const Line& line) {
+    line.ExpectArguments(3, 1u << 16);
+    if (currentMaterial_ < 0) line.Fail("face before any 'usemtl'; every face needs a material");
+    Scene& scene = result_.scene;
+    std::vector<uint32_t> corners;
+    for (size_t i = 1; i < line.tokens.size(); ++i)
+      corners.push_back(PositionIndex(line, line.tokens[i], scene.positions.size()));
+    for (size_t i = 1; i + 1 < corners.size(); ++i) {  // fan triangulation
+      const Triangle t{{corners[0], corners[i], corners[i + 1]}, uint32_t(currentMaterial_), uint32_t(line.number)};
+      if (IsDegenerate(scene.positions[t.v[0]], scene.positions[t.v[1]], scene.positions[t.v[2]])) {
+        ++scene.degenerateTrianglesSkipped;
+        result_.warnings.push_back(line.Warning("zero-area triangle skipped"));
+        continue;
+      }
+      scene.triangles.push_back(t);
+    }
+  }
+
+  std::string path_;
+  LoadOptions options_;
+  LoadedScene result_;
+  std::unordered_map<std::string, uint32_t> materialByName_;
+  int currentMaterial_ = -1;
+};
+
+}  // namespace
+
+LoadedScene LoadObj(const std::string& path, const LoadOptions& options) { return ObjParser(path, options).Parse(); }
+
+}  // namespace pb

@@ -1,0 +1,33 @@
+// Loads a triangle Scene from Wavefront OBJ + MTL. Positions are multiplied by `scale` to give metres.
+//
+// Supported: v, vn, vt, f (any polygon, fan-triangulated; v, v/t, v//n, v/t/n; negative indices), o, g, s,
+// mtllib, usemtl; in MTL: newmtl, Kd, Ke, Ka, Ks, Ns, Ni, d, Tr, Tf, illum, and map_* (warned, not used yet).
+// Lines and points (l, p) are ignored with a warning. Anything else is an InputError.
+//
+// Why not tinyobjloader: it reads "v 1 2 abc" as (1, 2, 0), accepts NaN coordinates and reports no line for
+// most faults. A baker must refuse such input and name file:line, so this strict parser reads the subset above.
+//
+// Errors (InputError, "file:line: error: ..."): a missing OBJ or MTL file, a malformed number or index, a
+// non-finite coordinate, an index out of range, an unknown material, a face before any usemtl, Kd outside
+// [0, 1], a negative Ke. Zero-area triangles are skipped and counted in Scene::degenerateTrianglesSkipped.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mesh/scene.h"
+
+namespace pb {
+
+struct LoadOptions {
+  float scale = 1.0f;  // metres per scene unit; range (0, inf), typical 1 or 0.001 for millimetres.
+};
+
+struct LoadedScene {
+  Scene scene;
+  std::vector<std::string> warnings;  // "file:line: warning: ..." lines, in file order.
+};
+
+LoadedScene LoadObj(const std::string& path, const LoadOptions& options = {});
+
+}  // namespace pb

@@ -1,0 +1,57 @@
+// A triangle scene as loaded from disk: vertex positions [m], triangles, and their materials.
+// Emission follows DESIGN.md: a face whose material has Ke emits radiance Ke [W/(m^2 sr)] one-sided along its
+// front normal (counter-clockwise winding), with a cosine distribution, so its flux is Phi = pi * Ke * A [W].
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mesh/color.h"
+#include "mesh/geometry.h"
+
+namespace pb {
+
+struct Material {
+  std::string name;
+  Rgb albedo;    // Kd: diffuse (Lambertian) reflectance, each channel in [0, 1].
+  Rgb emission;  // Ke: emitted radiance [W/(m^2 sr)], front side only.
+  bool IsEmissive() const { return !emission.IsBlack(); }
+};
+
+struct Triangle {
+  std::array<uint32_t, 3> v{};  // indices into Scene::positions, counter-clockwise seen from the front.
+  uint32_t material = 0;        // index into Scene::materials.
+  uint32_t sourceLine = 0;      // line of the OBJ 'f' statement it came from, for messages.
+};
+
+struct Scene {
+  std::string path;  // the OBJ file, for messages.
+  std::vector<Point3> positions;
+  std::vector<Triangle> triangles;
+  std::vector<Material> materials;
+  uint32_t degenerateTrianglesSkipped = 0;  // zero-area faces dropped at load time.
+
+  Point3 Corner(uint32_t triangle, int k) const { return positions[triangles[triangle].v[k]]; }
+  // (p1 - p0) x (p2 - p0): points to the front side, length = 2 * area [m^2].
+  Vector3 AreaVector(uint32_t triangle) const {
+    const Point3 p0 = Corner(triangle, 0);
+    return Cross(Corner(triangle, 1) - p0, Corner(triangle, 2) - p0);
+  }
+  float Area(uint32_t triangle) const { return 0.5f * Length(AreaVector(triangle)); }
+  Normal3 FrontNormal(uint32_t triangle) const { return NormalFrom(AreaVector(triangle)); }
+  // The point with barycentrics (1 - b1 - b2, b1, b2), Embree's convention.
+  Point3 PointAt(uint32_t triangle, float b1, float b2) const {
+    const Point3 p0 = Corner(triangle, 0);
+    return p0 + (Corner(triangle, 1) - p0) * b1 + (Corner(triangle, 2) - p0) * b2;
+  }
+  const Material& MaterialOf(uint32_t triangle) const { return materials[triangles[triangle].material]; }
+  Bounds3 Bounds() const {
+    Bounds3 b;
+    for (const Point3& p : positions) b.Extend(p);
+    return b;
+  }
+};
+
+}  // namespace pb

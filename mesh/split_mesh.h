@@ -1,0 +1,28 @@
+// The display mesh: the scene's triangles with vertices split where surfaces meet, because irradiance and
+// albedo are discontinuous there. Every vertex belongs to exactly one surface and carries that surface's front
+// normal and its chart position (u,v) [m]. Positions are in metres.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "mesh/geometry.h"
+#include "mesh/scene.h"
+#include "mesh/surfaces.h"
+
+namespace pb {
+
+struct SplitMesh {
+  std::vector<Point3> positions;
+  std::vector<Normal3> normals;
+  std::vector<Point2> uv;             // in the chart of `surface[i]` [m]
+  std::vector<uint32_t> surface;      // owning surface of each vertex
+  std::vector<std::array<uint32_t, 3>> faces;  // counter-clockwise seen from the front
+  size_t VertexCount() const { return positions.size(); }
+};
+
+// Vertices are ordered by surface, then by first use; faces by surface, then by scene order.
+SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces);
+
+}  // namespace pb

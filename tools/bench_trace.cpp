@@ -1,0 +1,105 @@
+// Photon-tracing throughput against the raw Embree ceiling on the same scene and thread count.
+//   BM_RawEmbreeWalk: a diffuse random walk that only calls rtcIntersect1 (through RayScene) and picks cosine
+//     directions: no storage, no flux, no roulette bookkeeping. This is the ray rate the tracer can approach.
+//   BM_TracePhotons:  the real stage 1 (TracePhotons), storing every hit.
+// Both report rays/s (Embree calls per second); their ratio is the tracer's efficiency (target >= 0.8).
+// Usage: bench_trace [scene.obj] [--benchmark_filter=...]; the default scene is data/box/box.obj.
+#include <benchmark/benchmark.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <optional>
+
+#include "baker/1_trace_photons.h"
+#include "baker/threads.h"
+#include "estimators/emission.h"
+#include "estimators/lambertian.h"
+#include "mesh/obj_loader.h"
+
+namespace {
+
+std::string g_scenePath = PB_SOURCE_DIR "/data/box/box.obj";
+
+struct Fixture {
+  pb::Scene scene;
+  pb::SurfaceSet surfaces;
+  std::vector<pb::AreaLight> lights;
+  std::optional<pb::RayScene> rays;
+  Fixture()
+      : scene(pb::LoadObj(g_scenePath).scene), surfaces(pb::BuildSurfaces(scene)),
+        lights(pb::CollectLights(scene, surfaces)) {
+    rays.emplace(scene);
+  }
+  static const Fixture& Get() {
+    static const Fixture f;
+    return f;
+  }
+};
+
+constexpr uint64_t kPhotons = 1 << 20;
+constexpr uint64_t kBlock = 4096;
+
+// The same walk as the tracer (emit, bounce with roulette on Kd), but nothing is stored or tallied.
+uint64_t RawWalk(const Fixture& f, uint64_t first, uint64_t count) {
+  uint64_t rays = 0;
+  for (uint64_t i = first; i < first + count; ++i) {
+    pb::Rng rng(7, i);
+    const pb::EmissionSample e = pb::SampleEmission(f.scene, f.lights[i % f.lights.size()], rng);
+    pb::Point3 origin = f.rays->SpawnPoint(e.position, e.normal);
+    pb::Vector3 direction = e.direction;
+    for (;;) {
+      ++rays;
+      const auto hit = f.rays->Intersect(origin, direction);
+      if (!hit) break;
+      const pb::Normal3 n = f.scene.FrontNormal(hit->triangle);
+      const pb::Normal3 side = pb::Dot(direction, n) < 0 ? n : -n;
+      if (rng.Uniform() >= f.scene.MaterialOf(hit->triangle).albedo.Max()) break;
+      direction = pb::SampleLambertian({1, 1, 1}, side, rng.Uniform2()).wi;
+      origin = f.rays->SpawnPoint(f.scene.PointAt(hit->triangle, hit->b1, hit->b2), side);
+    }
+  }
+  return rays;
+}
+
+void BM_RawEmbreeWalk(benchmark::State& state) {
+  const Fixture& f = Fixture::Get();
+  const pb::ThreadScope threads(unsigned(state.range(0)));
+  uint64_t rays = 0;
+  for (auto _ : state) {
+    std::atomic<uint64_t> total{0};
+    tbb::parallel_for(tbb::blocked_range<uint64_t>(0, kPhotons / kBlock, 1), [&](const auto& r) {
+      for (uint64_t b = r.begin(); b != r.end(); ++b) total += RawWalk(f, b * kBlock, kBlock);
+    });
+    rays += total;
+  }
+  state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+}
+
+void BM_TracePhotons(benchmark::State& state) {
+  const Fixture& f = Fixture::Get();
+  const pb::ThreadScope threads(unsigned(state.range(0)));
+  const pb::Log quiet(true);
+  uint64_t rays = 0, photons = 0;
+  for (auto _ : state) {
+    const pb::PhotonHits hits = pb::TracePhotons(f.scene, f.surfaces, f.lights, *f.rays, {kPhotons, 7, 10000}, quiet);
+    rays += hits.stats.hits + hits.stats.escaped;
+    photons += hits.stats.emitted;
+  }
+  state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+  state.counters["photons/s"] = benchmark::Counter(double(photons), benchmark::Counter::kIsRate);
+  state.counters["bytes/hit"] = double(sizeof(pb::PhotonHit));
+}
+
+BENCHMARK(BM_RawEmbreeWalk)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_TracePhotons)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (argc > 1) g_scenePath = argv[1];
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
