@@ -54,7 +54,8 @@ std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet
     const Surface& surface = surfaces.surfaces[s];
     RgbSum flux;
     for (const Rgb& p : bins.Power(s)) flux.Add(p);
-    out.push_back({scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.backHits[s],
+    const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
+    out.push_back({object, scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.backHits[s],
                    flux.ToRgb() / float(surface.area)});
   }
   return out;
@@ -76,12 +77,12 @@ void PrintSummary(const BakeReport& r, const Log& log) {
                              : 0.0;
   s += fmt::format("  flux      emitted {:.5g} W = absorbed {:.5g} W + escaped {:.5g} W  (balance {:+.3f}%)\n",
                    t.powerEmitted.Mean(), t.powerAbsorbed.Mean(), t.powerEscaped.Mean(), 100.0 * balance);
-  s += fmt::format("  {:>4}  {:<20} {:>9} {:>11} {:>9} {:>12}\n", "surf", "material", "area m^2", "front hits",
-                   "back hits", "mean H W/m^2");
+  s += fmt::format("  {:>4}  {:<22} {:<14} {:>9} {:>11} {:>9} {:>12}\n", "surf", "object", "material", "area m^2",
+                   "front hits", "back hits", "mean H W/m^2");
   for (size_t i = 0; i < r.surfaces.size(); ++i) {
     const SurfaceReport& sr = r.surfaces[i];
-    s += fmt::format("  {:>4}  {:<20} {:>9.4f} {:>11} {:>9} {:>12.4g}\n", i, sr.material, sr.area, sr.frontHits,
-                     sr.backHits, Luminance(sr.meanIrradiance));
+    s += fmt::format("  {:>4}  {:<22} {:<14} {:>9.4f} {:>11} {:>9} {:>12.4g}\n", i, sr.object, sr.material, sr.area,
+                     sr.frontHits, sr.backHits, Luminance(sr.meanIrradiance));
   }
   s += "  seconds  ";
   for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
@@ -104,7 +105,7 @@ void WriteReportJson(const std::string& path, const BakeReport& r) {
                            {"power_W", Json(l.power)}, {"photons", l.photons}});
   j["photons"] = TraceJson(r.trace);
   for (const SurfaceReport& s : r.surfaces)
-    j["surfaces"].push_back({{"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
+    j["surfaces"].push_back({{"object", s.object}, {"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
                              {"back_hits", s.backHits}, {"mean_irradiance_W_m2", Json(s.meanIrradiance)}});
   for (const auto& [name, seconds] : r.stageSeconds) j["seconds"][name] = seconds;
   j["seconds"]["total"] = r.TotalSeconds();

@@ -23,6 +23,7 @@ struct LightReport {
 };
 
 struct SurfaceReport {
+  std::string object;  // OBJ 'o'/'g' name of the surface's first triangle
   std::string material;
   double area = 0;  // [m^2]
   uint64_t frontHits = 0, backHits = 0;

@@ -166,6 +166,7 @@ class ObjParser {
  public:
   ObjParser(const std::string& path, const LoadOptions& options) : path_(path), options_(options) {
     result_.scene.path = path;
+    result_.scene.objectNames.push_back("");  // faces before any 'o'
   }
 
   LoadedScene Parse() {
@@ -198,8 +199,11 @@ class ObjParser {
     } else if (k == "mtllib") {
       line.ExpectArguments(1, 64);
       LoadMtl(Directory(path_) + line.Rest(), line, result_.scene.materials, materialByName_, result_.warnings);
-    } else if (k == "o" || k == "g" || k == "s") {
-      // Object, group and smoothing names carry nothing the baker uses.
+    } else if (k == "o" || k == "g") {
+      currentObject_ = uint32_t(result_.scene.objectNames.size());  // names surfaces in the report.
+      result_.scene.objectNames.push_back(line.tokens.size() > 1 ? line.Rest() : std::string());
+    } else if (k == "s") {
+      // Smoothing groups: every surface is flat-shaded from its chart normal.
     } else if (k == "l" || k == "p") {
       result_.warnings.push_back(line.Warning("'" + k + "' (lines/points) is ignored"));
     } else {
@@ -215,7 +219,8 @@ class ObjParser {
     for (size_t i = 1; i < line.tokens.size(); ++i)
       corners.push_back(PositionIndex(line, line.tokens[i], scene.positions.size()));
     for (size_t i = 1; i + 1 < corners.size(); ++i) {  // fan triangulation
-      const Triangle t{{corners[0], corners[i], corners[i + 1]}, uint32_t(currentMaterial_), uint32_t(line.number)};
+      const Triangle t{{corners[0], corners[i], corners[i + 1]}, uint32_t(currentMaterial_), currentObject_,
+                       uint32_t(line.number)};
       if (IsDegenerate(scene.positions[t.v[0]], scene.positions[t.v[1]], scene.positions[t.v[2]])) {
         ++scene.degenerateTrianglesSkipped;
         result_.warnings.push_back(line.Warning("zero-area triangle skipped"));
@@ -230,6 +235,7 @@ class ObjParser {
   LoadedScene result_;
   std::unordered_map<std::string, uint32_t> materialByName_;
   int currentMaterial_ = -1;
+  uint32_t currentObject_ = 0;
 };
 
 }  // namespace

@@ -23,6 +23,7 @@ struct Material {
 struct Triangle {
   std::array<uint32_t, 3> v{};  // indices into Scene::positions, counter-clockwise seen from the front.
   uint32_t material = 0;        // index into Scene::materials.
+  uint32_t object = 0;          // index into Scene::objectNames.
   uint32_t sourceLine = 0;      // line of the OBJ 'f' statement it came from, for messages.
 };
 
@@ -31,6 +32,7 @@ struct Scene {
   std::vector<Point3> positions;
   std::vector<Triangle> triangles;
   std::vector<Material> materials;
+  std::vector<std::string> objectNames;     // from 'o' (or 'g') statements; "" before the first.
   uint32_t degenerateTrianglesSkipped = 0;  // zero-area faces dropped at load time.
 
   Point3 Corner(uint32_t triangle, int k) const { return positions[triangles[triangle].v[k]]; }

@@ -1,0 +1,54 @@
+// Energy bookkeeping in a closed box with grey albedo rho = 0.5 everywhere.
+// - The photons' initial flux sums to the lights' Phi = pi Ke A (to float rounding of Phi / N).
+// - Absorbed flux, tallied per hit as phi (1 - rho), equals the emitted flux within 0.5%: every photon is
+//   eventually absorbed. The tally's relative standard deviation is sqrt(rho / ((1 - rho) N)) = 0.1% at N = 1M,
+//   so 0.5% is 5 sigma.
+// - No photon escapes a closed box: a leak through a corner would show here (bound stated below).
+#include <gtest/gtest.h>
+
+#include "baker/bake.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+TEST(Energy, ClosedBoxAbsorbsWhatItEmits) {
+  const std::string dir = test::TempDirectory("energy");
+  BakeOptions o;
+  o.scenePath = test::WriteClosedBox(dir, 1.0f, 0.5f, 0.2f, 10.0f);
+  o.outputPath = dir + "/out.ply";
+  o.photons = 1'000'000;
+  const BakeReport r = Bake(o, Log(true));
+
+  ASSERT_EQ(r.lights.size(), 1u);
+  const double phi = M_PI * 10.0 * 0.2 * 0.2;  // pi Ke A [W]
+  EXPECT_NEAR(r.lights[0].power.g, phi, 1e-5 * phi);
+  EXPECT_NEAR(r.trace.powerEmitted.g, phi, 1e-6 * phi) << "photon flux must sum to the light's Phi";
+  EXPECT_EQ(r.trace.emitted, o.photons);
+  EXPECT_NEAR(r.trace.powerAbsorbed.g / r.trace.powerEmitted.g, 1.0, 0.005);
+  EXPECT_LE(r.trace.escaped, o.photons / 100000) << "light leaks out of a closed box";
+  EXPECT_EQ(r.trace.truncated, 0u);
+  // Every photon ends by absorption or escape.
+  EXPECT_EQ(r.trace.absorbed + r.trace.escaped, r.trace.emitted);
+}
+
+TEST(Energy, PhotonsSplitAcrossLightsInProportionToPower) {
+  const std::string dir = test::TempDirectory("energy-split");
+  test::WriteText(dir + "/two.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl a\nKe 1 1 1\nnewmtl b\nKe 3 3 3\n");
+  test::WriteText(dir + "/two.obj",
+                  "mtllib two.mtl\nv -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nusemtl floor\nf 1 4 3 2\n"
+                  "v 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nusemtl a\nf 5 6 7 8\n"
+                  "v 2 1 0\nv 3 1 0\nv 3 1 1\nv 2 1 1\nusemtl b\nf 9 10 11 12\n");
+  BakeOptions o;
+  o.scenePath = dir + "/two.obj";
+  o.outputPath = dir + "/out.ply";
+  o.photons = 100'001;
+  const BakeReport r = Bake(o, Log(true));
+  ASSERT_EQ(r.lights.size(), 2u);
+  EXPECT_EQ(r.lights[0].photons + r.lights[1].photons, o.photons);
+  EXPECT_NEAR(double(r.lights[1].photons) / double(r.lights[0].photons), 3.0, 1e-4);
+  EXPECT_NEAR(r.trace.powerEmitted.g, M_PI * (1.0 + 3.0), 1e-5);
+}
+
+}  // namespace
+}  // namespace pb

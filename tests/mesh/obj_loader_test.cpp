@@ -1,0 +1,130 @@
+// The OBJ/MTL loader: what it reads, and how it refuses bad input (message names file:line).
+#include "mesh/obj_loader.h"
+
+#include <gtest/gtest.h>
+
+#include "mesh/errors.h"
+#include "mesh/surfaces.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+const char* kMtl = "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 2 3 4\n";
+
+// Writes scene.obj (with the given body after "mtllib scene.mtl") and scene.mtl into a fresh directory.
+std::string WriteScene(const std::string& name, const std::string& body, const std::string& mtl = kMtl) {
+  const std::string dir = test::TempDirectory(name);
+  test::WriteText(dir + "/scene.mtl", mtl);
+  test::WriteText(dir + "/scene.obj", "mtllib scene.mtl\n" + body);
+  return dir + "/scene.obj";
+}
+
+// Expects LoadObj to throw an InputError at `line` whose message contains `fragment`.
+void ExpectError(const std::string& path, int line, const std::string& fragment) {
+  try {
+    LoadObj(path);
+    ADD_FAILURE() << "no error for " << path;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(e.file() + (line ? ":" + std::to_string(line) : "")), std::string::npos);
+  }
+}
+
+const std::string kQuad = "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\n";
+
+TEST(ObjLoader, ReadsPolygonsMaterialsAndScale) {
+  const std::string path = WriteScene("read", "o floor\n" + kQuad + "usemtl grey\nf 1 4 3 2\no lamp\nusemtl lamp\n"
+                                              "v 0 2 0\nv 1 2 0\nv 0 2 1\nf -3/1/1 -2//1 -1\n");
+  const LoadedScene loaded = LoadObj(path, {0.5f});
+  const Scene& s = loaded.scene;
+  ASSERT_EQ(s.triangles.size(), 3u);  // quad fan-triangulated + one triangle
+  EXPECT_EQ(s.positions.size(), 7u);
+  EXPECT_FLOAT_EQ(s.positions[2].x, 0.5f);  // scale applied
+  EXPECT_FLOAT_EQ(s.Area(0) + s.Area(1), 0.25f);
+  EXPECT_GT(s.FrontNormal(0).y, 0.99f);  // 1 4 3 2 is counter-clockwise seen from +y
+  EXPECT_EQ(s.MaterialOf(2).name, "lamp");
+  EXPECT_FLOAT_EQ(s.MaterialOf(2).emission.b, 4.0f);
+  EXPECT_EQ(s.objectNames[s.triangles[2].object], "lamp");
+  EXPECT_EQ(s.triangles[2].v[0], 4u);  // negative indices are relative to the end
+}
+
+TEST(ObjLoader, SkipsAndCountsZeroAreaTriangles) {
+  const std::string path =
+      WriteScene("degenerate", kQuad + "v 2 0 0\nusemtl grey\nf 1 2 3\nf 1 2 5\nf 1 1 3\nf 1 3 4\n");
+  const LoadedScene loaded = LoadObj(path);
+  EXPECT_EQ(loaded.scene.triangles.size(), 2u);
+  EXPECT_EQ(loaded.scene.degenerateTrianglesSkipped, 2u);
+  ASSERT_EQ(loaded.warnings.size(), 2u);
+  EXPECT_NE(loaded.warnings[0].find(":9: warning: zero-area"), std::string::npos) << loaded.warnings[0];
+}
+
+TEST(ObjLoader, KeepsSliversThatHaveArea) {
+  const std::string path = WriteScene("sliver", "v 0 0 0\nv 1 0 0\nv 0.5 0 1e-6\nusemtl grey\nf 1 3 2\n");
+  EXPECT_EQ(LoadObj(path).scene.triangles.size(), 1u);
+}
+
+TEST(ObjLoader, RejectsBadInputNamingFileAndLine) {
+  ExpectError("/nonexistent/scene.obj", 0, "cannot open");
+  ExpectError(WriteScene("malformed", "v 1 2 abc\n"), 2, "malformed number 'abc'");
+  ExpectError(WriteScene("nan", "v 1 nan 0\n"), 2, "non-finite");
+  ExpectError(WriteScene("inf", "v 1 2 3\nv inf 0 0\n"), 3, "non-finite");
+  ExpectError(WriteScene("short", "v 1 2\n"), 2, "takes 3 to 7 values");
+  ExpectError(WriteScene("unknown-material", kQuad + "usemtl gold\nf 1 2 3\n"), 6, "unknown material 'gold'");
+  ExpectError(WriteScene("no-material", kQuad + "f 1 2 3\n"), 6, "before any 'usemtl'");
+  ExpectError(WriteScene("range", kQuad + "usemtl grey\nf 1 2 9\n"), 7, "out of range");
+  ExpectError(WriteScene("zero-index", kQuad + "usemtl grey\nf 0 1 2\n"), 7, "malformed face index");
+  ExpectError(WriteScene("bad-keyword", "vx 1 2 3\n"), 2, "unknown OBJ statement 'vx'");
+  ExpectError(WriteScene("empty", kQuad), 0, "no faces");
+}
+
+TEST(ObjLoader, RejectsBadMaterialsNamingTheMtlLine) {
+  const auto mtlPath = [](const std::string& objPath) { return objPath.substr(0, objPath.size() - 3) + "mtl"; };
+  const std::string kd = WriteScene("kd", kQuad, "newmtl hot\nKd 1.5 0 0\n");
+  try {
+    LoadObj(kd);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), mtlPath(kd));
+    EXPECT_EQ(e.line(), 1);
+    EXPECT_NE(std::string(e.what()).find("Kd must lie in [0, 1]"), std::string::npos) << e.what();
+  }
+  ExpectError(WriteScene("missing-mtl", "mtllib nothere.mtl\n"), 2, "cannot open material library");
+  const std::string ke = WriteScene("ke", kQuad, "newmtl neg\nKe -1 0 0\n");
+  EXPECT_THROW(LoadObj(ke), InputError);
+  const std::string junk = WriteScene("junk", kQuad, "newmtl a\nKd 0.5 x 0.5\n");
+  EXPECT_THROW(LoadObj(junk), InputError);
+}
+
+TEST(Surfaces, GroupsConnectedCoplanarTrianglesOfOneMaterial) {
+  // Two quads sharing an edge at a right angle, plus a coplanar quad of another material beside the first.
+  const std::string path = WriteScene("surfaces", "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nv 0 1 0\nv 1 1 0\n"
+                                                  "v 2 0 0\nv 2 0 1\nusemtl grey\nf 1 4 3 2\nf 1 2 6 5\n"
+                                                  "usemtl lamp\nf 2 3 8 7\n");
+  const Scene scene = LoadObj(path).scene;
+  const SurfaceSet set = BuildSurfaces(scene);
+  ASSERT_EQ(set.surfaces.size(), 3u);
+  EXPECT_EQ(set.surfaceOfTriangle[0], set.surfaceOfTriangle[1]);
+  EXPECT_NE(set.surfaceOfTriangle[0], set.surfaceOfTriangle[2]);
+  EXPECT_NE(set.surfaceOfTriangle[0], set.surfaceOfTriangle[4]);
+  // Charts are isometric: (u,v) distances equal 3-D distances on the plane.
+  const SurfaceChart& chart = set.surfaces[0].chart;
+  const Point2 a = chart.ToUv({0, 0, 0}), b = chart.ToUv({1, 0, 1});
+  EXPECT_NEAR(LengthSquared(a - b), 2.0f, 1e-6f);
+  EXPECT_NEAR(set.surfaces[0].area, 1.0, 1e-6);
+}
+
+TEST(Surfaces, BundledBoxHasItsSeventeenSurfaces) {
+  const Scene scene = LoadObj(PB_SOURCE_DIR "/data/box/box.obj").scene;
+  const SurfaceSet set = BuildSurfaces(scene);
+  // floor, ceiling, 3 walls, 2 blocks x (top + 4 sides), 2 lights; the twisted red wall stays one surface.
+  EXPECT_EQ(set.surfaces.size(), 17u);
+  double floorArea = 0;
+  for (const Surface& s : set.surfaces)
+    if (scene.objectNames[scene.triangles[s.triangles[0]].object] == "floor") floorArea = s.area;
+  EXPECT_NEAR(floorArea, 0.5 * (0.5528 + 0.5496) * 0.5592, 1e-4);  // trapezoid from the published corners
+}
+
+}  // namespace
+}  // namespace pb

@@ -1,0 +1,144 @@
+// The bake command as a user runs it: exit status, messages that name file:line, no output left behind on
+// error, --help that documents units, and byte-identical output for 1 and 2 threads.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "tests/ply_reader.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+struct BakeRun {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+BakeRun RunBake(const std::string& arguments) {
+  BakeRun run;
+  FILE* pipe = popen((std::string(PB_BAKE_EXE) + " " + arguments + " 2>&1").c_str(), "r");
+  std::array<char, 4096> buffer{};
+  for (size_t n; (n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0;) run.output.append(buffer.data(), n);
+  const int raw = pclose(pipe);
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return run;
+}
+
+// Leaves nothing named out.ply* (the output or its temporary) in `dir`.
+bool NoOutputIn(const std::string& dir) {
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.path().filename().string().rfind("out.ply", 0) == 0) return false;
+  return true;
+}
+
+TEST(BakeCli, HelpDocumentsEveryOptionWithUnits) {
+  const BakeRun run = RunBake("--help");
+  EXPECT_EQ(run.status, 0);
+  for (const char* text : {"--kernel", "--h", "[m]", "--photons", "--seed", "--threads", "--report", "--scale",
+                           "--ascii", "--exposure", "typical", "W/(m^2 sr)"})
+    EXPECT_NE(run.output.find(text), std::string::npos) << text << "\n" << run.output;
+}
+
+TEST(BakeCli, BadInputFailsWithFileLineAndLeavesNoOutput) {
+  const std::string dir = test::TempDirectory("cli-bad");
+  test::WriteText(dir + "/m.mtl", "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl lamp\nKe 1 1 1\n");
+  const std::string quad = "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\n";
+  struct Case {
+    std::string name, obj, expected;
+  };
+  const std::vector<Case> cases = {
+      {"missing", "", "missing.obj: error: cannot open scene file"},
+      {"malformed", "mtllib m.mtl\nv 1 2 oops\n", "malformed.obj:2: error: malformed number 'oops'"},
+      {"material", "mtllib m.mtl\n" + quad + "usemtl gold\nf 1 2 3\n", "material.obj:6: error: unknown material"},
+      {"nan", "mtllib m.mtl\nv 0 0 nan\n", "nan.obj:2: error: non-finite number"},
+      {"nolight", "mtllib m.mtl\n" + quad + "usemtl grey\nf 1 4 3 2\n", "nolight.obj: error: scene has no light"},
+  };
+  for (const Case& c : cases) {
+    if (!c.obj.empty()) test::WriteText(dir + "/" + c.name + ".obj", c.obj);
+    const BakeRun run = RunBake(dir + "/" + c.name + ".obj -o " + dir + "/out.ply --photons 1000 --report " + dir +
+                            "/out.ply.json");
+    EXPECT_EQ(run.status, 1) << c.name << ": " << run.output;
+    EXPECT_NE(run.output.find(c.expected), std::string::npos) << c.name << ": " << run.output;
+    EXPECT_TRUE(NoOutputIn(dir)) << c.name;
+  }
+}
+
+TEST(BakeCli, BadOptionsFailBeforeAnyWork) {
+  const std::string dir = test::TempDirectory("cli-options");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 2, 4);
+  const BakeRun h = RunBake(scene + " -o " + dir + "/out.ply --h -1");
+  EXPECT_EQ(h.status, 1);
+  EXPECT_NE(h.output.find("--h: error: must be a finite length > 0 m"), std::string::npos) << h.output;
+  const BakeRun kernel = RunBake(scene + " -o " + dir + "/out.ply --kernel box");
+  EXPECT_EQ(kernel.status, 2);
+  EXPECT_NE(kernel.output.find("unknown kernel 'box'"), std::string::npos) << kernel.output;
+  const BakeRun where = RunBake(scene + " -o /nonexistent/dir/out.ply");
+  EXPECT_EQ(where.status, 1);
+  EXPECT_NE(where.output.find("/nonexistent/dir/out.ply: error: cannot write here"), std::string::npos);
+  const BakeRun missingOutput = RunBake(scene);
+  EXPECT_EQ(missingOutput.status, 2);
+  EXPECT_TRUE(NoOutputIn(dir));
+}
+
+TEST(BakeCli, AFailedRunLeavesAnEarlierOutputIntact) {
+  const std::string dir = test::TempDirectory("cli-intact");
+  test::WriteText(dir + "/out.ply", "previous result");
+  test::WriteText(dir + "/bad.obj", "v 1 2 x\n");
+  EXPECT_EQ(RunBake(dir + "/bad.obj -o " + dir + "/out.ply").status, 1);
+  EXPECT_EQ(test::ReadBytes(dir + "/out.ply"), "previous result");
+}
+
+TEST(BakeCli, OneAndTwoThreadsWriteIdenticalBytes) {
+  const std::string dir = test::TempDirectory("cli-determinism");
+  const std::string common = PB_SOURCE_DIR "/data/box/box.obj --photons 300000 -q -o " + dir;
+  ASSERT_EQ(RunBake(common + "/one.ply --seed 9 --threads 1").status, 0);
+  ASSERT_EQ(RunBake(common + "/two.ply --seed 9 --threads 2").status, 0);
+  ASSERT_EQ(RunBake(common + "/other-seed.ply --seed 10 --threads 2").status, 0);
+  const std::string one = test::ReadBytes(dir + "/one.ply");
+  EXPECT_GT(one.size(), 10000u);
+  EXPECT_TRUE(one == test::ReadBytes(dir + "/two.ply")) << "thread count changed the output";
+  EXPECT_FALSE(one == test::ReadBytes(dir + "/other-seed.ply")) << "the seed has no effect";
+}
+
+TEST(BakeCli, BoxBakesToAReadablePlyWithTheContractProperties) {
+  const std::string dir = test::TempDirectory("cli-box");
+  const BakeRun run = RunBake(PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/box.ply --photons 200000 --report " +
+                          dir + "/box.json");
+  ASSERT_EQ(run.status, 0) << run.output;
+  for (const char* text : {"photons", "emitted", "absorbed", "escaped", "floor", "seconds", "trace"})
+    EXPECT_NE(run.output.find(text), std::string::npos) << text;
+  const test::PlyData ply = test::ReadPly(dir + "/box.ply");
+  EXPECT_EQ(ply.format, "binary_little_endian");
+  const std::vector<std::string> expected = {"x", "y", "z", "nx", "ny", "nz", "red", "green", "blue",
+                                             "irradiance_r", "irradiance_g", "irradiance_b", "radiance_r",
+                                             "radiance_g", "radiance_b", "quality"};
+  EXPECT_EQ(ply.vertexProperties, expected);
+  EXPECT_GT(ply.faces.size(), 1000u);
+  for (const auto& [name, values] : ply.vertex)
+    for (double v : values) ASSERT_TRUE(std::isfinite(v)) << name;
+  // Radiance = Le + Kd H / pi: check on floor vertices (white, Kd 0.73, y = 0, facing up).
+  for (size_t v = 0; v < ply.VertexCount(); ++v) {
+    if (ply.vertex.at("y")[v] != 0.0 || ply.vertex.at("ny")[v] < 0.99) continue;
+    ASSERT_NEAR(ply.vertex.at("radiance_g")[v], 0.73 * ply.vertex.at("irradiance_g")[v] / 3.14159265358979, 1e-6);
+  }
+  const std::string json = test::ReadBytes(dir + "/box.json");
+  for (const char* key : {"\"photons\"", "\"emitted\"", "\"hits_stored\"", "\"seconds\"", "\"effects\"",
+                          "\"surfaces\"", "\"front_hits\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+  // ASCII output holds the same numbers.
+  ASSERT_EQ(RunBake(PB_SOURCE_DIR "/data/box/box.obj -q --ascii --photons 200000 -o " + dir + "/box-ascii.ply").status,
+            0);
+  const test::PlyData ascii = test::ReadPly(dir + "/box-ascii.ply");
+  EXPECT_EQ(ascii.format, "ascii");
+  ASSERT_EQ(ascii.VertexCount(), ply.VertexCount());
+  for (size_t v = 0; v < ply.VertexCount(); v += 37)
+    EXPECT_FLOAT_EQ(float(ascii.vertex.at("irradiance_r")[v]), float(ply.vertex.at("irradiance_r")[v]));
+}
+
+}  // namespace
+}  // namespace pb
