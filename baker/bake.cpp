@@ -67,7 +67,7 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
 
   const PhotonHits photons =
       clock.Time("trace", [&] { return TracePhotons(scene, surfaces, lights, *rays, {o.photons, o.seed, o.maxBounces}, log); });
-  const SurfaceBins bins = clock.Time("bin", [&] { return BinPhotons(scene, photons.hits, surfaces.surfaces.size()); });
+  const SurfaceBins bins = clock.Time("bin", [&] { return BinPhotons(scene, photons, surfaces.surfaces.size()); });
   const BakedMesh baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(scene, surfaces, SplitBySurface(scene, surfaces), bins, o.kernel, o.bandwidth, log);
   });
