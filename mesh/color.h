@@ -12,7 +12,6 @@ struct Rgb {
   float Max() const { return std::max({r, g, b}); }
   float Mean() const { return (r + g + b) / 3.0f; }
   bool IsBlack() const { return r == 0 && g == 0 && b == 0; }
-  bool IsFinite() const { return std::isfinite(r) && std::isfinite(g) && std::isfinite(b); }
 };
 
 inline Rgb operator+(Rgb a, Rgb b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }

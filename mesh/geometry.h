@@ -14,11 +14,9 @@ inline constexpr float kInvPi = 0.31830988618379067154f;
 
 struct Vector3 {
   float x = 0, y = 0, z = 0;
-  float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
 };
 struct Point3 {
   float x = 0, y = 0, z = 0;
-  float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
 };
 struct Normal3 {
   float x = 0, y = 0, z = 1;
@@ -38,7 +36,6 @@ inline Point3 operator-(Point3 p, Vector3 d) { return {p.x - d.x, p.y - d.y, p.z
 inline Normal3 operator-(Normal3 n) { return {-n.x, -n.y, -n.z}; }
 
 inline Vector3 AsVector(Normal3 n) { return {n.x, n.y, n.z}; }
-inline Vector3 AsVector(Point3 p) { return {p.x, p.y, p.z}; }
 inline float Dot(Vector3 a, Vector3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline float Dot(Vector3 a, Normal3 n) { return Dot(a, AsVector(n)); }
 inline float Dot(Normal3 a, Normal3 b) { return Dot(AsVector(a), AsVector(b)); }
@@ -53,21 +50,11 @@ inline Normal3 NormalFrom(Vector3 a) {
   return {n.x, n.y, n.z};
 }
 inline float MaxAbsComponent(Point3 p) { return std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}); }
-inline bool IsFinite(Point3 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
 inline Point2 operator-(Point2 a, Point2 b) { return {a.u - b.u, a.v - b.v}; }
 inline float LengthSquared(Point2 d) { return d.u * d.u + d.v * d.v; }
 
-// Axis-aligned bounds [m].
-struct Bounds3 {
-  Point3 lo{INFINITY, INFINITY, INFINITY};
-  Point3 hi{-INFINITY, -INFINITY, -INFINITY};
-  void Extend(Point3 p) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  float Diagonal() const { return Length(hi - lo); }
-};
+// Axis-aligned bounds in a chart [m].
 struct Bounds2 {
   Point2 lo{INFINITY, INFINITY};
   Point2 hi{-INFINITY, -INFINITY};
@@ -75,7 +62,6 @@ struct Bounds2 {
     lo = {std::min(lo.u, p.u), std::min(lo.v, p.v)};
     hi = {std::max(hi.u, p.u), std::max(hi.v, p.v)};
   }
-  bool Empty() const { return lo.u > hi.u; }
 };
 
 // An orthonormal frame around a unit normal; local z is the normal. Duff et al. 2017, "Building an

@@ -36,7 +36,6 @@ class RayScene {
   // A ray origin for leaving the surface at `p` on the side `side` faces: p moved off the surface by an
   // offset proportional to the scene's largest coordinate, so that the ray cannot re-hit its own triangle.
   Point3 SpawnPoint(Point3 p, Normal3 side) const { return p + AsVector(side) * spawnOffset_; }
-  float SpawnOffset() const { return spawnOffset_; }  // [m]
 
  private:
   RTCDevice device_ = nullptr;

@@ -49,11 +49,6 @@ struct Scene {
     return p0 + (Corner(triangle, 1) - p0) * b1 + (Corner(triangle, 2) - p0) * b2;
   }
   const Material& MaterialOf(uint32_t triangle) const { return materials[triangles[triangle].material]; }
-  Bounds3 Bounds() const {
-    Bounds3 b;
-    for (const Point3& p : positions) b.Extend(p);
-    return b;
-  }
 };
 
 }  // namespace pb
