@@ -30,7 +30,7 @@ struct PhotonHit {
   uint32_t triangle = 0; // Scene::triangles index
   Point2 uv;             // position in the surface's chart [m]
   float b1 = 0, b2 = 0;  // barycentrics on `triangle`
-  bool OnFront(const Scene& scene) const { return Dot(wi, scene.FrontNormal(triangle)) > 0; }
+  bool OnFront(const Scene& scene) const { return Dot(wi, scene.AreaVector(triangle)) > 0; }
 };
 
 struct TraceSettings {

@@ -28,10 +28,6 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
   }
 }
 
-}  // namespace pb
-
-namespace pb {
-
 void RequireWritableLocation(const std::string& path) {
   if (path.empty()) throw InputError("<output>", 0, "no output path given");
   const size_t slash = path.find_last_of('/');

@@ -11,10 +11,6 @@ namespace pb {
 
 void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
-}  // namespace pb
-
-namespace pb {
-
 // Throws an InputError naming `path` unless its directory exists and is writable. Called before long work,
 // so that a typo in an output path fails in a second, not after the bake.
 void RequireWritableLocation(const std::string& path);

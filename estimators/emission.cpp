@@ -1,5 +1,8 @@
 #include "estimators/emission.h"
 
+#include <algorithm>
+#include <numeric>
+
 #include "estimators/warps.h"
 #include "mesh/errors.h"
 
@@ -16,12 +19,6 @@ EmissionSample SampleEmission(const Scene& scene, const AreaLight& light, Rng& r
           float(1.0 / light.area), d.pdf};
 }
 
-}  // namespace pb
-
-#include <algorithm>
-#include <numeric>
-
-namespace pb {
 
 std::vector<uint64_t> AllocatePhotons(const std::vector<AreaLight>& lights, uint64_t n) {
   double total = 0;

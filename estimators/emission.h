@@ -5,12 +5,12 @@
 // Ke cos / (N pdfArea pdfDirection) = Phi / N.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "estimators/rng.h"
 #include "mesh/lights.h"
 #include "mesh/scene.h"
-
-#include <cstdint>
-#include <vector>
 
 namespace pb {
 
@@ -24,10 +24,6 @@ struct EmissionSample {
 };
 
 EmissionSample SampleEmission(const Scene& scene, const AreaLight& light, Rng& rng);
-
-}  // namespace pb
-
-namespace pb {
 
 // Photons per light, N_i = n Phi_i / Phi (Shirley et al. 1995), with Phi the mean over RGB channels.
 // Rounded by largest remainder, so the counts sum to exactly n; ties go to the lower index.

@@ -170,8 +170,7 @@ class ObjParser {
   }
 
   LoadedScene Parse() {
-    if (!(options_.scale > 0.0f) || !std::isfinite(options_.scale))
-      throw InputError(path_, 0, "scale must be a finite number > 0");
+    PB_CHECK(options_.scale > 0.0f && std::isfinite(options_.scale), "LoadOptions::scale is finite and > 0");
     LineReader reader(path_);
     if (!reader.IsOpen()) throw InputError(path_, 0, "cannot open scene file");
     for (Line line; reader.Next(line);) Statement(line);

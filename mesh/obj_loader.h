@@ -20,7 +20,7 @@
 namespace pb {
 
 struct LoadOptions {
-  float scale = 1.0f;  // metres per scene unit; range (0, inf), typical 1 or 0.001 for millimetres.
+  float scale = 1.0f;  // metres per scene unit; range (0, inf), checked by the caller; typical 1 or 0.001.
 };
 
 struct LoadedScene {
