@@ -1,32 +1,92 @@
 #include "estimators/kernels.h"
 
+#include <cmath>
+
+#include "estimators/quadrature.h"
 #include "mesh/geometry.h"
 
 namespace pb {
+namespace {
+
+constexpr double kPiD = 3.14159265358979323846;
+const double kGaussianNorm = 2.0 / (kPiD * (1.0 - std::exp(-2.0)));
+
+// (p + 1)/pi (1 - t^2)^p has radial mass (1 - (1 - t^2)^(p+1)) / (2 pi).
+double PolynomialRadialMass(int p, double t) { return (1.0 - std::pow(1.0 - t * t, p + 1)) / (2.0 * kPiD); }
+
+}  // namespace
+
+double KernelProfile(Kernel kernel, double t) {
+  if (t >= 1.0) return 0.0;
+  const double q = 1.0 - t * t;
+  switch (kernel) {
+    case Kernel::kUniform: return 1.0 / kPiD;
+    case Kernel::kEpanechnikov: return 2.0 / kPiD * q;
+    case Kernel::kBiweight: return 3.0 / kPiD * q * q;
+    case Kernel::kTriweight: return 4.0 / kPiD * q * q * q;
+    case Kernel::kCone: return 3.0 / kPiD * (1.0 - t);
+    case Kernel::kGaussian: return kGaussianNorm * std::exp(-2.0 * t * t);
+  }
+  return 0.0;
+}
 
 float KernelDensity(Kernel kernel, float r2, float h) {
   const float t2 = r2 / (h * h);
   if (t2 >= 1.0f) return 0.0f;
+  const float q = 1.0f - t2, scale = kInvPi / (h * h);
   switch (kernel) {
-    case Kernel::kEpanechnikov:
-      return 2.0f * kInvPi * (1.0f - t2) / (h * h);
+    case Kernel::kUniform: return scale;
+    case Kernel::kEpanechnikov: return 2.0f * scale * q;
+    case Kernel::kBiweight: return 3.0f * scale * q * q;
+    case Kernel::kTriweight: return 4.0f * scale * q * q * q;
+    case Kernel::kCone: return 3.0f * scale * (1.0f - std::sqrt(t2));
+    case Kernel::kGaussian: return float(kGaussianNorm) / (h * h) * std::exp(-2.0f * t2);
   }
   return 0.0f;
 }
 
+double KernelRadialMass(Kernel kernel, double t) {
+  t = std::min(std::max(t, 0.0), 1.0);
+  switch (kernel) {
+    case Kernel::kUniform: return PolynomialRadialMass(0, t);
+    case Kernel::kEpanechnikov: return PolynomialRadialMass(1, t);
+    case Kernel::kBiweight: return PolynomialRadialMass(2, t);
+    case Kernel::kTriweight: return PolynomialRadialMass(3, t);
+    case Kernel::kCone: return 3.0 / kPiD * (t * t / 2.0 - t * t * t / 3.0);
+    case Kernel::kGaussian: return kGaussianNorm * (1.0 - std::exp(-2.0 * t * t)) / 4.0;
+  }
+  return 0.0;
+}
+
+KernelMoments MomentsOf(Kernel kernel) {
+  // In polar coordinates: integral f dA = 2 pi integral_0^1 f(t) t dt; x_1^2 averages to t^2 / 2 over angle.
+  const auto roughness = [&](double t) { return 2.0 * kPiD * t * KernelProfile(kernel, t) * KernelProfile(kernel, t); };
+  const auto moment2 = [&](double t) { return kPiD * t * t * t * KernelProfile(kernel, t); };
+  return {GaussLegendre(roughness, 0.0, 1.0, 8), GaussLegendre(moment2, 0.0, 1.0, 8)};
+}
+
 std::optional<Kernel> ParseKernel(std::string_view name) {
-  if (name == "epanechnikov") return Kernel::kEpanechnikov;
+  for (Kernel k : kAllKernels)
+    if (name == KernelName(k)) return k;
   return std::nullopt;
 }
 
 std::string KernelName(Kernel kernel) {
   switch (kernel) {
-    case Kernel::kEpanechnikov:
-      return "epanechnikov";
+    case Kernel::kUniform: return "uniform";
+    case Kernel::kEpanechnikov: return "epanechnikov";
+    case Kernel::kBiweight: return "biweight";
+    case Kernel::kTriweight: return "triweight";
+    case Kernel::kCone: return "cone";
+    case Kernel::kGaussian: return "gaussian";
   }
   return "?";
 }
 
-std::string KernelNames() { return "epanechnikov"; }
+std::string KernelNames() {
+  std::string names;
+  for (Kernel k : kAllKernels) names += (names.empty() ? "" : ", ") + KernelName(k);
+  return names;
+}
 
 }  // namespace pb

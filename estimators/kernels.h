@@ -1,23 +1,47 @@
 // Radially symmetric 2-D density kernels K_h(r) [1/m^2] with support radius (bandwidth) h [m], normalised so
 // that their integral over the plane is 1: integral of K_h(|x|) dA = 1. A photon of flux phi [W] spreads
-// phi K_h [W/m^2] of irradiance around its hit (Silverman 1986, "Density Estimation", ch. 4).
+// phi K_h [W/m^2] of irradiance around its hit (the paper's "Kernel estimators"; Silverman 1986, "Density
+// Estimation for Statistics and Data Analysis", ch. 4, for the family and its moments).
+//
+// With t = r / h < 1 (all vanish for t >= 1):
+//   uniform       1/pi                         epanechnikov  (2/pi) (1 - t^2)
+//   biweight      (3/pi) (1 - t^2)^2           triweight     (4/pi) (1 - t^2)^3
+//   cone          (3/pi) (1 - t)               gaussian      exp(-2 t^2) * 2 / (pi (1 - e^-2)),
+// all divided by h^2. The gaussian has sigma = h/2, truncated at h = 2 sigma and renormalised.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
 
 namespace pb {
 
-enum class Kernel {
-  kEpanechnikov,  // K(t) = 2/pi (1 - t^2), t = r/h < 1
-};
+enum class Kernel { kUniform, kEpanechnikov, kBiweight, kTriweight, kCone, kGaussian };
+inline constexpr std::array kAllKernels = {Kernel::kUniform, Kernel::kEpanechnikov, Kernel::kBiweight,
+                                           Kernel::kTriweight, Kernel::kCone,     Kernel::kGaussian};
 
 // K_h(r) for r^2 = r2 [m^2] and bandwidth h [m]; zero for r >= h.
 float KernelDensity(Kernel kernel, float r2, float h);
 
+// The dimensionless profile k(t) = h^2 K_h(t h), t >= 0.
+double KernelProfile(Kernel kernel, double t);
+
+// Radial mass G(t) = integral_0^t k(s) s ds: the mass inside radius t h is 2 pi G(t), so G(1) = 1 / (2 pi).
+// Used to integrate a kernel over a polygon exactly in r (estimators/surface_region.h).
+double KernelRadialMass(Kernel kernel, double t);
+
+// Constants of the asymptotic error of a kernel estimate (Silverman 1986, sec. 4.3), for h = 1:
+//   roughness = integral K^2 dA      (variance: Var H ~ flux-squared density * roughness / h^2)
+//   moment2   = integral x_1^2 K dA  (bias: E H - H ~ h^2 moment2 laplacian(H) / 2)
+struct KernelMoments {
+  double roughness = 0;
+  double moment2 = 0;
+};
+KernelMoments MomentsOf(Kernel kernel);
+
 std::optional<Kernel> ParseKernel(std::string_view name);
 std::string KernelName(Kernel kernel);
-std::string KernelNames();  // "epanechnikov", comma-separated, for --help
+std::string KernelNames();  // comma-separated, for --help and error messages
 
 }  // namespace pb
