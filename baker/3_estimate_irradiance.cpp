@@ -5,17 +5,38 @@
 
 #include <memory>
 
-#include "estimators/kernel_estimator.h"
-
 namespace pb {
+namespace {
+
+std::vector<Triangle2> ChartTriangles(const SurfaceSet& surfaces, const Surface& surface) {
+  std::vector<Triangle2> triangles;
+  triangles.reserve(surface.triangles.size());
+  for (uint32_t t : surface.triangles) triangles.push_back(surfaces.cornerUv[t]);
+  return triangles;
+}
+
+// One region and one estimator per surface, built in parallel (each from its own photons only).
+struct SurfaceEstimators {
+  std::vector<std::unique_ptr<SurfaceRegion>> regions;
+  std::vector<std::unique_ptr<DensityEstimator>> estimators;
+};
+
+SurfaceEstimators BuildEstimators(const SurfaceSet& surfaces, const SurfaceBins& bins, const EstimatorSettings& settings) {
+  SurfaceEstimators built;
+  built.regions.resize(bins.SurfaceCount());
+  built.estimators.resize(bins.SurfaceCount());
+  tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
+    built.regions[s] = std::make_unique<SurfaceRegion>(ChartTriangles(surfaces, surfaces.surfaces[s]));
+    built.estimators[s] = MakeDensityEstimator(settings, *built.regions[s], bins.Uv(s), bins.Power(s));
+  });
+  return built;
+}
+
+}  // namespace
 
 BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, SplitMesh mesh, const SurfaceBins& bins,
-                             Kernel kernel, float bandwidth, const Log& log) {
-  std::vector<std::unique_ptr<KernelEstimator>> estimators(bins.SurfaceCount());
-  tbb::parallel_for(size_t(0), estimators.size(), [&](size_t s) {
-    estimators[s] = std::make_unique<KernelEstimator>(bins.Uv(s), bins.Power(s), bandwidth, kernel);
-  });
-
+                             const EstimatorSettings& settings, const Log& log) {
+  const SurfaceEstimators built = BuildEstimators(surfaces, bins, settings);
   BakedMesh baked;
   const size_t n = mesh.VertexCount();
   baked.irradiance.resize(n);
@@ -26,7 +47,7 @@ BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, Spl
     for (size_t v = r.begin(); v != r.end(); ++v) {
       const uint32_t s = mesh.surface[v];
       const Material& material = scene.materials[surfaces.surfaces[s].material];
-      baked.irradiance[v] = estimators[s]->Estimate(mesh.uv[v]);
+      baked.irradiance[v] = built.estimators[s]->Estimate(mesh.uv[v]);
       baked.albedo[v] = material.albedo;
       baked.emitted[v] = material.emission;
     }

@@ -21,7 +21,9 @@ namespace pb {
 namespace {
 
 void ValidateOptions(const BakeOptions& o) {
-  if (!(o.bandwidth > 0) || !std::isfinite(o.bandwidth)) throw InputError("--h", 0, "must be a finite length > 0 m");
+  if (!(o.estimator.bandwidth > 0) || !std::isfinite(o.estimator.bandwidth))
+    throw InputError("--h", 0, "must be a finite length > 0 m");
+  if (o.estimator.neighbours < 2) throw InputError("--k", 0, "must be at least 2");
   if (o.photons == 0) throw InputError("--photons", 0, "must be at least 1");
   if (!(o.scale > 0) || !std::isfinite(o.scale)) throw InputError("--scale", 0, "must be a finite number > 0");
   if (o.exposure && !(*o.exposure > 0)) throw InputError("--exposure", 0, "must be > 0");
@@ -69,7 +71,7 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
       clock.Time("trace", [&] { return TracePhotons(scene, surfaces, lights, *rays, {o.photons, o.seed, o.maxBounces}, log); });
   const SurfaceBins bins = clock.Time("bin", [&] { return BinPhotons(scene, photons, surfaces.surfaces.size()); });
   const BakedMesh baked = clock.Time("estimate", [&] {
-    return EstimateIrradiance(scene, surfaces, SplitBySurface(scene, surfaces), bins, o.kernel, o.bandwidth, log);
+    return EstimateIrradiance(scene, surfaces, SplitBySurface(scene, surfaces), bins, o.estimator, log);
   });
   report.exposure = clock.Time("write", [&] { return WritePly(o.outputPath, baked, {o.asciiPly, o.exposure}); });
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "estimators/kernels.h"
+#include "estimators/density_estimator.h"
 
 namespace pb {
 
@@ -14,8 +14,9 @@ struct BakeOptions {
   std::string scenePath;   // OBJ file; its MTL files are found relative to it.
   std::string outputPath;  // PLY file, written atomically (temporary file, then rename).
   std::string reportPath;  // JSON report; empty for none.
-  Kernel kernel = Kernel::kEpanechnikov;
-  float bandwidth = 0.05f;        // h [m]: kernel support radius; range (0, inf), typical 0.02-0.1 for a room.
+  // Estimator, kernel, h [m] (kernel support radius or bucket side; range (0, inf), typical 0.02-0.1 for a
+  // room), k (knn) and edge correction. estimators/density_estimator.h.
+  EstimatorSettings estimator;
   uint64_t photons = 1'000'000;   // photons emitted over all lights; range [1, 2^40], typical 1e6-1e7.
   uint64_t seed = 1;              // any value; the same seed gives the same bytes for any thread count.
   unsigned threads = 0;           // worker threads; 0 = all cores.

@@ -14,8 +14,10 @@ nlohmann::json Json(const RgbSum& c) { return {c.r, c.g, c.b}; }
 std::string Text(Rgb c) { return fmt::format("({:.4g}, {:.4g}, {:.4g})", c.r, c.g, c.b); }
 
 nlohmann::json OptionsJson(const BakeOptions& o) {
-  return {{"scene", o.scenePath},        {"output", o.outputPath}, {"kernel", KernelName(o.kernel)},
-          {"h_m", o.bandwidth},          {"photons", o.photons},   {"seed", o.seed},
+  return {{"scene", o.scenePath},        {"output", o.outputPath}, {"estimator", EstimatorName(o.estimator.kind)},
+          {"kernel", KernelName(o.estimator.kernel)}, {"k", o.estimator.neighbours},
+          {"edge_correction", o.estimator.edgeCorrection},
+          {"h_m", o.estimator.bandwidth},          {"photons", o.photons},   {"seed", o.seed},
           {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly}};
 }
 

@@ -13,8 +13,9 @@ constexpr double kMaxCellsPerPhoton = 4.0;
 constexpr double kMinCellBudget = 1 << 12;
 }  // namespace
 
-KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h, Kernel kernel)
-    : h_(h), kernel_(kernel) {
+KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h, Kernel kernel,
+                                 const SurfaceRegion* correction)
+    : h_(h), kernel_(kernel), correction_(correction) {
   PB_CHECK(h > 0 && std::isfinite(h), "bandwidth is positive and finite");
   PB_CHECK(uv.size() == power.size(), "one flux per photon");
   if (uv.empty()) return;
@@ -66,7 +67,8 @@ Rgb KernelEstimator::Estimate(Point2 x) const {
       }
     }
   }
-  return sum.ToRgb();
+  if (correction_ == nullptr) return sum.ToRgb();
+  return sum.ToRgb() * float(1.0 / std::max(correction_->KernelMass(x, kernel_, h_), kMinEdgeMass));
 }
 
 }  // namespace pb

@@ -1,31 +1,38 @@
 // Irradiance on one surface by kernel density estimation (Shirley et al. 1995; the paper's "Kernel
-// estimators"): H(x) = sum_j phi_j K_h(|x - x_j|) [W/m^2], over the surface's photon hits x_j in its (u,v)
-// chart [m] with flux phi_j [W] each. Neighbours are found with a uniform grid of cells about h wide.
+// estimators"): H(x) = sum_j phi_j K_h(|x - x_j|) / M(x) [W/m^2], over the surface's photon hits x_j in its
+// (u,v) chart [m] with flux phi_j [W] each. M(x) is the kernel's mass on the surface (renormalisation boundary
+// correction, Jones 1993), or 1 without correction. Neighbours are found with a uniform grid of cells about h
+// wide.
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "estimators/density_estimator.h"
 #include "estimators/kernels.h"
+#include "estimators/surface_region.h"
 #include "mesh/color.h"
 #include "mesh/geometry.h"
 
 namespace pb {
 
-class KernelEstimator {
+class KernelEstimator final : public DensityEstimator {
  public:
-  // h: bandwidth [m], > 0. The photon arrays are copied, reordered by cell.
-  KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h, Kernel kernel);
+  // h: bandwidth [m], > 0. The photon arrays are copied, reordered by cell. `correction`: the surface's region
+  // for boundary correction (must outlive this), or null for none.
+  KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h, Kernel kernel,
+                  const SurfaceRegion* correction);
 
   // H at chart point x [W/m^2]. Sums in a fixed order, so the result is reproducible bit for bit.
-  Rgb Estimate(Point2 x) const;
+  Rgb Estimate(Point2 x) const override;
 
  private:
   int CellIndex(float coordinate, float lo, int count) const;
 
   float h_;
   Kernel kernel_;
+  const SurfaceRegion* correction_;
   Point2 lo_{};
   float cellSize_ = 1;
   int nu_ = 0, nv_ = 0;

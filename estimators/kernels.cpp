@@ -58,6 +58,26 @@ double KernelRadialMass(Kernel kernel, double t) {
   return 0.0;
 }
 
+double KernelRadialMassOverSquare(Kernel kernel, double t) {
+  if (t >= 1.0) return KernelRadialMass(kernel, 1.0) / (t * t);
+  const double x = t * t, q = 1.0 - x;
+  // (1 - q^(p+1)) / x = sum_{j=0..p} q^j for the polynomial kernels.
+  const auto geometric = [&](int p) {
+    double sum = 0, power = 1;
+    for (int j = 0; j <= p; ++j, power *= q) sum += power;
+    return sum / (2.0 * kPiD);
+  };
+  switch (kernel) {
+    case Kernel::kUniform: return geometric(0);
+    case Kernel::kEpanechnikov: return geometric(1);
+    case Kernel::kBiweight: return geometric(2);
+    case Kernel::kTriweight: return geometric(3);
+    case Kernel::kCone: return 3.0 / kPiD * (0.5 - t / 3.0);
+    case Kernel::kGaussian: return x == 0 ? kGaussianNorm / 2.0 : -kGaussianNorm * std::expm1(-2.0 * x) / (4.0 * x);
+  }
+  return 0.0;
+}
+
 KernelMoments MomentsOf(Kernel kernel) {
   // In polar coordinates: integral f dA = 2 pi integral_0^1 f(t) t dt; x_1^2 averages to t^2 / 2 over angle.
   const auto roughness = [&](double t) { return 2.0 * kPiD * t * KernelProfile(kernel, t) * KernelProfile(kernel, t); };

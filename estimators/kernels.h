@@ -31,6 +31,10 @@ double KernelProfile(Kernel kernel, double t);
 // Used to integrate a kernel over a polygon exactly in r (estimators/surface_region.h).
 double KernelRadialMass(Kernel kernel, double t);
 
+// G(t) / t^2, evaluated without cancellation (its limit k(0)/2 at t = 0). Smooth in t^2, which makes the
+// boundary integral of estimators/surface_region.cpp a smooth integrand.
+double KernelRadialMassOverSquare(Kernel kernel, double t);
+
 // Constants of the asymptotic error of a kernel estimate (Silverman 1986, sec. 4.3), for h = 1:
 //   roughness = integral K^2 dA      (variance: Var H ~ flux-squared density * roughness / h^2)
 //   moment2   = integral x_1^2 K dA  (bias: E H - H ~ h^2 moment2 laplacian(H) / 2)

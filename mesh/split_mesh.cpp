@@ -15,10 +15,9 @@ SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces) {
         const uint32_t original = scene.triangles[t].v[k];
         auto [it, isNew] = splitIndexOf.emplace(original, uint32_t(mesh.positions.size()));
         if (isNew) {
-          const Point3 p = scene.positions[original];
-          mesh.positions.push_back(p);
+          mesh.positions.push_back(scene.positions[original]);
           mesh.normals.push_back(surface.chart.frame.n);
-          mesh.uv.push_back(surface.chart.ToUv(p));
+          mesh.uv.push_back(surfaces.cornerUv[t][k]);
           mesh.surface.push_back(s);
         }
         face[k] = it->second;

@@ -89,6 +89,9 @@ SurfaceSet BuildSurfaces(const Scene& scene, float maxNormalAngleDegrees) {
     surface.chart = ChartFor(scene, surface);
     set.surfaces.push_back(std::move(surface));
   }
+  set.cornerUv.resize(scene.triangles.size());
+  for (uint32_t t = 0; t < scene.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) set.cornerUv[t][k] = set.surfaces[set.surfaceOfTriangle[t]].chart.ToUv(scene.Corner(t, k));
   return set;
 }
 

@@ -7,6 +7,7 @@
 // wall (about 0.35 degrees) as one surface. Curved meshes become one surface per facet until charts land.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -34,7 +35,15 @@ struct Surface {
 
 struct SurfaceSet {
   std::vector<Surface> surfaces;
-  std::vector<uint32_t> surfaceOfTriangle;  // Scene::triangles index -> surface index.
+  std::vector<uint32_t> surfaceOfTriangle;       // Scene::triangles index -> surface index.
+  std::vector<std::array<Point2, 3>> cornerUv;  // Scene::triangles index -> its corners' (u,v) in its surface's chart [m]
+
+  // Chart position [m] of the point with barycentrics (b1, b2) on `triangle`.
+  Point2 UvAt(uint32_t triangle, float b1, float b2) const {
+    const auto& c = cornerUv[triangle];
+    const float b0 = 1.0f - b1 - b2;
+    return {b0 * c[0].u + b1 * c[1].u + b2 * c[2].u, b0 * c[0].v + b1 * c[1].v + b2 * c[2].v};
+  }
 };
 
 SurfaceSet BuildSurfaces(const Scene& scene, float maxNormalAngleDegrees = 1.0f);

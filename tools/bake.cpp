@@ -4,23 +4,51 @@
 #include <fmt/core.h>
 
 #include <cstdio>
+#include <optional>
+#include <string>
+#include <string_view>
 
 #include "baker/bake.h"
 #include "mesh/errors.h"
 
 namespace {
 
-CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o, std::string& kernel) {
+// An option that takes one of a fixed set of names; anything else is refused with the list of valid names.
+template <typename Enum>
+void AddNamedOption(CLI::App& app, const std::string& flag, Enum& target, std::optional<Enum> (*parse)(std::string_view),
+                    std::string (*name)(Enum), const std::string& names, const std::string& noun,
+                    const std::string& help) {
+  const auto valid = [=](const std::string& text) {
+    return parse(text) ? std::string() : "unknown " + noun + " '" + text + "'; choose one of: " + names;
+  };
+  app.add_option_function<std::string>(flag, [&target, parse](const std::string& text) { target = *parse(text); },
+                                        help + ": " + names)
+      ->check(CLI::Validator(valid, "NAME", "name"))
+      ->default_str(name(target));
+}
+
+void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e) {
+  AddNamedOption(app, "--estimator", e.kind, pb::ParseEstimator, pb::EstimatorName, pb::EstimatorNames(), "estimator",
+                 "density estimator (the paper's three classes)");
+  AddNamedOption(app, "--kernel", e.kernel, pb::ParseKernel, pb::KernelName, pb::KernelNames(), "kernel",
+                 "kernel of --estimator kernel");
+  app.add_option("--h", e.bandwidth, "bandwidth h [m]: kernel support radius, or histogram bucket side, in the "
+                                     "surface; range > 0, typical 0.02-0.1 for a room-sized scene")
+      ->capture_default_str();
+  app.add_option("--k", e.neighbours, "photons per estimate of --estimator knn; range >= 2, typical 20-200")
+      ->capture_default_str();
+  app.add_flag("!--no-edge-correction", e.edgeCorrection, "do not renormalise estimates by the part of the kernel, "
+                                                         "bucket or disc that lies on the surface (edges darken)");
+}
+
+CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("scene", o.scenePath, "OBJ scene (with MTL). Kd = diffuse albedo in [0,1]; Ke = emitted radiance "
                                        "[W/(m^2 sr)], one-sided along the counter-clockwise normal")
       ->required();
   app.add_option("-o,--output", o.outputPath, "PLY to write (binary little-endian unless --ascii); written to a "
                                               "temporary file and renamed into place")
       ->required();
-  app.add_option("--kernel", kernel, "density kernel: " + pb::KernelNames())->capture_default_str();
-  app.add_option("--h", o.bandwidth, "kernel bandwidth h [m]: support radius in the surface plane; range > 0, "
-                                     "typical 0.02-0.1 for a room-sized scene")
-      ->capture_default_str();
+  DefineEstimatorOptions(app, o.estimator);
   app.add_option("--photons", o.photons, "photons emitted over all lights, split by power (N_i = n Phi_i / Phi); "
                                          "range >= 1, typical 1e6-1e7")
       ->capture_default_str();
@@ -43,19 +71,12 @@ int main(int argc, char** argv) {
   CLI::App app{"bake: photon-traced irradiance baked onto mesh vertices (photonbake)"};
   app.get_formatter()->column_width(24);
   pb::BakeOptions options;
-  std::string kernel = pb::KernelName(options.kernel);
-  DefineOptions(app, options, kernel);
+  DefineOptions(app, options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  const auto parsedKernel = pb::ParseKernel(kernel);
-  if (!parsedKernel) {
-    fmt::print(stderr, "--kernel: error: unknown kernel '{}'; choose one of: {}\n", kernel, pb::KernelNames());
-    return 2;
-  }
-  options.kernel = *parsedKernel;
   try {
     const pb::Log log(options.quiet);
     const pb::BakeReport report = pb::Bake(options, log);

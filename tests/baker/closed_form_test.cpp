@@ -54,13 +54,13 @@ TEST(ClosedForm, SquareLightOverBlackFloorMatchesLambert) {
   o.scenePath = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 80);
   o.outputPath = dir + "/out.ply";
   o.photons = 2'000'000;
-  o.bandwidth = 0.05f;
+  o.estimator.bandwidth = 0.05f;
   const BakeReport report = Bake(o, Log(true));
   const test::PlyData ply = test::ReadPly(o.outputPath);
 
   const std::vector<V3> light = {{-0.5, 1, -0.5}, {0.5, 1, -0.5}, {0.5, 1, 0.5}, {-0.5, 1, 0.5}};
   const double phi = M_PI / double(o.photons);  // Phi = pi L A = pi W, split evenly
-  const double h = o.bandwidth, kernelSquareIntegral = 4.0 / (3.0 * M_PI * h * h);
+  const double h = o.estimator.bandwidth, kernelSquareIntegral = 4.0 / (3.0 * M_PI * h * h);
   double sumRelative = 0;
   int interior = 0, worstIndex = -1;
   double worstZ = 0;

@@ -1,0 +1,45 @@
+#include "estimators/density_estimator.h"
+
+#include <array>
+
+#include "estimators/histogram_estimator.h"
+#include "estimators/kernel_estimator.h"
+#include "estimators/nearest_estimator.h"
+
+namespace pb {
+std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& region,
+                                                       std::span<const Point2> uv, std::span<const Rgb> power) {
+  const SurfaceRegion* correction = settings.edgeCorrection ? &region : nullptr;
+  switch (settings.kind) {
+    case EstimatorKind::kKernel:
+      return std::make_unique<KernelEstimator>(uv, power, settings.bandwidth, settings.kernel, correction);
+    case EstimatorKind::kHistogram:
+      return std::make_unique<HistogramEstimator>(uv, power, settings.bandwidth, region, settings.edgeCorrection);
+    case EstimatorKind::kNearest:
+      return std::make_unique<NearestEstimator>(uv, power, settings.neighbours, region, settings.edgeCorrection);
+  }
+  return nullptr;
+}
+
+std::optional<EstimatorKind> ParseEstimator(std::string_view name) {
+  for (EstimatorKind k : kAllEstimators)
+    if (name == EstimatorName(k)) return k;
+  return std::nullopt;
+}
+
+std::string EstimatorName(EstimatorKind kind) {
+  switch (kind) {
+    case EstimatorKind::kKernel: return "kernel";
+    case EstimatorKind::kHistogram: return "histogram";
+    case EstimatorKind::kNearest: return "knn";
+  }
+  return "?";
+}
+
+std::string EstimatorNames() {
+  std::string names;
+  for (EstimatorKind k : kAllEstimators) names += (names.empty() ? "" : ", ") + EstimatorName(k);
+  return names;
+}
+
+}  // namespace pb

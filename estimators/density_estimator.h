@@ -1,0 +1,56 @@
+// Irradiance H(x) [W/m^2] on one surface, estimated from the photon hits on it: positions x_j in the surface's
+// (u,v) chart [m] and fluxes phi_j [W] (the paper's "Mesh generator algorithms"). The three classes the paper
+// names, each boundary-corrected so that edges and corners of a uniformly lit surface read like its interior:
+//   kernel     sum_j phi_j K_h(|x - x_j|) / M(x)            estimators/kernel_estimator.h
+//   histogram  (flux in x's bucket of side h) / (bucket area on the surface)   estimators/histogram_estimator.h
+//   knn        (k-1)/k (flux of the k nearest) / (area of their disc on the surface)   estimators/nearest_estimator.h
+// M(x) is the kernel mass on the surface (estimators/surface_region.h).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "estimators/kernels.h"
+#include "estimators/surface_region.h"
+#include "mesh/color.h"
+#include "mesh/geometry.h"
+
+namespace pb {
+
+enum class EstimatorKind { kKernel, kHistogram, kNearest };
+inline constexpr std::array kAllEstimators = {EstimatorKind::kKernel, EstimatorKind::kHistogram,
+                                              EstimatorKind::kNearest};
+
+struct EstimatorSettings {
+  EstimatorKind kind = EstimatorKind::kKernel;
+  Kernel kernel = Kernel::kEpanechnikov;
+  float bandwidth = 0.05f;    // h [m]: kernel support radius, or histogram bucket side
+  uint32_t neighbours = 50;   // k of the knn estimator, >= 2
+  bool edgeCorrection = true;  // renormalise by the part of the kernel, bucket or disc on the surface
+};
+
+// Smallest kernel mass M(x) divided by: a corner sharper than about 11 degrees (M < 1/32) is corrected only as
+// far as 1/32, so that a needle-thin corner cannot multiply a few photons into a spike.
+inline constexpr double kMinEdgeMass = 1.0 / 32.0;
+
+class DensityEstimator {
+ public:
+  virtual ~DensityEstimator() = default;
+  // H [W/m^2] at x, a point of the surface's region. Reproducible bit for bit for the same photons.
+  virtual Rgb Estimate(Point2 x) const = 0;
+};
+
+// `region` must outlive the estimator; the photon arrays are copied.
+std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& region,
+                                                       std::span<const Point2> uv, std::span<const Rgb> power);
+
+std::optional<EstimatorKind> ParseEstimator(std::string_view name);
+std::string EstimatorName(EstimatorKind kind);
+std::string EstimatorNames();  // comma-separated, for --help and error messages
+
+}  // namespace pb

@@ -1,0 +1,67 @@
+#include "estimators/histogram_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesh/errors.h"
+
+namespace pb {
+namespace {
+// A grid of many more buckets than photons is mostly empty: h is then far below the photon spacing and the
+// estimate is noise. The grid is capped (buckets grow) rather than exhausting memory, as in KernelEstimator.
+constexpr double kMaxBucketsPerPhoton = 4.0;
+constexpr double kMinBucketBudget = 1 << 12, kMaxBucketBudget = 1 << 22;
+}  // namespace
+
+HistogramEstimator::HistogramEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h,
+                                       const SurfaceRegion& region, bool edgeCorrection)
+    : h_(h), lo_(region.Bounds().lo) {
+  PB_CHECK(h > 0 && std::isfinite(h), "bucket side is positive and finite");
+  PB_CHECK(uv.size() == power.size(), "one flux per photon");
+  const Bounds2& b = region.Bounds();
+  if (region.Triangles().empty()) return;
+  const double su = double(b.hi.u) - b.lo.u, sv = double(b.hi.v) - b.lo.v;
+  const double budget = std::clamp(kMaxBucketsPerPhoton * double(uv.size()), kMinBucketBudget, kMaxBucketBudget);
+  while ((su / h_ + 1) * (sv / h_ + 1) > budget) h_ *= 2;
+  nu_ = int(su / h_) + 1;
+  nv_ = int(sv / h_) + 1;
+  std::vector<RgbSum> sums(size_t(nu_) * nv_);
+  for (size_t i = 0; i < uv.size(); ++i) {
+    const int iu = std::clamp(int(std::floor((uv[i].u - lo_.u) / h_)), 0, nu_ - 1);
+    const int iv = std::clamp(int(std::floor((uv[i].v - lo_.v) / h_)), 0, nv_ - 1);
+    sums[Bucket(iu, iv)].Add(power[i], 1.0f);
+  }
+  flux_.resize(sums.size());
+  for (size_t i = 0; i < sums.size(); ++i) flux_[i] = sums[i].ToRgb();
+
+  area_.assign(sums.size(), edgeCorrection ? 0.0 : double(h_) * h_);
+  if (!edgeCorrection) return;
+  for (const Triangle2& t : region.Triangles()) {
+    Bounds2 tb;
+    for (const Point2& p : t) tb.Extend(p);
+    const int u0 = std::clamp(int(std::floor((tb.lo.u - lo_.u) / h_)), 0, nu_ - 1);
+    const int u1 = std::clamp(int(std::floor((tb.hi.u - lo_.u) / h_)), 0, nu_ - 1);
+    const int v0 = std::clamp(int(std::floor((tb.lo.v - lo_.v) / h_)), 0, nv_ - 1);
+    const int v1 = std::clamp(int(std::floor((tb.hi.v - lo_.v) / h_)), 0, nv_ - 1);
+    for (int iv = v0; iv <= v1; ++iv)
+      for (int iu = u0; iu <= u1; ++iu) {
+        const Bounds2 box{{lo_.u + iu * h_, lo_.v + iv * h_}, {lo_.u + (iu + 1) * h_, lo_.v + (iv + 1) * h_}};
+        area_[Bucket(iu, iv)] += TriangleBoxOverlapArea(t, box);
+      }
+  }
+}
+
+Rgb HistogramEstimator::Estimate(Point2 x) const {
+  if (flux_.empty()) return {};
+  const double fu = (x.u - lo_.u) / h_, fv = (x.v - lo_.v) / h_;
+  int best = -1;
+  for (double du : {-1e-6, 1e-6})
+    for (double dv : {-1e-6, 1e-6}) {  // the up to four buckets whose closure holds x
+      const int iu = std::clamp(int(std::floor(fu + du)), 0, nu_ - 1), iv = std::clamp(int(std::floor(fv + dv)), 0, nv_ - 1);
+      if (best < 0 || area_[Bucket(iu, iv)] > area_[best]) best = Bucket(iu, iv);
+    }
+  if (!(area_[best] > 0)) return {};
+  return flux_[best] * float(1.0 / area_[best]);
+}
+
+}  // namespace pb

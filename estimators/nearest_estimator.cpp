@@ -1,0 +1,55 @@
+#include "estimators/nearest_estimator.h"
+
+#include <nanoflann.hpp>
+
+#include <cmath>
+
+#include "mesh/errors.h"
+
+namespace pb {
+
+// nanoflann's dataset interface over the photons' chart positions.
+struct NearestEstimator::Tree {
+  struct Points {
+    const std::vector<Point2>* uv;
+    size_t kdtree_get_point_count() const { return uv->size(); }
+    float kdtree_get_pt(size_t i, size_t dim) const { return dim == 0 ? (*uv)[i].u : (*uv)[i].v; }
+    template <class Box>
+    bool kdtree_get_bbox(Box&) const { return false; }
+  };
+  using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Points>, Points, 2, uint32_t>;
+  Points points;
+  Index index;
+  explicit Tree(const std::vector<Point2>& uv) : points{&uv}, index(2, points, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
+};
+
+NearestEstimator::NearestEstimator(std::span<const Point2> uv, std::span<const Rgb> power, uint32_t k,
+                                   const SurfaceRegion& region, bool edgeCorrection)
+    : k_(k), region_(region), edgeCorrection_(edgeCorrection), uv_(uv.begin(), uv.end()), power_(power.begin(), power.end()) {
+  PB_CHECK(k >= 2, "k-nearest-neighbour estimation needs k >= 2");
+  PB_CHECK(uv.size() == power.size(), "one flux per photon");
+  if (uv_.size() >= k_) tree_ = std::make_unique<Tree>(uv_);
+}
+
+NearestEstimator::~NearestEstimator() = default;
+
+Rgb NearestEstimator::Estimate(Point2 x) const {
+  if (!tree_) {  // fewer than k photons: the surface's mean
+    RgbSum total;
+    for (const Rgb& p : power_) total.Add(p);
+    return region_.Area() > 0 ? total.ToRgb() * float(1.0 / region_.Area()) : Rgb{};
+  }
+  std::vector<uint32_t> index(k_);
+  std::vector<float> distance2(k_);
+  const float query[2] = {x.u, x.v};
+  const size_t found = tree_->index.knnSearch(query, k_, index.data(), distance2.data());
+  RgbSum flux;
+  for (size_t i = 0; i < found; ++i) flux.Add(power_[index[i]]);
+  const double r = std::sqrt(double(distance2[found - 1]));
+  const double fraction = edgeCorrection_ ? std::max(region_.KernelMass(x, Kernel::kUniform, r), kMinEdgeMass) : 1.0;
+  const double area = M_PI * r * r * fraction;
+  if (!(area > 0)) return {};  // k photons at exactly x: no area to divide by
+  return flux.ToRgb() * float(double(k_ - 1) / double(k_) / area);
+}
+
+}  // namespace pb

@@ -1,0 +1,169 @@
+#include "estimators/surface_region.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <unordered_set>
+
+#include "estimators/quadrature.h"
+
+namespace pb {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+constexpr int kMaxCellsPerAxis = 1024;
+
+double Cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
+double SignedArea(const Triangle2& t) {
+  return 0.5 * Cross(double(t[1].u) - t[0].u, double(t[1].v) - t[0].v, double(t[2].u) - t[0].u, double(t[2].v) - t[0].v);
+}
+
+uint64_t Bits(Point2 p) {
+  const float c[2] = {p.u + 0.0f, p.v + 0.0f};  // + 0.0f maps -0 to +0
+  uint64_t bits;
+  std::memcpy(&bits, c, sizeof bits);
+  return bits;
+}
+
+struct HalfEdgeKey {
+  uint64_t a, b;
+  bool operator==(const HalfEdgeKey&) const = default;
+};
+struct HalfEdgeHash {
+  size_t operator()(const HalfEdgeKey& k) const { return std::hash<uint64_t>()(k.a * 0x9E3779B97F4A7C15ull ^ k.b); }
+};
+
+// Signed integral of K_h(|y - x|) over the fan triangle (x, a, b): positive when a -> b turns counter-clockwise
+// about x. Parameterised by arc length s along the edge from the foot of the perpendicular from x.
+double EdgeMass(Point2 a, Point2 b, Point2 x, Kernel kernel, double h) {
+  const double px = double(a.u) - x.u, py = double(a.v) - x.v;
+  const double ex = double(b.u) - a.u, ey = double(b.v) - a.v, length = std::hypot(ex, ey);
+  if (length == 0) return 0;
+  const double signedDistance = Cross(px, py, ex / length, ey / length);
+  const double d = std::fabs(signedDistance);
+  if (d <= 1e-12 * (length + std::hypot(px, py))) return 0;  // x on the edge's line: a degenerate fan
+  const double sa = (px * ex + py * ey) / length, sb = sa + length;
+  const double gMax = 1.0 / kTwoPi;
+  const double angle = std::atan(sb / d) - std::atan(sa / d);
+  double mass = gMax * angle;
+  if (d < h) {  // the part of the edge inside the kernel's support: G(r/h) < G(1) there
+    const double sh = std::sqrt(h * h - d * d), lo = std::max(sa, -sh), hi = std::min(sb, sh);
+    if (lo < hi) {
+      const auto integrand = [&](double s) { return d / (h * h) * KernelRadialMassOverSquare(kernel, std::hypot(d, s) / h); };
+      double inner = 0;
+      if (lo < 0) inner += GaussLegendre(integrand, lo, std::min(hi, 0.0));  // split at s = 0: the cone's kink
+      if (hi > 0) inner += GaussLegendre(integrand, std::max(lo, 0.0), hi);
+      mass += inner - gMax * (std::atan(hi / d) - std::atan(lo / d));
+    }
+  }
+  return signedDistance > 0 ? mass : -mass;
+}
+
+double SegmentDistanceSquared(Point2 a, Point2 b, Point2 x) {
+  const double ex = double(b.u) - a.u, ey = double(b.v) - a.v, px = double(x.u) - a.u, py = double(x.v) - a.v;
+  const double l2 = ex * ex + ey * ey;
+  const double t = l2 > 0 ? std::clamp((px * ex + py * ey) / l2, 0.0, 1.0) : 0.0;
+  const double dx = px - t * ex, dy = py - t * ey;
+  return dx * dx + dy * dy;
+}
+
+// Sutherland-Hodgman: keep the part of `polygon` where sign * (coordinate axis of p - bound) <= 0.
+std::vector<Point2> ClipAgainst(const std::vector<Point2>& polygon, int axis, float bound, float sign) {
+  std::vector<Point2> out;
+  const auto value = [&](Point2 p) { return sign * ((axis == 0 ? p.u : p.v) - bound); };
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const Point2 p = polygon[i], q = polygon[(i + 1) % polygon.size()];
+    const float vp = value(p), vq = value(q);
+    if (vp <= 0) out.push_back(p);
+    if ((vp < 0) != (vq < 0) && vp != 0 && vq != 0) {
+      const float t = vp / (vp - vq);
+      out.push_back({p.u + t * (q.u - p.u), p.v + t * (q.v - p.v)});
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+double TriangleBoxOverlapArea(const Triangle2& triangle, const Bounds2& box) {
+  std::vector<Point2> polygon(triangle.begin(), triangle.end());
+  polygon = ClipAgainst(polygon, 0, box.hi.u, 1.0f);
+  polygon = ClipAgainst(polygon, 0, box.lo.u, -1.0f);
+  polygon = ClipAgainst(polygon, 1, box.hi.v, 1.0f);
+  polygon = ClipAgainst(polygon, 1, box.lo.v, -1.0f);
+  double twiceArea = 0;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const Point2 p = polygon[i], q = polygon[(i + 1) % polygon.size()];
+    twiceArea += double(p.u) * q.v - double(q.u) * p.v;
+  }
+  return std::fabs(twiceArea) / 2;
+}
+
+SurfaceRegion::SurfaceRegion(std::span<const Triangle2> triangles) {
+  std::unordered_set<HalfEdgeKey, HalfEdgeHash> halfEdges;
+  for (Triangle2 t : triangles) {
+    if (SignedArea(t) < 0) std::swap(t[1], t[2]);
+    area_ += SignedArea(t);
+    for (const Point2& p : t) bounds_.Extend(p);
+    triangles_.push_back(t);
+    for (int k = 0; k < 3; ++k) halfEdges.insert({Bits(t[k]), Bits(t[(k + 1) % 3])});
+  }
+  for (const Triangle2& t : triangles_)
+    for (int k = 0; k < 3; ++k) {
+      const Point2 a = t[k], b = t[(k + 1) % 3];
+      if (!halfEdges.contains({Bits(b), Bits(a)})) edges_.push_back({a, b});
+    }
+  if (edges_.empty()) return;
+
+  const double su = double(bounds_.hi.u) - bounds_.lo.u, sv = double(bounds_.hi.v) - bounds_.lo.v;
+  cell_ = std::max({su, sv, 1e-30}) / std::clamp(int(std::ceil(std::sqrt(double(edges_.size())))), 1, kMaxCellsPerAxis);
+  nu_ = std::clamp(int(su / cell_) + 1, 1, kMaxCellsPerAxis + 1);
+  nv_ = std::clamp(int(sv / cell_) + 1, 1, kMaxCellsPerAxis + 1);
+  std::vector<std::vector<uint32_t>> cells(size_t(nu_) * nv_);
+  for (uint32_t e = 0; e < edges_.size(); ++e) {
+    const auto [u0, v0] = CellOf(std::min(edges_[e].a.u, edges_[e].b.u), std::min(edges_[e].a.v, edges_[e].b.v));
+    const auto [u1, v1] = CellOf(std::max(edges_[e].a.u, edges_[e].b.u), std::max(edges_[e].a.v, edges_[e].b.v));
+    for (int cv = v0; cv <= v1; ++cv)
+      for (int cu = u0; cu <= u1; ++cu) cells[size_t(cv) * nu_ + cu].push_back(e);
+  }
+  cellStart_.push_back(0);
+  for (const auto& c : cells) {
+    cellEdges_.insert(cellEdges_.end(), c.begin(), c.end());
+    cellStart_.push_back(uint32_t(cellEdges_.size()));
+  }
+}
+
+std::array<int, 2> SurfaceRegion::CellOf(double u, double v) const {
+  return {std::clamp(int(std::floor((u - bounds_.lo.u) / cell_)), 0, nu_ - 1),
+          std::clamp(int(std::floor((v - bounds_.lo.v) / cell_)), 0, nv_ - 1)};
+}
+
+bool SurfaceRegion::BoundaryWithin(Point2 x, double radius) const {
+  if (edges_.empty()) return false;
+  const auto [u0, v0] = CellOf(x.u - radius, x.v - radius);
+  const auto [u1, v1] = CellOf(x.u + radius, x.v + radius);
+  for (int cv = v0; cv <= v1; ++cv)
+    for (int cu = u0; cu <= u1; ++cu) {
+      const size_t c = size_t(cv) * nu_ + cu;
+      for (uint32_t i = cellStart_[c]; i < cellStart_[c + 1]; ++i) {
+        const Edge& e = edges_[cellEdges_[i]];
+        if (SegmentDistanceSquared(e.a, e.b, x) < radius * radius) return true;
+      }
+    }
+  return false;
+}
+
+double SurfaceRegion::KernelMass(Point2 x, Kernel kernel, double h) const {
+  if (!BoundaryWithin(x, h)) return 1.0;
+  double mass = 0;
+  for (const Edge& e : edges_) mass += EdgeMass(e.a, e.b, x, kernel, h);
+  return std::clamp(mass, 0.0, 1.0);
+}
+
+double SurfaceRegion::OverlapArea(const Bounds2& box) const {
+  double area = 0;
+  for (const Triangle2& t : triangles_) area += TriangleBoxOverlapArea(t, box);
+  return area;
+}
+
+}  // namespace pb

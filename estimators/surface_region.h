@@ -1,0 +1,63 @@
+// The region Omega that one surface covers in its (u,v) chart [m]: a union of triangles. Answers the two
+// questions boundary-corrected density estimation asks of it (Jones 1993, "Simple boundary correction for
+// kernel density estimation", Statistics and Computing 3, for the renormalisation this serves):
+//   KernelMass(x, K, h) = integral over Omega of K_h(|y - x|) dy, in [0, 1]: the fraction of a kernel centred
+//                         at x that lies on the surface (1 inside, 1/2 on a straight edge, 1/4 at a square
+//                         corner, when h is small against the surface);
+//   OverlapArea(box)    = area of box intersected with Omega [m^2], for histogram buckets.
+//
+// KernelMass is exact up to round-off: by the divergence theorem in polar coordinates about x, the integral
+// over Omega is a signed sum over Omega's boundary edges e of integral_e G(r/h) dtheta, with G the kernel's
+// radial mass (estimators/kernels.h). Along an edge at distance d from x, dtheta = d ds / r^2, so the
+// integrand d G(t)/(h^2 t^2) is smooth in s and Gauss-Legendre integrates it exactly for polynomial kernels.
+// Interior edges, shared by two triangles, cancel and are dropped; T-junction edges cancel numerically.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "estimators/kernels.h"
+#include "mesh/geometry.h"
+
+namespace pb {
+
+using Triangle2 = std::array<Point2, 3>;
+
+class SurfaceRegion {
+ public:
+  // Triangles in chart coordinates [m]; orientation does not matter (each is used counter-clockwise).
+  explicit SurfaceRegion(std::span<const Triangle2> triangles);
+
+  // For x in Omega (closure included). Points outside Omega far from its boundary also return 1.
+  double KernelMass(Point2 x, Kernel kernel, double h) const;
+  double OverlapArea(const Bounds2& box) const;
+
+  double Area() const { return area_; }
+  const Bounds2& Bounds() const { return bounds_; }
+  std::span<const Triangle2> Triangles() const { return triangles_; }
+  size_t BoundaryEdgeCount() const { return edges_.size(); }
+
+ private:
+  struct Edge {
+    Point2 a, b;  // Omega lies to the left of a -> b
+  };
+  bool BoundaryWithin(Point2 x, double radius) const;
+  std::array<int, 2> CellOf(double u, double v) const;
+
+  std::vector<Triangle2> triangles_;
+  std::vector<Edge> edges_;
+  double area_ = 0;
+  Bounds2 bounds_;
+  // Uniform grid over the boundary edges' bounding boxes: edge indices of cell c are
+  // cellEdges_[cellStart_[c] .. cellStart_[c+1]).
+  double cell_ = 1;
+  int nu_ = 1, nv_ = 1;
+  std::vector<uint32_t> cellStart_, cellEdges_;
+};
+
+// Area [m^2] of a triangle clipped to an axis-aligned box.
+double TriangleBoxOverlapArea(const Triangle2& triangle, const Bounds2& box);
+
+}  // namespace pb
