@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "baker/bake.h"
+#include "estimators/kernels.h"
 #include "tests/ply_reader.h"
 #include "tests/test_scenes.h"
 
@@ -81,6 +82,127 @@ TEST(ClosedForm, SquareLightOverBlackFloorMatchesLambert) {
   EXPECT_EQ(report.trace.truncated, 0u);
   RecordProperty("worst_z", std::to_string(worstZ) + " at vertex " + std::to_string(worstIndex));
 }
+
+// ---- Relative RMSE over all floor vertices, edges and corners included, for each estimator at its defaults ----
+//
+// The expected error of each estimator at each vertex is computed from the exact E by quadrature, then
+// averaged: predicted relative MSE = mean over vertices of (bias^2 + variance) / E^2, where, for photons of
+// flux phi landing with density E / phi,
+//   kernel:    E[H] = integral_floor K(x-y) E(y) dy / M(x),    Var H = phi integral_floor K^2 E dy / M^2
+//   knn:       as kernel with the uniform kernel of radius r(x), pi r^2 E(x) / phi = k; Var H / H^2 = 1/(k-2)
+//   histogram: E[H] = mean of E over x's bucket on the floor, Var H = phi E[H] / area; x sits on a bucket
+//              corner, so the largest of the four candidate buckets' errors is used (an upper bound).
+// The measured relative RMSE must lie within [0.85, 1.15] of the prediction (kernel, knn), or below 1.15 of
+// the bound (histogram). Neighbouring vertices share photons, so ~1/4 of the 6561 are independent; the
+// measured MSE then fluctuates by ~sqrt(2 / 1600) = 3.5%, and 15% on the RMSE is over 8 of those.
+struct Floor {
+  static constexpr double kHalf = 2.0;
+  static bool Inside(double x, double z) { return std::fabs(x) <= kHalf && std::fabs(z) <= kHalf; }
+};
+
+double Exact(double x, double z) {
+  static const std::vector<V3> light = {{-0.5, 1, -0.5}, {0.5, 1, -0.5}, {0.5, 1, 0.5}, {-0.5, 1, 0.5}};
+  return LambertPolygonIrradiance({x, 0, z}, {0, 1, 0}, light, 1.0);
+}
+
+struct Moments {
+  double mean = 0, variance = 0;
+};
+
+// Kernel-weighted moments over the floor, by the midpoint rule in polar coordinates about (x, z).
+Moments KernelMoments(double x, double z, Kernel kernel, double h, double phi) {
+  constexpr int kRings = 24, kAngles = 96;
+  double mass = 0, first = 0, second = 0;
+  for (int i = 0; i < kRings; ++i) {
+    const double r = (i + 0.5) * h / kRings, k = KernelProfile(kernel, r / h) / (h * h);
+    for (int j = 0; j < kAngles; ++j) {
+      const double a = (j + 0.5) * 2 * M_PI / kAngles, px = x + r * std::cos(a), pz = z + r * std::sin(a);
+      if (!Floor::Inside(px, pz)) continue;
+      const double w = r * (h / kRings) * (2 * M_PI / kAngles), e = Exact(px, pz);
+      mass += k * w, first += k * e * w, second += k * k * e * w;
+    }
+  }
+  return {first / mass, phi * second / (mass * mass)};
+}
+
+Moments BucketMoments(double x0, double z0, double side, double phi) {
+  constexpr int kSteps = 16;
+  double area = 0, sum = 0;
+  for (int i = 0; i < kSteps; ++i)
+    for (int j = 0; j < kSteps; ++j) {
+      const double px = x0 + (i + 0.5) * side / kSteps, pz = z0 + (j + 0.5) * side / kSteps;
+      if (!Floor::Inside(px, pz)) continue;
+      area += side * side / (kSteps * kSteps), sum += Exact(px, pz) * side * side / (kSteps * kSteps);
+    }
+  return {sum / area, phi * (sum / area) / area};
+}
+
+double RelativeMse(const Moments& m, double exact) {
+  return ((m.mean - exact) * (m.mean - exact) + m.variance) / (exact * exact);
+}
+
+double PredictedRelativeMse(const EstimatorSettings& e, double x, double z, double phi) {
+  const double exact = Exact(x, z);
+  switch (e.kind) {
+    case EstimatorKind::kKernel: return RelativeMse(KernelMoments(x, z, e.kernel, e.bandwidth, phi), exact);
+    case EstimatorKind::kNearest: {
+      const double r = std::sqrt(e.neighbours * phi / (M_PI * exact));
+      Moments m = KernelMoments(x, z, Kernel::kUniform, r, phi);
+      m.variance = m.mean * m.mean / (e.neighbours - 2.0);
+      return RelativeMse(m, exact);
+    }
+    case EstimatorKind::kHistogram: {
+      double worst = 0;
+      for (double dx : {-1.0, 0.0})
+        for (double dz : {-1.0, 0.0}) {
+          const double x0 = x + dx * e.bandwidth, z0 = z + dz * e.bandwidth;
+          if (!Floor::Inside(x0 + e.bandwidth / 2, z0 + e.bandwidth / 2)) continue;
+          worst = std::max(worst, RelativeMse(BucketMoments(x0, z0, e.bandwidth, phi), exact));
+        }
+      return worst;
+    }
+  }
+  return 0;
+}
+
+class ClosedFormEveryEstimator : public testing::TestWithParam<EstimatorSettings> {};
+
+TEST_P(ClosedFormEveryEstimator, RelativeRmseOverAllFloorVerticesMatchesItsPrediction) {
+  const std::string dir = test::TempDirectory("closed-form-" + EstimatorName(GetParam().kind));
+  BakeOptions o;
+  o.scenePath = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 80);
+  o.outputPath = dir + "/out.ply";
+  o.photons = 1'000'000;
+  o.estimator = GetParam();
+  Bake(o, Log(true));
+  const test::PlyData ply = test::ReadPly(o.outputPath);
+  const double phi = M_PI / double(o.photons);
+  double measured = 0, predicted = 0;
+  int n = 0;
+  for (size_t v = 0; v < ply.VertexCount(); ++v) {
+    const double x = ply.vertex.at("x")[v], z = ply.vertex.at("z")[v];
+    if (ply.vertex.at("y")[v] != 0.0) continue;
+    const double exact = Exact(x, z), H = ply.vertex.at("irradiance_g")[v];
+    measured += (H - exact) * (H - exact) / (exact * exact);
+    predicted += PredictedRelativeMse(GetParam(), x, z, phi);
+    ++n;
+  }
+  ASSERT_EQ(n, 81 * 81);
+  const double measuredRmse = std::sqrt(measured / n), predictedRmse = std::sqrt(predicted / n);
+  RecordProperty("relative_rmse", std::to_string(measuredRmse));
+  EXPECT_LT(measuredRmse, 1.15 * predictedRmse);
+  if (GetParam().kind != EstimatorKind::kHistogram) {
+    EXPECT_GT(measuredRmse, 0.85 * predictedRmse);
+  }
+  std::printf("%s: relative RMSE %.4f, predicted %.4f\n", EstimatorName(GetParam().kind).c_str(), measuredRmse,
+              predictedRmse);
+}
+
+INSTANTIATE_TEST_SUITE_P(Defaults, ClosedFormEveryEstimator,
+                         testing::Values(EstimatorSettings{EstimatorKind::kKernel},
+                                         EstimatorSettings{EstimatorKind::kHistogram},
+                                         EstimatorSettings{EstimatorKind::kNearest}),
+                         [](const testing::TestParamInfo<EstimatorSettings>& info) { return EstimatorName(info.param.kind); });
 
 }  // namespace
 }  // namespace pb
