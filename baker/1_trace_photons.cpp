@@ -22,8 +22,8 @@ struct Block {
 
 class PhotonTracer {
  public:
-  PhotonTracer(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t maxBounces)
-      : scene_(scene), surfaces_(surfaces), rays_(rays), maxBounces_(maxBounces) {}
+  PhotonTracer(const Scene& scene, const RayScene& rays, uint32_t maxBounces)
+      : scene_(scene), rays_(rays), maxBounces_(maxBounces) {}
 
   // Traces one photon from `light` with the flux `power` [W], appending its hits to `block`.
   void Trace(const AreaLight& light, Rgb power, Rng& rng, Block& block) const {
@@ -40,11 +40,10 @@ class PhotonTracer {
         return;
       }
       const Normal3 front = scene_.FrontNormal(hit->triangle);
-      const Normal3 side = Dot(direction, front) < 0 ? front : -front;  // the side the photon arrived on
+      const bool onFront = Dot(direction, front) < 0;
+      const Normal3 side = onFront ? front : -front;  // the side the photon arrived on
       const Point3 p = scene_.PointAt(hit->triangle, hit->b1, hit->b2);
-      const uint32_t surface = surfaces_.surfaceOfTriangle[hit->triangle];
-      block.hits.push_back({power, -direction, surface, hit->triangle,
-                            surfaces_.surfaces[surface].chart.ToUv(p), hit->b1, hit->b2});
+      block.hits.emplace_back(power, -direction, hit->triangle, onFront, hit->b1, hit->b2);
       const Rgb albedo = scene_.MaterialOf(hit->triangle).albedo;
       block.stats.powerAbsorbed.Add(power * (Rgb{1, 1, 1} - albedo));
       const float survival = albedo.Max();
@@ -62,7 +61,6 @@ class PhotonTracer {
 
  private:
   const Scene& scene_;
-  const SurfaceSet& surfaces_;
   const RayScene& rays_;
   uint32_t maxBounces_;
 };
@@ -80,7 +78,7 @@ void TraceStats::Add(const TraceStats& b) {
   powerEscaped.Add(b.powerEscaped);
 }
 
-PhotonHits TracePhotons(const Scene& scene, const SurfaceSet& surfaces, const std::vector<AreaLight>& lights,
+PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights,
                         const RayScene& rays, const TraceSettings& settings, const Log& log) {
   const std::vector<uint64_t> perLight = AllocatePhotons(lights, settings.photons);
   std::vector<uint64_t> firstPhotonOf(lights.size() + 1, 0);  // photon i belongs to light l when
@@ -89,7 +87,7 @@ PhotonHits TracePhotons(const Scene& scene, const SurfaceSet& surfaces, const st
   for (size_t l = 0; l < lights.size(); ++l)
     photonPower[l] = perLight[l] ? lights[l].Power() / float(perLight[l]) : Rgb{};
 
-  const PhotonTracer tracer(scene, surfaces, rays, settings.maxBounces);
+  const PhotonTracer tracer(scene, rays, settings.maxBounces);
   const uint64_t blockCount = (settings.photons + kBlockPhotons - 1) / kBlockPhotons;
   std::vector<Block> blocks(blockCount);
   Progress progress(log, "trace photons", settings.photons);

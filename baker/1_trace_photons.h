@@ -15,23 +15,32 @@
 #include "mesh/color.h"
 #include "mesh/geometry.h"
 #include "mesh/lights.h"
+#include "mesh/octahedral.h"
 #include "mesh/ray_scene.h"
 #include "mesh/scene.h"
 #include "mesh/surfaces.h"
 
 namespace pb {
 
-// One photon arriving at a surface. Its world position is Scene::PointAt(triangle, b1, b2) and its normal
-// Scene::FrontNormal(triangle), both reconstructed exactly from what is stored. 48 bytes.
+// One photon arriving at a surface, in 28 bytes. Reconstructed exactly from what is stored: its world position
+// Scene::PointAt(Triangle(), b1, b2), its normal Scene::FrontNormal(Triangle()), its surface
+// SurfaceSet::surfaceOfTriangle[Triangle()] and its chart position SurfaceSet::UvAt(Triangle(), b1, b2) [m].
+// Its incoming direction is quantised (mesh/octahedral.h, within 8e-5 rad); the side it arrived on is exact.
 struct PhotonHit {
-  Rgb power;             // flux arriving [W]
-  Vector3 wi;            // unit, world, pointing back toward where the photon came from
-  uint32_t surface = 0;  // SurfaceSet index
-  uint32_t triangle = 0; // Scene::triangles index
-  Point2 uv;             // position in the surface's chart [m]
-  float b1 = 0, b2 = 0;  // barycentrics on `triangle`
-  bool OnFront(const Scene& scene) const { return Dot(wi, scene.AreaVector(triangle)) > 0; }
+  Rgb power;                  // flux arriving [W], exact
+  uint32_t wiOctahedral = 0;  // unit world direction back toward where the photon came from
+  uint32_t triangleSide = 0;  // Scene::triangles index in bits 0-30; bit 31 set when it arrived on the front side
+  float b1 = 0, b2 = 0;       // barycentrics on the triangle
+
+  static constexpr uint32_t kFrontBit = 1u << 31;
+  PhotonHit() = default;
+  PhotonHit(Rgb flux, Vector3 wi, uint32_t triangle, bool front, float b1_, float b2_)
+      : power(flux), wiOctahedral(EncodeOctahedral(wi)), triangleSide(triangle | (front ? kFrontBit : 0)), b1(b1_), b2(b2_) {}
+  uint32_t Triangle() const { return triangleSide & ~kFrontBit; }
+  bool OnFront() const { return (triangleSide & kFrontBit) != 0; }
+  Vector3 Wi() const { return DecodeOctahedral(wiOctahedral); }
 };
+static_assert(sizeof(PhotonHit) == 28, "the compact photon record of issue 3");
 
 struct TraceSettings {
   uint64_t photons = 0;
@@ -65,7 +74,7 @@ struct PhotonHits {
   }
 };
 
-PhotonHits TracePhotons(const Scene& scene, const SurfaceSet& surfaces, const std::vector<AreaLight>& lights,
+PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights,
                         const RayScene& rays, const TraceSettings& settings, const Log& log);
 
 }  // namespace pb

@@ -24,6 +24,6 @@ struct SurfaceBins {
 };
 
 // Stable: within a surface, hits keep their trace order, so sums over them are reproducible.
-SurfaceBins BinPhotons(const Scene& scene, const PhotonHits& hits, size_t surfaceCount);
+SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonHits& hits);
 
 }  // namespace pb

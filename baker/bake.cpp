@@ -68,8 +68,8 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   clock.Time("bvh", [&] { rays.emplace(scene); });
 
   const PhotonHits photons =
-      clock.Time("trace", [&] { return TracePhotons(scene, surfaces, lights, *rays, {o.photons, o.seed, o.maxBounces}, log); });
-  const SurfaceBins bins = clock.Time("bin", [&] { return BinPhotons(scene, photons, surfaces.surfaces.size()); });
+      clock.Time("trace", [&] { return TracePhotons(scene, lights, *rays, {o.photons, o.seed, o.maxBounces}, log); });
+  const SurfaceBins bins = clock.Time("bin", [&] { return BinPhotons(surfaces, photons); });
   const BakedMesh baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(scene, surfaces, SplitBySurface(scene, surfaces), bins, o.estimator, log);
   });

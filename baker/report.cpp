@@ -27,6 +27,8 @@ nlohmann::json TraceJson(const TraceStats& t) {
           {"absorbed", t.absorbed},
           {"escaped", t.escaped},
           {"truncated", t.truncated},
+          {"record_bytes", sizeof(PhotonHit)},
+          {"store_bytes", t.hits * sizeof(PhotonHit)},
           {"power_emitted_W", Json(t.powerEmitted)},
           {"power_absorbed_W", Json(t.powerAbsorbed)},
           {"power_escaped_W", Json(t.powerEscaped)}};
@@ -74,6 +76,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
                      l.photons);
   s += fmt::format("  photons   {} emitted, {} hits stored, {} absorbed, {} escaped, {} truncated\n", t.emitted,
                    t.hits, t.absorbed, t.escaped, t.truncated);
+  s += fmt::format("  store     {} B per hit, {:.1f} MiB\n", sizeof(PhotonHit), t.hits * sizeof(PhotonHit) / 1048576.0);
   const double balance = t.powerEmitted.Mean() > 0
                              ? (t.powerAbsorbed.Mean() + t.powerEscaped.Mean()) / t.powerEmitted.Mean() - 1.0
                              : 0.0;

@@ -82,7 +82,7 @@ void BM_TracePhotons(benchmark::State& state) {
   const pb::Log quiet(true);
   uint64_t rays = 0, photons = 0;
   for (auto _ : state) {
-    const pb::PhotonHits hits = pb::TracePhotons(f.scene, f.surfaces, f.lights, *f.rays, {kPhotons, 7, 10000}, quiet);
+    const pb::PhotonHits hits = pb::TracePhotons(f.scene, f.lights, *f.rays, {kPhotons, 7, 10000}, quiet);
     rays += hits.stats.hits + hits.stats.escaped;
     photons += hits.stats.emitted;
   }
