@@ -47,7 +47,7 @@ BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, Spl
     for (size_t v = r.begin(); v != r.end(); ++v) {
       const uint32_t s = mesh.surface[v];
       const Material& material = scene.materials[surfaces.surfaces[s].material];
-      baked.irradiance[v] = built.estimators[s]->Estimate(mesh.uv[v]);
+      baked.irradiance[v] = built.estimators[s]->Estimate(mesh.uv[v]) * mesh.uvAreaRatio[v];
       baked.albedo[v] = material.albedo;
       baked.emitted[v] = material.emission;
     }

@@ -4,6 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <numeric>
+
 #include "baker/atomic_file.h"
 
 namespace pb {
@@ -34,6 +37,27 @@ nlohmann::json TraceJson(const TraceStats& t) {
           {"power_escaped_W", Json(t.powerEscaped)}};
 }
 
+// One row per surface; past kRows rows, only the count of curved charts and their worst distortion.
+std::string SurfaceTable(const std::vector<SurfaceReport>& surfaces) {
+  constexpr size_t kRows = 40;
+  size_t curved = 0;
+  double worst = 1;
+  for (const SurfaceReport& sr : surfaces)
+    if (!sr.planar) ++curved, worst = std::max(worst, sr.areaDistortion);
+  std::string s = fmt::format("  charts    {} planar, {} curved (LSCM), worst area distortion {:.3f}\n",
+                              surfaces.size() - curved, curved, worst);
+  s += fmt::format("  {:>4}  {:<22} {:<14} {:>9} {:>11} {:>9} {:>12} {:>7} {:>6}\n", "surf", "object", "material",
+                   "area m^2", "front hits", "back hits", "mean H W/m^2", "h m", "chart");
+  for (size_t i = 0; i < surfaces.size() && i < kRows; ++i) {
+    const SurfaceReport& sr = surfaces[i];
+    s += fmt::format("  {:>4}  {:<22} {:<14} {:>9.4f} {:>11} {:>9} {:>12.4g} {:>7.4f} {:>6}\n", i, sr.object,
+                     sr.material, sr.area, sr.frontHits, sr.backHits, Luminance(sr.meanIrradiance), sr.bandwidth,
+                     sr.planar ? "plane" : fmt::format("{:.2f}", sr.areaDistortion));
+  }
+  if (surfaces.size() > kRows) s += fmt::format("  ... {} more surfaces in --report\n", surfaces.size() - kRows);
+  return s;
+}
+
 }  // namespace
 
 double BakeReport::TotalSeconds() const {
@@ -60,7 +84,7 @@ std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet
     for (const Rgb& p : bins.Power(s)) flux.Add(p);
     const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
     out.push_back({object, scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.backHits[s],
-                   flux.ToRgb() / float(surface.area)});
+                   flux.ToRgb() / float(surface.area), surface.planar, surface.areaDistortion, 0.0f});
   }
   return out;
 }
@@ -82,13 +106,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
                              : 0.0;
   s += fmt::format("  flux      emitted {:.5g} W = absorbed {:.5g} W + escaped {:.5g} W  (balance {:+.3f}%)\n",
                    t.powerEmitted.Mean(), t.powerAbsorbed.Mean(), t.powerEscaped.Mean(), 100.0 * balance);
-  s += fmt::format("  {:>4}  {:<22} {:<14} {:>9} {:>11} {:>9} {:>12}\n", "surf", "object", "material", "area m^2",
-                   "front hits", "back hits", "mean H W/m^2");
-  for (size_t i = 0; i < r.surfaces.size(); ++i) {
-    const SurfaceReport& sr = r.surfaces[i];
-    s += fmt::format("  {:>4}  {:<22} {:<14} {:>9.4f} {:>11} {:>9} {:>12.4g}\n", i, sr.object, sr.material, sr.area,
-                     sr.frontHits, sr.backHits, Luminance(sr.meanIrradiance));
-  }
+  s += SurfaceTable(r.surfaces);
   s += "  seconds  ";
   for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
   s += fmt::format(" total {:.3f} ({} threads)\n", r.TotalSeconds(), r.threads);
@@ -104,14 +122,19 @@ void WriteReportJson(const std::string& path, const BakeReport& r) {
   j["threads"] = r.threads;
   j["scene"] = {{"triangles", r.triangles},
                 {"zero_area_triangles_skipped", r.degenerateTrianglesSkipped},
-                {"surfaces", r.surfaces.size()}};
+                {"surfaces", r.surfaces.size()},
+                {"curved_charts", std::count_if(r.surfaces.begin(), r.surfaces.end(), [](const SurfaceReport& s) { return !s.planar; })},
+                {"worst_area_distortion", std::accumulate(r.surfaces.begin(), r.surfaces.end(), 1.0,
+                    [](double w, const SurfaceReport& s) { return std::max(w, s.areaDistortion); })}};
   for (const LightReport& l : r.lights)
     j["lights"].push_back({{"surface", l.surface}, {"material", l.material}, {"area_m2", l.area},
                            {"power_W", Json(l.power)}, {"photons", l.photons}});
   j["photons"] = TraceJson(r.trace);
   for (const SurfaceReport& s : r.surfaces)
     j["surfaces"].push_back({{"object", s.object}, {"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
-                             {"back_hits", s.backHits}, {"mean_irradiance_W_m2", Json(s.meanIrradiance)}});
+                             {"back_hits", s.backHits}, {"mean_irradiance_W_m2", Json(s.meanIrradiance)},
+                             {"chart", s.planar ? "planar" : "conformal"}, {"area_distortion", s.areaDistortion},
+                             {"h_m", s.bandwidth}});
   for (const auto& [name, seconds] : r.stageSeconds) j["seconds"][name] = seconds;
   j["seconds"]["total"] = r.TotalSeconds();
   for (const auto& [effect, status] : r.effects) j["effects"][effect] = status;

@@ -28,6 +28,9 @@ struct SurfaceReport {
   double area = 0;  // [m^2]
   uint64_t frontHits = 0, backHits = 0;
   Rgb meanIrradiance;  // front-side flux / area [W/m^2], independent of the estimator
+  bool planar = true;
+  double areaDistortion = 1;  // worst max(A_uv / A, A / A_uv) over its triangles
+  float bandwidth = 0;        // h [m] its estimate used
 };
 
 struct BakeReport {

@@ -1,13 +1,42 @@
 #include "mesh/split_mesh.h"
 
+#include <cmath>
 #include <unordered_map>
 
 namespace pb {
+namespace {
+
+double UvArea(const std::array<Point2, 3>& c) {
+  return 0.5 * std::fabs((double(c[1].u) - c[0].u) * (double(c[2].v) - c[0].v) - (double(c[2].u) - c[0].u) * (double(c[1].v) - c[0].v));
+}
+
+// Smooth normals and local area ratios of a curved surface's vertices, from the triangles around each.
+void FinishCurvedVertices(const Scene& scene, const SurfaceSet& surfaces, const Surface& surface, size_t first,
+                          SplitMesh& mesh) {
+  const size_t count = mesh.positions.size() - first;
+  std::vector<Vector3> normalSum(count);
+  std::vector<double> uvArea(count, 0), area(count, 0);
+  for (size_t f = mesh.faces.size() - surface.triangles.size(), i = 0; f < mesh.faces.size(); ++f, ++i) {
+    const uint32_t t = surface.triangles[i];
+    for (uint32_t v : mesh.faces[f]) {
+      normalSum[v - first] = normalSum[v - first] + scene.AreaVector(t);
+      uvArea[v - first] += UvArea(surfaces.cornerUv[t]);
+      area[v - first] += scene.Area(t);
+    }
+  }
+  for (size_t v = 0; v < count; ++v) {
+    mesh.normals[first + v] = NormalFrom(normalSum[v]);
+    mesh.uvAreaRatio[first + v] = area[v] > 0 ? float(uvArea[v] / area[v]) : 1.0f;
+  }
+}
+
+}  // namespace
 
 SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces) {
   SplitMesh mesh;
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
+    const size_t first = mesh.positions.size();
     std::unordered_map<uint32_t, uint32_t> splitIndexOf;  // scene position index -> this surface's copy
     for (uint32_t t : surface.triangles) {
       std::array<uint32_t, 3> face{};
@@ -19,11 +48,13 @@ SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces) {
           mesh.normals.push_back(surface.chart.frame.n);
           mesh.uv.push_back(surfaces.cornerUv[t][k]);
           mesh.surface.push_back(s);
+          mesh.uvAreaRatio.push_back(1.0f);
         }
         face[k] = it->second;
       }
       mesh.faces.push_back(face);
     }
+    if (!surface.planar) FinishCurvedVertices(scene, surfaces, surface, first, mesh);
   }
   return mesh;
 }

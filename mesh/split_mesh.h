@@ -1,6 +1,9 @@
 // The display mesh: the scene's triangles with vertices split where surfaces meet, because irradiance and
-// albedo are discontinuous there. Every vertex belongs to exactly one surface and carries that surface's front
-// normal and its chart position (u,v) [m]. Positions are in metres.
+// albedo are discontinuous there. Every vertex belongs to exactly one surface and carries its chart position
+// (u,v) [m] and a normal: the surface's normal if planar, the area-weighted mean of its triangles' normals at the
+// vertex if curved. `uvAreaRatio` is the chart's local area scale at the vertex, (u,v) area / surface area over
+// the vertex's triangles (exactly 1 on planar surfaces): a density per (u,v) area times it is a density per
+// surface area. Positions are in metres.
 #pragma once
 
 #include <array>
@@ -18,6 +21,7 @@ struct SplitMesh {
   std::vector<Normal3> normals;
   std::vector<Point2> uv;             // in the chart of `surface[i]` [m]
   std::vector<uint32_t> surface;      // owning surface of each vertex
+  std::vector<float> uvAreaRatio;     // dimensionless, 1 on planar surfaces
   std::vector<std::array<uint32_t, 3>> faces;  // counter-clockwise seen from the front
   size_t VertexCount() const { return positions.size(); }
 };

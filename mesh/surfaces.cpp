@@ -1,13 +1,20 @@
 #include "mesh/surfaces.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <deque>
+#include <optional>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "mesh/errors.h"
+#include "mesh/lscm.h"
 
 namespace pb {
 namespace {
+
+float CosDegrees(float degrees) { return std::cos(degrees * kPi / 180.0f); }
 
 // Position indices welded by exact coordinates, so that files with one vertex per face corner still connect.
 std::vector<uint32_t> WeldedPositionIds(const Scene& scene) {
@@ -32,16 +39,14 @@ std::vector<uint32_t> WeldedPositionIds(const Scene& scene) {
   return ids;
 }
 
-// For each triangle, the triangles that share one of its edges (after welding).
-std::vector<std::vector<uint32_t>> EdgeNeighbours(const Scene& scene) {
-  const std::vector<uint32_t> weld = WeldedPositionIds(scene);
+uint64_t EdgeKey(uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
+
+// For each triangle, the triangles that share one of its edges (after welding), ascending.
+std::vector<std::vector<uint32_t>> EdgeNeighbours(const Scene& scene, const std::vector<uint32_t>& weld) {
   std::unordered_map<uint64_t, std::vector<uint32_t>> trianglesOfEdge;
-  for (uint32_t t = 0; t < scene.triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t a = weld[scene.triangles[t].v[k]], b = weld[scene.triangles[t].v[(k + 1) % 3]];
-      trianglesOfEdge[(uint64_t(std::min(a, b)) << 32) | std::max(a, b)].push_back(t);
-    }
-  }
+  for (uint32_t t = 0; t < scene.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      trianglesOfEdge[EdgeKey(weld[scene.triangles[t].v[k]], weld[scene.triangles[t].v[(k + 1) % 3]])].push_back(t);
   std::vector<std::vector<uint32_t>> neighbours(scene.triangles.size());
   for (const auto& [edge, tris] : trianglesOfEdge)
     for (uint32_t a : tris)
@@ -51,47 +56,174 @@ std::vector<std::vector<uint32_t>> EdgeNeighbours(const Scene& scene) {
   return neighbours;
 }
 
-SurfaceChart ChartFor(const Scene& scene, const Surface& surface) {
-  Vector3 areaSum;
-  for (uint32_t t : surface.triangles) areaSum = areaSum + scene.AreaVector(t);
-  return {scene.Corner(surface.triangles.front(), 0), Frame::FromNormal(NormalFrom(areaSum))};
+// The triangles reachable from `seed` through `neighbours` for which `joins(from, to)` holds, ascending.
+template <typename Joins>
+std::vector<uint32_t> Flood(uint32_t seed, const std::vector<std::vector<uint32_t>>& neighbours,
+                            std::vector<uint8_t>& taken, Joins&& joins) {
+  std::vector<uint32_t> group, stack{seed};
+  taken[seed] = 1;
+  while (!stack.empty()) {
+    const uint32_t t = stack.back();
+    stack.pop_back();
+    group.push_back(t);
+    for (uint32_t n : neighbours[t])
+      if (!taken[n] && joins(t, n)) taken[n] = 1, stack.push_back(n);
+  }
+  std::sort(group.begin(), group.end());
+  return group;
+}
+
+std::vector<std::vector<uint32_t>> SmoothGroups(const Scene& scene, const std::vector<std::vector<uint32_t>>& neighbours,
+                                                const SurfaceOptions& o) {
+  const float minCrease = CosDegrees(o.creaseDegrees), minCone = CosDegrees(o.coneDegrees);
+  std::vector<uint8_t> taken(scene.triangles.size(), 0);
+  std::vector<std::vector<uint32_t>> groups;
+  for (uint32_t seed = 0; seed < scene.triangles.size(); ++seed) {
+    if (taken[seed]) continue;
+    const Normal3 seedNormal = scene.FrontNormal(seed);
+    groups.push_back(Flood(seed, neighbours, taken, [&](uint32_t from, uint32_t to) {
+      const Normal3 n = scene.FrontNormal(to);
+      return scene.triangles[to].material == scene.triangles[seed].material &&
+             Dot(n, scene.FrontNormal(from)) >= minCrease && Dot(n, seedNormal) >= minCone;
+    }));
+  }
+  return groups;
+}
+
+Vector3 AreaVectorSum(const Scene& scene, const std::vector<uint32_t>& triangles) {
+  Vector3 sum;
+  for (uint32_t t : triangles) sum = sum + scene.AreaVector(t);
+  return sum;
+}
+
+bool IsPlanar(const Scene& scene, const std::vector<uint32_t>& triangles, float planarDegrees) {
+  const Normal3 mean = NormalFrom(AreaVectorSum(scene, triangles));
+  const float minCos = CosDegrees(planarDegrees);
+  return std::all_of(triangles.begin(), triangles.end(), [&](uint32_t t) { return Dot(scene.FrontNormal(t), mean) >= minCos; });
+}
+
+Surface MakeSurface(const Scene& scene, std::vector<uint32_t> triangles) {
+  Surface s;
+  s.material = scene.triangles[triangles.front()].material;
+  s.triangles = std::move(triangles);
+  for (uint32_t t : s.triangles) s.area += scene.Area(t);
+  s.chart = {scene.Corner(s.triangles.front(), 0), Frame::FromNormal(NormalFrom(AreaVectorSum(scene, s.triangles)))};
+  return s;
+}
+
+// A curved group mapped by LSCM: per-triangle corner (u,v) and the worst area distortion; nothing if the group
+// is not a disc or CGAL fails.
+struct CurvedChart {
+  std::vector<std::array<Point2, 3>> cornerUv;  // parallel to the group's triangles
+  double areaDistortion = 1;
+};
+
+std::optional<CurvedChart> MapCurved(const Scene& scene, const std::vector<uint32_t>& weld,
+                                     const std::vector<uint32_t>& triangles) {
+  std::unordered_map<uint32_t, uint32_t> local;  // welded id -> patch vertex
+  std::vector<Point3> positions;
+  std::vector<std::array<uint32_t, 3>> faces;
+  std::unordered_set<uint64_t> edges;
+  for (uint32_t t : triangles) {
+    std::array<uint32_t, 3> f{};
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t w = weld[scene.triangles[t].v[k]];
+      auto [it, isNew] = local.emplace(w, uint32_t(positions.size()));
+      if (isNew) positions.push_back(scene.Corner(t, k));
+      f[k] = it->second;
+    }
+    for (int k = 0; k < 3; ++k) edges.insert(EdgeKey(f[k], f[(k + 1) % 3]));
+    faces.push_back(f);
+  }
+  if (int64_t(positions.size()) - int64_t(edges.size()) + int64_t(faces.size()) != 1) return std::nullopt;  // not a disc
+  const auto uv = ConformalMap(positions, faces);
+  if (!uv) return std::nullopt;
+  CurvedChart chart;
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const auto& f = faces[i];
+    chart.cornerUv.push_back({(*uv)[f[0]], (*uv)[f[1]], (*uv)[f[2]]});
+    const Point2 a = (*uv)[f[0]], b = (*uv)[f[1]], c = (*uv)[f[2]];
+    const double uvArea = 0.5 * ((double(b.u) - a.u) * (double(c.v) - a.v) - (double(c.u) - a.u) * (double(b.v) - a.v));
+    const double area = scene.Area(triangles[i]);
+    if (!(uvArea > 0)) return std::nullopt;  // a folded triangle
+    chart.areaDistortion = std::max({chart.areaDistortion, uvArea / area, area / uvArea});
+  }
+  return chart;
+}
+
+// Cuts a group at the median of its triangle centroids along their longest extent; returns its connected parts.
+std::vector<std::vector<uint32_t>> Split(const Scene& scene, const std::vector<std::vector<uint32_t>>& neighbours,
+                                         const std::vector<uint32_t>& triangles) {
+  const auto centroid = [&](uint32_t t) {
+    const Point3 a = scene.Corner(t, 0), b = scene.Corner(t, 1), c = scene.Corner(t, 2);
+    return std::array<float, 3>{(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3, (a.z + b.z + c.z) / 3};
+  };
+  std::array<float, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (uint32_t t : triangles)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], centroid(t)[a]), hi[a] = std::max(hi[a], centroid(t)[a]);
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+  std::vector<uint32_t> order = triangles;
+  const auto less = [&](uint32_t x, uint32_t y) {
+    return centroid(x)[axis] < centroid(y)[axis] || (centroid(x)[axis] == centroid(y)[axis] && x < y);
+  };
+  std::nth_element(order.begin(), order.begin() + order.size() / 2, order.end(), less);
+  std::unordered_map<uint32_t, uint8_t> half;  // triangle -> 0 or 1
+  for (size_t i = 0; i < order.size(); ++i) half[order[i]] = i < order.size() / 2 ? 0 : 1;
+
+  std::vector<uint8_t> taken(scene.triangles.size(), 1);
+  for (uint32_t t : triangles) taken[t] = 0;
+  std::vector<std::vector<uint32_t>> parts;
+  for (uint32_t t : triangles)
+    if (!taken[t]) parts.push_back(Flood(t, neighbours, taken, [&](uint32_t from, uint32_t to) { return half.at(from) == half.at(to); }));
+  return parts;
 }
 
 }  // namespace
 
-SurfaceSet BuildSurfaces(const Scene& scene, float maxNormalAngleDegrees) {
-  const float minCos = std::cos(maxNormalAngleDegrees * kPi / 180.0f);
-  const auto neighbours = EdgeNeighbours(scene);
-  constexpr uint32_t kUnassigned = ~0u;
+size_t SurfaceSet::CurvedCount() const {
+  return size_t(std::count_if(surfaces.begin(), surfaces.end(), [](const Surface& s) { return !s.planar; }));
+}
+
+double SurfaceSet::WorstAreaDistortion() const {
+  double worst = 1;
+  for (const Surface& s : surfaces) worst = std::max(worst, s.areaDistortion);
+  return worst;
+}
+
+SurfaceSet BuildSurfaces(const Scene& scene, const SurfaceOptions& options) {
+  const std::vector<uint32_t> weld = WeldedPositionIds(scene);
+  const auto neighbours = EdgeNeighbours(scene, weld);
   SurfaceSet set;
-  set.surfaceOfTriangle.assign(scene.triangles.size(), kUnassigned);
-  for (uint32_t seed = 0; seed < scene.triangles.size(); ++seed) {
-    if (set.surfaceOfTriangle[seed] != kUnassigned) continue;
-    const uint32_t id = uint32_t(set.surfaces.size());
-    const Normal3 seedNormal = scene.FrontNormal(seed);
-    Surface surface;
-    surface.material = scene.triangles[seed].material;
-    std::vector<uint32_t> stack{seed};
-    set.surfaceOfTriangle[seed] = id;
-    while (!stack.empty()) {
-      const uint32_t t = stack.back();
-      stack.pop_back();
-      surface.triangles.push_back(t);
-      for (uint32_t n : neighbours[t]) {
-        if (set.surfaceOfTriangle[n] != kUnassigned || scene.triangles[n].material != surface.material) continue;
-        if (Dot(scene.FrontNormal(n), seedNormal) < minCos) continue;
-        set.surfaceOfTriangle[n] = id;
-        stack.push_back(n);
-      }
-    }
-    std::sort(surface.triangles.begin(), surface.triangles.end());
-    for (uint32_t t : surface.triangles) surface.area += scene.Area(t);
-    surface.chart = ChartFor(scene, surface);
-    set.surfaces.push_back(std::move(surface));
-  }
+  set.surfaceOfTriangle.assign(scene.triangles.size(), 0);
   set.cornerUv.resize(scene.triangles.size());
-  for (uint32_t t = 0; t < scene.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) set.cornerUv[t][k] = set.surfaces[set.surfaceOfTriangle[t]].chart.ToUv(scene.Corner(t, k));
+  std::deque<std::vector<uint32_t>> pending;
+  for (auto& g : SmoothGroups(scene, neighbours, options)) pending.push_back(std::move(g));
+  while (!pending.empty()) {
+    std::vector<uint32_t> group = std::move(pending.front());
+    pending.pop_front();
+    const uint32_t id = uint32_t(set.surfaces.size());
+    if (IsPlanar(scene, group, options.planarDegrees)) {
+      Surface s = MakeSurface(scene, std::move(group));
+      for (uint32_t t : s.triangles)
+        for (int k = 0; k < 3; ++k) set.cornerUv[t][k] = s.chart.ToUv(scene.Corner(t, k));
+      for (uint32_t t : s.triangles) set.surfaceOfTriangle[t] = id;
+      set.surfaces.push_back(std::move(s));
+      continue;
+    }
+    const std::optional<CurvedChart> chart = MapCurved(scene, weld, group);
+    if (!chart || chart->areaDistortion > options.maxAreaDistortion) {
+      auto parts = Split(scene, neighbours, group);
+      for (auto it = parts.rbegin(); it != parts.rend(); ++it) pending.push_front(std::move(*it));
+      continue;
+    }
+    for (size_t i = 0; i < group.size(); ++i) set.cornerUv[group[i]] = chart->cornerUv[i], set.surfaceOfTriangle[group[i]] = id;
+    Surface s = MakeSurface(scene, std::move(group));
+    s.planar = false;
+    s.areaDistortion = chart->areaDistortion;
+    set.surfaces.push_back(std::move(s));
+  }
   return set;
 }
 

@@ -4,7 +4,12 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <fstream>
+#include <map>
+#include <vector>
 
 namespace pb::test {
 namespace {
@@ -30,7 +35,95 @@ struct ObjWriter {
   }
 };
 
+struct Mesh {
+  std::vector<std::array<double, 3>> v;
+  std::vector<std::array<int, 3>> f;  // 0-based
+};
+
+Mesh Icosphere(int detail) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  Mesh m;
+  m.v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  m.f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+         {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+         {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (int d = 0; d < detail; ++d) {
+    std::map<std::pair<int, int>, int> midpoint;
+    const auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto [it, isNew] = midpoint.emplace(key, int(m.v.size()));
+      if (isNew) m.v.push_back({(m.v[a][0] + m.v[b][0]) / 2, (m.v[a][1] + m.v[b][1]) / 2, (m.v[a][2] + m.v[b][2]) / 2});
+      return it->second;
+    };
+    std::vector<std::array<int, 3>> faces;
+    for (const auto& f : m.f) {
+      const int a = mid(f[0], f[1]), b = mid(f[1], f[2]), c = mid(f[2], f[0]);
+      faces.insert(faces.end(), {{f[0], a, c}, {f[1], b, a}, {f[2], c, b}, {a, b, c}});
+    }
+    m.f = std::move(faces);
+  }
+  for (auto& p : m.v) {
+    const double l = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    p = {p[0] / l, p[1] / l, p[2] / l};
+  }
+  return m;  // unit radius, counter-clockwise seen from outside
+}
+
+Mesh Cylinder(int segments, double radius, double height) {
+  Mesh m;
+  const int rings = std::max(2, segments / 4);
+  for (int j = 0; j <= rings; ++j)
+    for (int i = 0; i < segments; ++i) {
+      const double a = 2 * M_PI * i / segments;
+      m.v.push_back({radius * std::cos(a), -height / 2 + height * j / rings, radius * std::sin(a)});
+    }
+  for (int j = 0; j < rings; ++j)
+    for (int i = 0; i < segments; ++i) {
+      const int a = j * segments + i, b = j * segments + (i + 1) % segments, c = a + segments, d = b + segments;
+      m.f.push_back({a, c, b});  // counter-clockwise seen from outside
+      m.f.push_back({b, c, d});
+    }
+  for (int cap = 0; cap < 2; ++cap) {
+    const int centre = int(m.v.size()), ring = cap == 0 ? 0 : rings * segments;
+    m.v.push_back({0, cap == 0 ? -height / 2 : height / 2, 0});
+    for (int i = 0; i < segments; ++i) {
+      const int a = ring + i, b = ring + (i + 1) % segments;
+      m.f.push_back(cap == 0 ? std::array<int, 3>{centre, a, b} : std::array<int, 3>{centre, b, a});
+    }
+  }
+  return m;
+}
+
+void AppendMesh(std::string& obj, int& vertexCount, const Mesh& m, double scale, bool inward) {
+  for (const auto& p : m.v) obj += fmt::format("v {} {} {}\n", p[0] * scale, p[1] * scale, p[2] * scale);
+  for (const auto& f : m.f)
+    obj += inward ? fmt::format("f {} {} {}\n", vertexCount + f[0] + 1, vertexCount + f[2] + 1, vertexCount + f[1] + 1)
+                  : fmt::format("f {} {} {}\n", vertexCount + f[0] + 1, vertexCount + f[1] + 1, vertexCount + f[2] + 1);
+  vertexCount += int(m.v.size());
+}
+
 }  // namespace
+
+std::string WriteCurvedEnclosure(const std::string& directory, CurvedShape shape, int detail, float albedo,
+                                 float lightRadius, float radiance) {
+  WriteText(directory + "/curved.mtl", fmt::format("newmtl wall\nKd {0} {0} {0}\nnewmtl light\nKd 0 0 0\n"
+                                                   "Ke {1} {1} {1}\n", albedo, radiance));
+  Mesh receiver = shape == CurvedShape::kCylinder ? Cylinder(16 << detail, 0.6, 1.6) : Icosphere(detail);
+  if (shape == CurvedShape::kBlob)
+    for (auto& p : receiver.v) {
+      const double theta = std::acos(std::clamp(p[1], -1.0, 1.0)), phi = std::atan2(p[2], p[0]);
+      const double r = 1 + 0.25 * std::sin(2 * theta) * std::cos(3 * phi) + 0.1 * std::cos(5 * theta);
+      p = {p[0] * r, p[1] * r, p[2] * r};
+    }
+  std::string obj = "mtllib curved.mtl\no receiver\nusemtl wall\n";
+  int count = 0;
+  AppendMesh(obj, count, receiver, 1.0, true);
+  obj += "o light\nusemtl light\n";
+  AppendMesh(obj, count, Icosphere(1), lightRadius, false);
+  WriteText(directory + "/curved.obj", obj);
+  return directory + "/curved.obj";
+}
 
 std::string TempDirectory(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / fmt::format("photonbake-test-{}-{}", getpid(), name);

@@ -22,4 +22,13 @@ std::string WriteSquareLightOverFloor(const std::string& directory, float lightS
 // light of side `lightSide` and radiance `radiance` facing down just below the ceiling. Returns the OBJ path.
 std::string WriteClosedBox(const std::string& directory, float side, float albedo, float lightSide, float radiance);
 
+// Closed curved receivers around a small emissive icosphere (radius `lightRadius`, radiance `radiance`, facing
+// out) at the origin. The receiver faces inward, has grey albedo `albedo`, and is one of:
+//   kSphere:   an icosphere of radius 1 m, the icosahedron subdivided `detail` times (20 * 4^detail triangles);
+//   kBlob:     that icosphere with its radius modulated, r = 1 + 0.25 sin(2 theta) cos(3 phi) + 0.1 cos(5 theta);
+//   kCylinder: a capped cylinder of radius 0.6 m and height 1.6 m, 16 * 2^detail segments around.
+enum class CurvedShape { kSphere, kBlob, kCylinder };
+std::string WriteCurvedEnclosure(const std::string& directory, CurvedShape shape, int detail, float albedo,
+                                 float lightRadius, float radiance);
+
 }  // namespace pb::test
