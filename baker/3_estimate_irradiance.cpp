@@ -3,7 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <memory>
+#include "estimators/bandwidth.h"
 
 namespace pb {
 namespace {
@@ -15,28 +15,43 @@ std::vector<Triangle2> ChartTriangles(const SurfaceSet& surfaces, const Surface&
   return triangles;
 }
 
-// One region and one estimator per surface, built in parallel (each from its own photons only).
-struct SurfaceEstimators {
-  std::vector<std::unique_ptr<SurfaceRegion>> regions;
-  std::vector<std::unique_ptr<DensityEstimator>> estimators;
-};
-
-SurfaceEstimators BuildEstimators(const SurfaceSet& surfaces, const SurfaceBins& bins, const EstimatorSettings& settings) {
-  SurfaceEstimators built;
-  built.regions.resize(bins.SurfaceCount());
-  built.estimators.resize(bins.SurfaceCount());
+// One estimator per surface, built in parallel, each from its own photons only.
+std::vector<std::unique_ptr<DensityEstimator>> BuildEstimators(const SurfaceRegions& regions, const SurfaceBins& bins,
+                                                               EstimatorSettings settings,
+                                                               const std::vector<float>& bandwidths) {
+  std::vector<std::unique_ptr<DensityEstimator>> estimators(bins.SurfaceCount());
   tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
-    built.regions[s] = std::make_unique<SurfaceRegion>(ChartTriangles(surfaces, surfaces.surfaces[s]));
-    built.estimators[s] = MakeDensityEstimator(settings, *built.regions[s], bins.Uv(s), bins.Power(s));
+    EstimatorSettings own = settings;
+    own.bandwidth = bandwidths[s];
+    estimators[s] = MakeDensityEstimator(own, *regions[s], bins.Uv(s), bins.Power(s));
   });
-  return built;
+  return estimators;
 }
 
 }  // namespace
 
-BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, SplitMesh mesh, const SurfaceBins& bins,
-                             const EstimatorSettings& settings, const Log& log) {
-  const SurfaceEstimators built = BuildEstimators(surfaces, bins, settings);
+SurfaceRegions BuildRegions(const SurfaceSet& surfaces) {
+  SurfaceRegions regions(surfaces.surfaces.size());
+  tbb::parallel_for(size_t(0), regions.size(), [&](size_t s) {
+    regions[s] = std::make_unique<SurfaceRegion>(ChartTriangles(surfaces, surfaces.surfaces[s]));
+  });
+  return regions;
+}
+
+std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
+                                     const EstimatorSettings& settings, bool automatic) {
+  std::vector<float> h(regions.size(), settings.bandwidth);
+  if (!automatic) return h;
+  tbb::parallel_for(size_t(0), regions.size(), [&](size_t s) {
+    h[s] = ChooseBandwidth(settings.kind, settings.kernel, *regions[s], bins.Uv(s), bins.Power(s));
+  });
+  return h;
+}
+
+BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceRegions& regions,
+                             SplitMesh mesh, const SurfaceBins& bins, const EstimatorSettings& settings,
+                             const std::vector<float>& bandwidths, const Log& log) {
+  const auto estimators = BuildEstimators(regions, bins, settings, bandwidths);
   BakedMesh baked;
   const size_t n = mesh.VertexCount();
   baked.irradiance.resize(n);
@@ -47,7 +62,7 @@ BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, Spl
     for (size_t v = r.begin(); v != r.end(); ++v) {
       const uint32_t s = mesh.surface[v];
       const Material& material = scene.materials[surfaces.surfaces[s].material];
-      baked.irradiance[v] = built.estimators[s]->Estimate(mesh.uv[v]) * mesh.uvAreaRatio[v];
+      baked.irradiance[v] = estimators[s]->Estimate(mesh.uv[v]) * mesh.uvAreaRatio[v];
       baked.albedo[v] = material.albedo;
       baked.emitted[v] = material.emission;
     }

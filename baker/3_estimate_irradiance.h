@@ -1,8 +1,12 @@
 // Stage 3: irradiance H [W/m^2] at every vertex of the split mesh, estimated from the photons of the vertex's
 // own surface (estimators/density_estimator.h: kernel, histogram or k nearest, edge-corrected over the
-// surface's region in its chart). Also fills each vertex's reflectance R and emitted radiance Le from its
-// surface's material.
+// surface's region in its chart, times the chart's local area ratio on curved surfaces). Each surface has its
+// own bandwidth h [m]: the user's, or one chosen from its photons (estimators/bandwidth.h). Also fills each
+// vertex's reflectance R and emitted radiance Le from its surface's material.
 #pragma once
+
+#include <memory>
+#include <vector>
 
 #include "baker/2_bin_photons.h"
 #include "baker/baked_mesh.h"
@@ -13,7 +17,16 @@
 
 namespace pb {
 
-BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, SplitMesh mesh, const SurfaceBins& bins,
-                             const EstimatorSettings& settings, const Log& log);
+// Each surface's region in its chart, by surface index.
+using SurfaceRegions = std::vector<std::unique_ptr<SurfaceRegion>>;
+SurfaceRegions BuildRegions(const SurfaceSet& surfaces);
+
+// h per surface [m]: settings.bandwidth everywhere, or, when `automatic`, chosen per surface from its photons.
+std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
+                                     const EstimatorSettings& settings, bool automatic);
+
+BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceRegions& regions,
+                             SplitMesh mesh, const SurfaceBins& bins, const EstimatorSettings& settings,
+                             const std::vector<float>& bandwidths, const Log& log);
 
 }  // namespace pb

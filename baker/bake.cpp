@@ -70,8 +70,11 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   const PhotonHits photons =
       clock.Time("trace", [&] { return TracePhotons(scene, lights, *rays, {o.photons, o.seed, o.maxBounces}, log); });
   const SurfaceBins bins = clock.Time("bin", [&] { return BinPhotons(surfaces, photons); });
+  const SurfaceRegions regions = clock.Time("regions", [&] { return BuildRegions(surfaces); });
+  const std::vector<float> bandwidths =
+      clock.Time("bandwidth", [&] { return SurfaceBandwidths(regions, bins, o.estimator, o.autoBandwidth); });
   const BakedMesh baked = clock.Time("estimate", [&] {
-    return EstimateIrradiance(scene, surfaces, SplitBySurface(scene, surfaces), bins, o.estimator, log);
+    return EstimateIrradiance(scene, surfaces, regions, SplitBySurface(scene, surfaces), bins, o.estimator, bandwidths, log);
   });
   report.exposure = clock.Time("write", [&] { return WritePly(o.outputPath, baked, {o.asciiPly, o.exposure}); });
 
@@ -81,6 +84,7 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   report.faces = baked.mesh.faces.size();
   report.lights = DescribeLights(scene, lights, photons.stats.photonsPerLight);
   report.surfaces = DescribeSurfaces(scene, surfaces, bins);
+  for (size_t s = 0; s < report.surfaces.size(); ++s) report.surfaces[s].bandwidth = bandwidths[s];
   report.trace = photons.stats;
   report.effects = Effects();
   if (!o.reportPath.empty()) WriteReportJson(o.reportPath, report);

@@ -20,7 +20,7 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
   return {{"scene", o.scenePath},        {"output", o.outputPath}, {"estimator", EstimatorName(o.estimator.kind)},
           {"kernel", KernelName(o.estimator.kernel)}, {"k", o.estimator.neighbours},
           {"edge_correction", o.estimator.edgeCorrection},
-          {"h_m", o.estimator.bandwidth},          {"photons", o.photons},   {"seed", o.seed},
+          {"h_m", o.autoBandwidth ? nlohmann::json("auto") : nlohmann::json(o.estimator.bandwidth)},          {"photons", o.photons},   {"seed", o.seed},
           {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly}};
 }
 

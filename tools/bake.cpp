@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -27,14 +28,26 @@ void AddNamedOption(CLI::App& app, const std::string& flag, Enum& target, std::o
       ->default_str(name(target));
 }
 
-void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e) {
+void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& automatic) {
   AddNamedOption(app, "--estimator", e.kind, pb::ParseEstimator, pb::EstimatorName, pb::EstimatorNames(), "estimator",
                  "density estimator (the paper's three classes)");
   AddNamedOption(app, "--kernel", e.kernel, pb::ParseKernel, pb::KernelName, pb::KernelNames(), "kernel",
                  "kernel of --estimator kernel");
-  app.add_option("--h", e.bandwidth, "bandwidth h [m]: kernel support radius, or histogram bucket side, in the "
-                                     "surface; range > 0, typical 0.02-0.1 for a room-sized scene")
-      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--h",
+         [&e, &automatic](const std::string& text) {
+           automatic = text == "auto";
+           if (!automatic) e.bandwidth = std::stof(text);
+         },
+         "bandwidth h [m]: kernel support radius, or histogram bucket side, in the surface; range > 0, typical "
+         "0.02-0.1 for a room-sized scene; or 'auto': chosen per surface from its photons (README, 'Automatic h')")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            return text == "auto" || CLI::detail::lexical_cast(text, *std::make_unique<float>()) ? std::string()
+                                                                                                   : "expects a length in metres or 'auto'";
+          },
+          "FLOAT|auto", "length"))
+      ->default_str(fmt::format("{}", e.bandwidth));
   app.add_option("--k", e.neighbours, "photons per estimate of --estimator knn; range >= 2, typical 20-200")
       ->capture_default_str();
   app.add_flag("!--no-edge-correction", e.edgeCorrection, "do not renormalise estimates by the part of the kernel, "
@@ -48,7 +61,7 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("-o,--output", o.outputPath, "PLY to write (binary little-endian unless --ascii); written to a "
                                               "temporary file and renamed into place")
       ->required();
-  DefineEstimatorOptions(app, o.estimator);
+  DefineEstimatorOptions(app, o.estimator, o.autoBandwidth);
   app.add_option("--photons", o.photons, "photons emitted over all lights, split by power (N_i = n Phi_i / Phi); "
                                          "range >= 1, typical 1e6-1e7")
       ->capture_default_str();

@@ -13,33 +13,15 @@
 
 #include "baker/bake.h"
 #include "estimators/kernels.h"
+#include "tests/lambert.h"
 #include "tests/ply_reader.h"
 #include "tests/test_scenes.h"
 
 namespace pb {
 namespace {
 
-struct V3 {
-  double x, y, z;
-};
-V3 Sub(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-V3 CrossD(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double DotD(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-V3 Unit(V3 a) {
-  const double l = std::sqrt(DotD(a, a));
-  return {a.x / l, a.y / l, a.z / l};
-}
-
-// Irradiance [W/m^2] at x with normal n from a Lambertian polygon of radiance L [W/(m^2 sr)].
-double LambertPolygonIrradiance(V3 x, V3 n, const std::vector<V3>& polygon, double L) {
-  double sum = 0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const V3 a = Unit(Sub(polygon[i], x)), b = Unit(Sub(polygon[(i + 1) % polygon.size()], x));
-    const double beta = std::acos(std::clamp(DotD(a, b), -1.0, 1.0));
-    sum += beta * DotD(n, Unit(CrossD(a, b)));
-  }
-  return 0.5 * L * std::fabs(sum);
-}
+using test::V3;
+using test::LambertPolygonIrradiance;
 
 TEST(ClosedForm, LambertPolygonFormulaMatchesAKnownValue) {
   // Directly under the centre of a 1 x 1 light at height 1: E = 4 L (a / sqrt(1 + a^2)) atan(a / sqrt(1 + a^2))
@@ -100,10 +82,7 @@ struct Floor {
   static bool Inside(double x, double z) { return std::fabs(x) <= kHalf && std::fabs(z) <= kHalf; }
 };
 
-double Exact(double x, double z) {
-  static const std::vector<V3> light = {{-0.5, 1, -0.5}, {0.5, 1, -0.5}, {0.5, 1, 0.5}, {-0.5, 1, 0.5}};
-  return LambertPolygonIrradiance({x, 0, z}, {0, 1, 0}, light, 1.0);
-}
+double Exact(double x, double z) { return test::SquareLightIrradiance(x, z); }
 
 struct Moments {
   double mean = 0, variance = 0;

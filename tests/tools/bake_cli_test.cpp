@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 #include "tests/ply_reader.h"
 #include "tests/test_scenes.h"
 
@@ -76,7 +78,7 @@ TEST(BakeCli, BadOptionsFailBeforeAnyWork) {
   EXPECT_NE(h.output.find("--h: error: must be a finite length > 0 m"), std::string::npos) << h.output;
   const BakeRun kernel = RunBake(scene + " -o " + dir + "/out.ply --kernel box");
   EXPECT_EQ(kernel.status, 2);
-  EXPECT_NE(kernel.output.find("unknown kernel 'box'"), std::string::npos) << kernel.output;
+  EXPECT_NE(kernel.output.find("--kernel: unknown kernel 'box'; choose one of: uniform,"), std::string::npos) << kernel.output;
   const BakeRun where = RunBake(scene + " -o /nonexistent/dir/out.ply");
   EXPECT_EQ(where.status, 1);
   EXPECT_NE(where.output.find("/nonexistent/dir/out.ply: error: cannot write here"), std::string::npos);
@@ -91,6 +93,26 @@ TEST(BakeCli, AFailedRunLeavesAnEarlierOutputIntact) {
   test::WriteText(dir + "/bad.obj", "v 1 2 x\n");
   EXPECT_EQ(RunBake(dir + "/bad.obj -o " + dir + "/out.ply").status, 1);
   EXPECT_EQ(test::ReadBytes(dir + "/out.ply"), "previous result");
+}
+
+TEST(BakeCli, EveryEstimatorAndAutoBandwidthRunAndAreReported) {
+  const std::string dir = test::TempDirectory("cli-estimators");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 2, 8);
+  for (const std::string args : {"--estimator histogram --h 0.1", "--estimator knn --k 30", "--kernel gaussian --h auto",
+                                  "--kernel cone --no-edge-correction"}) {
+    const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply --photons 20000 --report " + dir + "/r.json " + args);
+    ASSERT_EQ(run.status, 0) << args << "\n" << run.output;
+    const nlohmann::json report = nlohmann::json::parse(test::ReadBytes(dir + "/r.json"));
+    for (const auto& surface : report.at("surfaces")) EXPECT_GT(surface.at("h_m").get<double>(), 0.0) << args;
+    if (args.find("auto") != std::string::npos) {
+      EXPECT_EQ(report.at("options").at("h_m"), "auto");
+    }
+    EXPECT_EQ(report.at("photons").at("record_bytes"), 28);
+  }
+  const BakeRun bad = RunBake(scene + " -o " + dir + "/out.ply --estimator kde");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("unknown estimator 'kde'; choose one of: kernel, histogram, knn"), std::string::npos);
+  EXPECT_EQ(RunBake(scene + " -o " + dir + "/out.ply --k 1").status, 1);
 }
 
 TEST(BakeCli, OneAndTwoThreadsWriteIdenticalBytes) {

@@ -1,0 +1,29 @@
+// Automatic bandwidth h [m] for one surface, from its own photons: the plug-in rule that minimises the
+// asymptotic mean integrated *relative* squared error of the estimate (Silverman 1986, "Density Estimation",
+// sec. 3.4 and 4.3; Wand and Jones 1995, "Kernel Smoothing", ch. 3). Relative, because a display shows ratios:
+// an error of 0.01 W/m^2 matters where H is 0.1, not where it is 10. For a kernel with roughness R and second
+// moment mu2 (estimators/kernels.h), the error of the estimate at x is
+//   variance / H^2 = phi2(x) R / (H^2 h^2)   (phi2: density of squared photon flux [W^2/m^2])
+//   bias / H       = h^2 mu2 lap(H) / (2 H),
+// and integrating both over the surface and minimising over h gives
+//   h^6 = 2 R integral(phi2 / H^2) / (mu2^2 integral((lap H / H)^2)).
+// Both integrals come from a pilot histogram of ~400 photons per cell; lap H by the 5-point stencil on cells
+// whose neighbours lie wholly on the surface, with the stencil's own noise variance subtracted. Where the
+// light is flat (no measurable curvature), h is capped at a quarter of the surface's size; where photons are
+// too few for a pilot, h holds 50 photons on average. h is never below the radius that holds 20 photons.
+// A histogram bucket of side b is the box kernel with R = 1 and mu2 = 1/12 (in units of b).
+#pragma once
+
+#include <span>
+
+#include "estimators/density_estimator.h"
+#include "estimators/surface_region.h"
+#include "mesh/color.h"
+#include "mesh/geometry.h"
+
+namespace pb {
+
+float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
+                      std::span<const Rgb> power);
+
+}  // namespace pb

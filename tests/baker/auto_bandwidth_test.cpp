@@ -1,0 +1,62 @@
+// --h auto on the closed-form scene (1 x 1 m light 1 m above a black 4 x 4 m floor): the bandwidth it picks
+// must land within a factor of 2 of the h that minimises the relative RMSE over all floor vertices, which this
+// test finds by scanning h on a geometric grid (ratio 2^(1/4)) over the same photons.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "baker/1_trace_photons.h"
+#include "baker/2_bin_photons.h"
+#include "baker/3_estimate_irradiance.h"
+#include "mesh/obj_loader.h"
+#include "mesh/split_mesh.h"
+#include "tests/lambert.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+TEST(AutoBandwidth, LandsWithinAFactorOfTwoOfTheScannedOptimum) {
+  const std::string dir = test::TempDirectory("auto-bandwidth");
+  const Scene scene = LoadObj(test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 80)).scene;
+  const SurfaceSet surfaces = BuildSurfaces(scene);
+  const RayScene rays(scene);
+  const Log quiet(true);
+  const PhotonHits hits = TracePhotons(scene, CollectLights(scene, surfaces), rays, {1'000'000, 5, 10000}, quiet);
+  const SurfaceBins bins = BinPhotons(surfaces, hits);
+  const SurfaceRegions regions = BuildRegions(surfaces);
+  const EstimatorSettings settings;
+
+  const auto relativeRmse = [&](const std::vector<float>& h) {
+    const BakedMesh baked = EstimateIrradiance(scene, surfaces, regions, SplitBySurface(scene, surfaces), bins, settings, h, quiet);
+    double sum = 0;
+    int n = 0;
+    for (size_t v = 0; v < baked.mesh.VertexCount(); ++v) {
+      const Point3 p = baked.mesh.positions[v];
+      if (p.y != 0.0f) continue;
+      const double exact = test::SquareLightIrradiance(p.x, p.z);
+      sum += std::pow((baked.irradiance[v].g - exact) / exact, 2), ++n;
+    }
+    return std::sqrt(sum / n);
+  };
+  const std::vector<float> automatic = SurfaceBandwidths(regions, bins, settings, true);
+  const size_t floor = surfaces.surfaceOfTriangle[0];
+  double bestH = 0, bestError = INFINITY;
+  for (double h = 0.02; h < 0.45; h *= std::pow(2.0, 0.25)) {
+    std::vector<float> scan = automatic;
+    scan[floor] = float(h);
+    const double error = relativeRmse(scan);
+    if (error < bestError) bestError = error, bestH = h;
+  }
+  const double autoError = relativeRmse(automatic);
+  RecordProperty("auto_h", std::to_string(automatic[floor]));
+  RecordProperty("best_h", std::to_string(bestH));
+  std::printf("auto h %.4f (relative RMSE %.4f), scanned optimum h %.4f (%.4f)\n", automatic[floor], autoError, bestH, bestError);
+  EXPECT_GT(bestH, 0.03);  // the optimum is inside the scanned range, not at its ends
+  EXPECT_LT(bestH, 0.38);
+  EXPECT_GT(automatic[floor], bestH / 2);
+  EXPECT_LT(automatic[floor], bestH * 2);
+}
+
+}  // namespace
+}  // namespace pb
