@@ -1,0 +1,59 @@
+// bench_estimate: cost of each density estimator, per photon (building) and per vertex (querying), on a
+// 1 x 1 m surface holding 1M or 10M uniformly spread photons, with 10^4 query vertices on a grid that
+// includes the edges. Settings are the defaults (h = 0.05 m, k = 50), edge correction on.
+// Run: build/bench_estimate --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+#include <benchmark/benchmark.h>
+
+#include "estimators/density_estimator.h"
+#include "estimators/rng.h"
+
+namespace {
+
+struct Photons {
+  std::vector<pb::Triangle2> square = {{pb::Point2{0, 0}, pb::Point2{1, 0}, pb::Point2{1, 1}},
+                                       {pb::Point2{0, 0}, pb::Point2{1, 1}, pb::Point2{0, 1}}};
+  std::vector<pb::Point2> uv;
+  std::vector<pb::Rgb> power;
+  explicit Photons(size_t n) : uv(n), power(n, pb::Rgb{1e-6f, 1e-6f, 1e-6f}) {
+    for (size_t i = 0; i < n; ++i) {
+      pb::Rng rng(1, i);
+      uv[i] = rng.Uniform2();
+    }
+  }
+};
+
+const Photons& PhotonsOf(size_t n) {
+  static const Photons million(1'000'000), tenMillion(10'000'000);
+  return n == 1'000'000 ? million : tenMillion;
+}
+
+void BM_Build(benchmark::State& state, pb::EstimatorKind kind) {
+  const Photons& p = PhotonsOf(size_t(state.range(0)));
+  const pb::SurfaceRegion region(p.square);
+  for (auto _ : state) benchmark::DoNotOptimize(pb::MakeDensityEstimator({kind}, region, p.uv, p.power));
+  state.counters["ns_per_photon"] = benchmark::Counter(double(p.uv.size()), benchmark::Counter::kIsIterationInvariantRate |
+                                                                                 benchmark::Counter::kInvert);
+}
+
+void BM_Query(benchmark::State& state, pb::EstimatorKind kind) {
+  const Photons& p = PhotonsOf(size_t(state.range(0)));
+  const pb::SurfaceRegion region(p.square);
+  const auto estimator = pb::MakeDensityEstimator({kind}, region, p.uv, p.power);
+  constexpr int kGrid = 100;
+  for (auto _ : state)
+    for (int j = 0; j < kGrid; ++j)
+      for (int i = 0; i < kGrid; ++i)
+        benchmark::DoNotOptimize(estimator->Estimate({float(i) / (kGrid - 1), float(j) / (kGrid - 1)}));
+  state.counters["ns_per_vertex"] =
+      benchmark::Counter(double(kGrid * kGrid), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_Build, kernel, pb::EstimatorKind::kKernel)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Build, histogram, pb::EstimatorKind::kHistogram)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Build, knn, pb::EstimatorKind::kNearest)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, kernel, pb::EstimatorKind::kKernel)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, histogram, pb::EstimatorKind::kHistogram)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Query, knn, pb::EstimatorKind::kNearest)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();
