@@ -28,19 +28,14 @@ Pilot BuildPilot(const SurfaceRegion& region, std::span<const Point2> uv, std::s
   p.n = std::clamp(int(std::sqrt(double(uv.size()) / kPilotPhotonsPerCell)), kMinPilotCells, kMaxPilotCells);
   p.side /= p.n;
   const size_t cells = size_t(p.n) * p.n;
-  p.flux.assign(cells, 0), p.flux2.assign(cells, 0), p.area.assign(cells, 0);
+  p.flux.assign(cells, 0), p.flux2.assign(cells, 0);
   const auto cellOf = [&](float c, float lo) { return std::clamp(int((c - lo) / p.side), 0, p.n - 1); };
   for (size_t k = 0; k < uv.size(); ++k) {
     const int c = p.Index(cellOf(uv[k].u, b.lo.u), cellOf(uv[k].v, b.lo.v));
     const double phi = Luminance(power[k]);
     p.flux[c] += phi, p.flux2[c] += phi * phi;
   }
-  for (int j = 0; j < p.n; ++j)
-    for (int i = 0; i < p.n; ++i) {
-      const Bounds2 box{{float(b.lo.u + i * p.side), float(b.lo.v + j * p.side)},
-                        {float(b.lo.u + (i + 1) * p.side), float(b.lo.v + (j + 1) * p.side)}};
-      p.area[p.Index(i, j)] = region.OverlapArea(box);
-    }
+  p.area = region.GridOverlapAreas(b.lo, float(p.side), p.n, p.n);
   return p;
 }
 

@@ -34,21 +34,7 @@ HistogramEstimator::HistogramEstimator(std::span<const Point2> uv, std::span<con
   flux_.resize(sums.size());
   for (size_t i = 0; i < sums.size(); ++i) flux_[i] = sums[i].ToRgb();
 
-  area_.assign(sums.size(), edgeCorrection ? 0.0 : double(h_) * h_);
-  if (!edgeCorrection) return;
-  for (const Triangle2& t : region.Triangles()) {
-    Bounds2 tb;
-    for (const Point2& p : t) tb.Extend(p);
-    const int u0 = std::clamp(int(std::floor((tb.lo.u - lo_.u) / h_)), 0, nu_ - 1);
-    const int u1 = std::clamp(int(std::floor((tb.hi.u - lo_.u) / h_)), 0, nu_ - 1);
-    const int v0 = std::clamp(int(std::floor((tb.lo.v - lo_.v) / h_)), 0, nv_ - 1);
-    const int v1 = std::clamp(int(std::floor((tb.hi.v - lo_.v) / h_)), 0, nv_ - 1);
-    for (int iv = v0; iv <= v1; ++iv)
-      for (int iu = u0; iu <= u1; ++iu) {
-        const Bounds2 box{{lo_.u + iu * h_, lo_.v + iv * h_}, {lo_.u + (iu + 1) * h_, lo_.v + (iv + 1) * h_}};
-        area_[Bucket(iu, iv)] += TriangleBoxOverlapArea(t, box);
-      }
-  }
+  area_ = edgeCorrection ? region.GridOverlapAreas(lo_, h_, nu_, nv_) : std::vector<double>(sums.size(), double(h_) * h_);
 }
 
 Rgb HistogramEstimator::Estimate(Point2 x) const {

@@ -160,6 +160,21 @@ double SurfaceRegion::KernelMass(Point2 x, Kernel kernel, double h) const {
   return std::clamp(mass, 0.0, 1.0);
 }
 
+std::vector<double> SurfaceRegion::GridOverlapAreas(Point2 lo, float side, int nu, int nv) const {
+  std::vector<double> area(size_t(nu) * nv, 0.0);
+  const auto cell = [&](float c, float origin, int n) { return std::clamp(int(std::floor((c - origin) / side)), 0, n - 1); };
+  for (const Triangle2& t : triangles_) {
+    Bounds2 tb;
+    for (const Point2& p : t) tb.Extend(p);
+    for (int iv = cell(tb.lo.v, lo.v, nv); iv <= cell(tb.hi.v, lo.v, nv); ++iv)
+      for (int iu = cell(tb.lo.u, lo.u, nu); iu <= cell(tb.hi.u, lo.u, nu); ++iu) {
+        const Bounds2 box{{lo.u + iu * side, lo.v + iv * side}, {lo.u + (iu + 1) * side, lo.v + (iv + 1) * side}};
+        area[size_t(iv) * nu + iu] += TriangleBoxOverlapArea(t, box);
+      }
+  }
+  return area;
+}
+
 double SurfaceRegion::OverlapArea(const Bounds2& box) const {
   double area = 0;
   for (const Triangle2& t : triangles_) area += TriangleBoxOverlapArea(t, box);

@@ -33,6 +33,9 @@ class SurfaceRegion {
   // For x in Omega (closure included). Points outside Omega far from its boundary also return 1.
   double KernelMass(Point2 x, Kernel kernel, double h) const;
   double OverlapArea(const Bounds2& box) const;
+  // Area on the surface [m^2] of each cell of the nu x nv grid of squares of side `side` from corner `lo`,
+  // row-major (v outer); each triangle is clipped only against the cells its bounding box touches.
+  std::vector<double> GridOverlapAreas(Point2 lo, float side, int nu, int nv) const;
 
   double Area() const { return area_; }
   const Bounds2& Bounds() const { return bounds_; }
