@@ -84,6 +84,8 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   report.faces = baked.mesh.faces.size();
   report.lights = DescribeLights(scene, lights, photons.stats.photonsPerLight);
   report.surfaces = DescribeSurfaces(scene, surfaces, bins);
+  report.curvedCharts = surfaces.CurvedCount();
+  report.worstAreaDistortion = surfaces.WorstAreaDistortion();
   for (size_t s = 0; s < report.surfaces.size(); ++s) report.surfaces[s].bandwidth = bandwidths[s];
   report.trace = photons.stats;
   report.effects = Effects();

@@ -4,9 +4,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-#include <numeric>
-
 #include "baker/atomic_file.h"
 
 namespace pb {
@@ -37,15 +34,12 @@ nlohmann::json TraceJson(const TraceStats& t) {
           {"power_escaped_W", Json(t.powerEscaped)}};
 }
 
-// One row per surface; past kRows rows, only the count of curved charts and their worst distortion.
-std::string SurfaceTable(const std::vector<SurfaceReport>& surfaces) {
+// The chart counts, then one row per surface, up to kRows rows.
+std::string SurfaceTable(const BakeReport& r) {
   constexpr size_t kRows = 40;
-  size_t curved = 0;
-  double worst = 1;
-  for (const SurfaceReport& sr : surfaces)
-    if (!sr.planar) ++curved, worst = std::max(worst, sr.areaDistortion);
+  const std::vector<SurfaceReport>& surfaces = r.surfaces;
   std::string s = fmt::format("  charts    {} planar, {} curved (LSCM), worst area distortion {:.3f}\n",
-                              surfaces.size() - curved, curved, worst);
+                              surfaces.size() - r.curvedCharts, r.curvedCharts, r.worstAreaDistortion);
   s += fmt::format("  {:>4}  {:<22} {:<14} {:>9} {:>11} {:>9} {:>12} {:>7} {:>6}\n", "surf", "object", "material",
                    "area m^2", "front hits", "back hits", "mean H W/m^2", "h m", "chart");
   for (size_t i = 0; i < surfaces.size() && i < kRows; ++i) {
@@ -106,7 +100,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
                              : 0.0;
   s += fmt::format("  flux      emitted {:.5g} W = absorbed {:.5g} W + escaped {:.5g} W  (balance {:+.3f}%)\n",
                    t.powerEmitted.Mean(), t.powerAbsorbed.Mean(), t.powerEscaped.Mean(), 100.0 * balance);
-  s += SurfaceTable(r.surfaces);
+  s += SurfaceTable(r);
   s += "  seconds  ";
   for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
   s += fmt::format(" total {:.3f} ({} threads)\n", r.TotalSeconds(), r.threads);
@@ -123,9 +117,8 @@ void WriteReportJson(const std::string& path, const BakeReport& r) {
   j["scene"] = {{"triangles", r.triangles},
                 {"zero_area_triangles_skipped", r.degenerateTrianglesSkipped},
                 {"surfaces", r.surfaces.size()},
-                {"curved_charts", std::count_if(r.surfaces.begin(), r.surfaces.end(), [](const SurfaceReport& s) { return !s.planar; })},
-                {"worst_area_distortion", std::accumulate(r.surfaces.begin(), r.surfaces.end(), 1.0,
-                    [](double w, const SurfaceReport& s) { return std::max(w, s.areaDistortion); })}};
+                {"curved_charts", r.curvedCharts},
+                {"worst_area_distortion", r.worstAreaDistortion}};
   for (const LightReport& l : r.lights)
     j["lights"].push_back({{"surface", l.surface}, {"material", l.material}, {"area_m2", l.area},
                            {"power_W", Json(l.power)}, {"photons", l.photons}});

@@ -1,7 +1,6 @@
 #include "estimators/density_estimator.h"
 
-#include <array>
-
+#include "estimators/enum_names.h"
 #include "estimators/histogram_estimator.h"
 #include "estimators/kernel_estimator.h"
 #include "estimators/nearest_estimator.h"
@@ -22,9 +21,7 @@ std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& 
 }
 
 std::optional<EstimatorKind> ParseEstimator(std::string_view name) {
-  for (EstimatorKind k : kAllEstimators)
-    if (name == EstimatorName(k)) return k;
-  return std::nullopt;
+  return ParseName(name, kAllEstimators, EstimatorName);
 }
 
 std::string EstimatorName(EstimatorKind kind) {
@@ -36,10 +33,6 @@ std::string EstimatorName(EstimatorKind kind) {
   return "?";
 }
 
-std::string EstimatorNames() {
-  std::string names;
-  for (EstimatorKind k : kAllEstimators) names += (names.empty() ? "" : ", ") + EstimatorName(k);
-  return names;
-}
+std::string EstimatorNames() { return JoinNames(kAllEstimators, EstimatorName); }
 
 }  // namespace pb

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "estimators/enum_names.h"
 #include "estimators/quadrature.h"
 #include "mesh/geometry.h"
 
@@ -85,11 +86,7 @@ KernelMoments MomentsOf(Kernel kernel) {
   return {GaussLegendre(roughness, 0.0, 1.0, 8), GaussLegendre(moment2, 0.0, 1.0, 8)};
 }
 
-std::optional<Kernel> ParseKernel(std::string_view name) {
-  for (Kernel k : kAllKernels)
-    if (name == KernelName(k)) return k;
-  return std::nullopt;
-}
+std::optional<Kernel> ParseKernel(std::string_view name) { return ParseName(name, kAllKernels, KernelName); }
 
 std::string KernelName(Kernel kernel) {
   switch (kernel) {
@@ -103,10 +100,6 @@ std::string KernelName(Kernel kernel) {
   return "?";
 }
 
-std::string KernelNames() {
-  std::string names;
-  for (Kernel k : kAllKernels) names += (names.empty() ? "" : ", ") + KernelName(k);
-  return names;
-}
+std::string KernelNames() { return JoinNames(kAllKernels, KernelName); }
 
 }  // namespace pb

@@ -28,17 +28,19 @@ NearestEstimator::NearestEstimator(std::span<const Point2> uv, std::span<const R
     : k_(k), region_(region), edgeCorrection_(edgeCorrection), uv_(uv.begin(), uv.end()), power_(power.begin(), power.end()) {
   PB_CHECK(k >= 2, "k-nearest-neighbour estimation needs k >= 2");
   PB_CHECK(uv.size() == power.size(), "one flux per photon");
-  if (uv_.size() >= k_) tree_ = std::make_unique<Tree>(uv_);
+  if (uv_.size() >= k_) {
+    tree_ = std::make_unique<Tree>(uv_);
+    return;
+  }
+  RgbSum total;
+  for (const Rgb& p : power_) total.Add(p);
+  if (region.Area() > 0) surfaceMean_ = total.ToRgb() * float(1.0 / region.Area());
 }
 
 NearestEstimator::~NearestEstimator() = default;
 
 Rgb NearestEstimator::Estimate(Point2 x) const {
-  if (!tree_) {  // fewer than k photons: the surface's mean
-    RgbSum total;
-    for (const Rgb& p : power_) total.Add(p);
-    return region_.Area() > 0 ? total.ToRgb() * float(1.0 / region_.Area()) : Rgb{};
-  }
+  if (!tree_) return surfaceMean_;
   std::vector<uint32_t> index(k_);
   std::vector<float> distance2(k_);
   const float query[2] = {x.u, x.v};

@@ -31,6 +31,7 @@ class NearestEstimator final : public DensityEstimator {
   bool edgeCorrection_;
   std::vector<Point2> uv_;
   std::vector<Rgb> power_;
+  Rgb surfaceMean_;             // total flux / surface area: the answer when there are fewer than k photons
   std::unique_ptr<Tree> tree_;  // nanoflann 2-d tree over uv_
 };
 

@@ -14,9 +14,7 @@ constexpr double kTwoPi = 6.283185307179586;
 constexpr int kMaxCellsPerAxis = 1024;
 
 double Cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
-double SignedArea(const Triangle2& t) {
-  return 0.5 * Cross(double(t[1].u) - t[0].u, double(t[1].v) - t[0].v, double(t[2].u) - t[0].u, double(t[2].v) - t[0].v);
-}
+double SignedArea(const Triangle2& t) { return pb::SignedArea(t[0], t[1], t[2]); }
 
 uint64_t Bits(Point2 p) {
   const float c[2] = {p.u + 0.0f, p.v + 0.0f};  // + 0.0f maps -0 to +0

@@ -53,6 +53,10 @@ inline float MaxAbsComponent(Point3 p) { return std::max({std::fabs(p.x), std::f
 
 inline Point2 operator-(Point2 a, Point2 b) { return {a.u - b.u, a.v - b.v}; }
 inline float LengthSquared(Point2 d) { return d.u * d.u + d.v * d.v; }
+// Signed area [m^2] of the 2-D triangle (a, b, c), positive when counter-clockwise; in double precision.
+inline double SignedArea(Point2 a, Point2 b, Point2 c) {
+  return 0.5 * ((double(b.u) - a.u) * (double(c.v) - a.v) - (double(c.u) - a.u) * (double(b.v) - a.v));
+}
 
 // Axis-aligned bounds in a chart [m].
 struct Bounds2 {

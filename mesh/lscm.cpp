@@ -16,16 +16,11 @@ using CgalMesh = CGAL::Surface_mesh<CgalKernel::Point_3>;
 using VertexIndex = CgalMesh::Vertex_index;
 namespace SMP = CGAL::Surface_mesh_parameterization;
 
-double SignedUvArea(const std::vector<Point2>& uv, const std::array<uint32_t, 3>& t) {
-  const Point2 a = uv[t[0]], b = uv[t[1]], c = uv[t[2]];
-  return 0.5 * ((double(b.u) - a.u) * (double(c.v) - a.v) - (double(c.u) - a.u) * (double(b.v) - a.v));
-}
-
 // Uniform scale (and a mirror if needed) so that the map keeps orientation and the total area.
 bool Normalise(std::vector<Point2>& uv, std::span<const Point3> positions, std::span<const std::array<uint32_t, 3>> triangles) {
   double uvArea = 0, area = 0;
   for (const auto& t : triangles) {
-    uvArea += SignedUvArea(uv, t);
+    uvArea += SignedArea(uv[t[0]], uv[t[1]], uv[t[2]]);
     area += 0.5 * double(Length(Cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]])));
   }
   if (!(std::fabs(uvArea) > 0) || !std::isfinite(uvArea)) return false;

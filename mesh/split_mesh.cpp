@@ -6,10 +6,6 @@
 namespace pb {
 namespace {
 
-double UvArea(const std::array<Point2, 3>& c) {
-  return 0.5 * std::fabs((double(c[1].u) - c[0].u) * (double(c[2].v) - c[0].v) - (double(c[2].u) - c[0].u) * (double(c[1].v) - c[0].v));
-}
-
 // Smooth normals and local area ratios of a curved surface's vertices, from the triangles around each.
 void FinishCurvedVertices(const Scene& scene, const SurfaceSet& surfaces, const Surface& surface, size_t first,
                           SplitMesh& mesh) {
@@ -20,7 +16,7 @@ void FinishCurvedVertices(const Scene& scene, const SurfaceSet& surfaces, const 
     const uint32_t t = surface.triangles[i];
     for (uint32_t v : mesh.faces[f]) {
       normalSum[v - first] = normalSum[v - first] + scene.AreaVector(t);
-      uvArea[v - first] += UvArea(surfaces.cornerUv[t]);
+      uvArea[v - first] += std::fabs(SignedArea(surfaces.cornerUv[t][0], surfaces.cornerUv[t][1], surfaces.cornerUv[t][2]));
       area[v - first] += scene.Area(t);
     }
   }

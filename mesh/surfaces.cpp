@@ -143,7 +143,7 @@ std::optional<CurvedChart> MapCurved(const Scene& scene, const std::vector<uint3
     const auto& f = faces[i];
     chart.cornerUv.push_back({(*uv)[f[0]], (*uv)[f[1]], (*uv)[f[2]]});
     const Point2 a = (*uv)[f[0]], b = (*uv)[f[1]], c = (*uv)[f[2]];
-    const double uvArea = 0.5 * ((double(b.u) - a.u) * (double(c.v) - a.v) - (double(c.u) - a.u) * (double(b.v) - a.v));
+    const double uvArea = SignedArea(a, b, c);
     const double area = scene.Area(triangles[i]);
     if (!(uvArea > 0)) return std::nullopt;  // a folded triangle
     chart.areaDistortion = std::max({chart.areaDistortion, uvArea / area, area / uvArea});
@@ -154,19 +154,21 @@ std::optional<CurvedChart> MapCurved(const Scene& scene, const std::vector<uint3
 // Cuts a group at the median of its triangle centroids along their longest extent; returns its connected parts.
 std::vector<std::vector<uint32_t>> Split(const Scene& scene, const std::vector<std::vector<uint32_t>>& neighbours,
                                          const std::vector<uint32_t>& triangles) {
-  const auto centroid = [&](uint32_t t) {
-    const Point3 a = scene.Corner(t, 0), b = scene.Corner(t, 1), c = scene.Corner(t, 2);
-    return std::array<float, 3>{(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3, (a.z + b.z + c.z) / 3};
-  };
+  std::unordered_map<uint32_t, std::array<float, 3>> centroid;
   std::array<float, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (uint32_t t : triangles)
-    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], centroid(t)[a]), hi[a] = std::max(hi[a], centroid(t)[a]);
+  for (uint32_t t : triangles) {
+    const Point3 a = scene.Corner(t, 0), b = scene.Corner(t, 1), c = scene.Corner(t, 2);
+    const std::array<float, 3> m{(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3, (a.z + b.z + c.z) / 3};
+    centroid[t] = m;
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], m[k]), hi[k] = std::max(hi[k], m[k]);
+  }
   int axis = 0;
   for (int a = 1; a < 3; ++a)
     if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
   std::vector<uint32_t> order = triangles;
   const auto less = [&](uint32_t x, uint32_t y) {
-    return centroid(x)[axis] < centroid(y)[axis] || (centroid(x)[axis] == centroid(y)[axis] && x < y);
+    const float cx = centroid.at(x)[axis], cy = centroid.at(y)[axis];
+    return cx < cy || (cx == cy && x < y);
   };
   std::nth_element(order.begin(), order.begin() + order.size() / 2, order.end(), less);
   std::unordered_map<uint32_t, uint8_t> half;  // triangle -> 0 or 1

@@ -4,7 +4,6 @@
 #include <fmt/core.h>
 
 #include <cstdio>
-#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -43,8 +42,9 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
          "0.02-0.1 for a room-sized scene; or 'auto': chosen per surface from its photons (README, 'Automatic h')")
       ->check(CLI::Validator(
           [](const std::string& text) {
-            return text == "auto" || CLI::detail::lexical_cast(text, *std::make_unique<float>()) ? std::string()
-                                                                                                   : "expects a length in metres or 'auto'";
+            float value = 0;
+            return text == "auto" || CLI::detail::lexical_cast(text, value) ? std::string()
+                                                                            : "expects a length in metres or 'auto'";
           },
           "FLOAT|auto", "length"))
       ->default_str(fmt::format("{}", e.bandwidth));
