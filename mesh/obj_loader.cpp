@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 
@@ -83,12 +84,50 @@ Rgb ReadRgb(const Line& line) {
   return {r, line.Number(2), line.Number(3)};
 }
 
-void CheckMaterial(const Material& m, const Line& where) {
-  auto inUnit = [](float c) { return c >= 0.0f && c <= 1.0f; };
-  if (!inUnit(m.albedo.r) || !inUnit(m.albedo.g) || !inUnit(m.albedo.b))
-    where.Fail("material '" + m.name + "': Kd must lie in [0, 1] per channel (energy conservation)");
-  if (m.emission.r < 0 || m.emission.g < 0 || m.emission.b < 0)
-    where.Fail("material '" + m.name + "': Ke must be non-negative");
+// The statements of one MTL material as written, before its class is decided (illum and the values it uses).
+struct MtlEntry {
+  Material material;
+  Line start;  // the 'newmtl' line, for messages
+  int illum = 2;
+  std::optional<Rgb> ks, tf;
+  std::optional<float> ni, d;
+};
+
+bool InUnitInterval(Rgb c) { return c.r >= 0 && c.g >= 0 && c.b >= 0 && c.r <= 1 && c.g <= 1 && c.b <= 1; }
+
+MaterialClass ClassOfIllum(int illum) {
+  switch (illum) {
+    case 3: case 5: case 8: return MaterialClass::kMirror;
+    case 4: case 6: case 7: case 9: return MaterialClass::kGlass;
+    default: return MaterialClass::kDiffuse;
+  }
+}
+
+// Turns the statements of one material into a checked Material of its class (see obj_loader.h).
+Material ResolveMaterial(MtlEntry e, std::vector<std::string>& warnings) {
+  Material& m = e.material;
+  const Line& where = e.start;
+  const std::string named = "material '" + m.name + "': ";
+  if (!InUnitInterval(m.albedo)) where.Fail(named + "Kd must lie in [0, 1] per channel (energy conservation)");
+  if (m.emission.r < 0 || m.emission.g < 0 || m.emission.b < 0) where.Fail(named + "Ke must be non-negative");
+  if (e.illum > 9) warnings.push_back(where.Warning(named + "illum " + std::to_string(e.illum) + " is baked as diffuse Kd"));
+  m.kind = ClassOfIllum(e.illum);
+  if (m.kind == MaterialClass::kMirror) {
+    m.specular = e.ks.value_or(Rgb{1, 1, 1});
+    if (!InUnitInterval(m.specular) || !InUnitInterval(m.albedo + m.specular))
+      where.Fail(named + "a mirror needs Ks in [0, 1] and Kd + Ks <= 1 per channel (energy conservation)");
+  } else if (m.kind == MaterialClass::kGlass) {
+    m.ior = e.ni.value_or(1.5f);
+    if (!(m.ior > 0.0f && m.ior <= 10.0f)) where.Fail(named + "glass needs Ni in (0, 10]");
+    const float d = e.d.value_or(0.0f);
+    m.transmittance = e.tf.value_or(Rgb{1 - d, 1 - d, 1 - d});
+    if (!InUnitInterval(m.transmittance) || d < 0 || d > 1) where.Fail(named + "glass needs Tf and d in [0, 1]");
+    if (m.transmittance.IsBlack())
+      warnings.push_back(where.Warning(named + "glass transmits nothing (d 1 and no Tf); set Tf or d < 1"));
+    if (!m.albedo.IsBlack()) warnings.push_back(where.Warning(named + "Kd is not used by glass"));
+    m.albedo = {};
+  }
+  return m;
 }
 
 // Parses an MTL file into `materials`, keyed by name in `byName`.
@@ -96,10 +135,9 @@ void LoadMtl(const std::string& path, const Line& mtllibLine, std::vector<Materi
              std::unordered_map<std::string, uint32_t>& byName, std::vector<std::string>& warnings) {
   LineReader reader(path);
   if (!reader.IsOpen()) mtllibLine.Fail("cannot open material library '" + path + "'");
-  int current = -1;  // index, not pointer: `materials` grows while we read.
-  Line currentStart;
+  std::optional<MtlEntry> current;
   auto finish = [&] {
-    if (current >= 0) CheckMaterial(materials[size_t(current)], currentStart);
+    if (current) materials.push_back(ResolveMaterial(std::move(*current), warnings));
   };
   for (Line line; reader.Next(line);) {
     const std::string& k = line.Keyword();
@@ -109,25 +147,31 @@ void LoadMtl(const std::string& path, const Line& mtllibLine, std::vector<Materi
       const std::string name = line.Rest();
       if (byName.count(name)) line.Fail("material '" + name + "' defined twice");
       byName[name] = uint32_t(materials.size());
-      materials.push_back(Material{name, {}, {}});
-      current = int(materials.size()) - 1;
-      currentStart = line;
+      current = MtlEntry{Material{name}, line};
       continue;
     }
-    if (current < 0) line.Fail("'" + k + "' before any 'newmtl'");
+    if (!current) line.Fail("'" + k + "' before any 'newmtl'");
     if (k == "Kd") {
-      materials[size_t(current)].albedo = ReadRgb(line);
+      current->material.albedo = ReadRgb(line);
     } else if (k == "Ke") {
-      materials[size_t(current)].emission = ReadRgb(line);
-    } else if (k == "Ka" || k == "Ks" || k == "Tf") {
+      current->material.emission = ReadRgb(line);
+    } else if (k == "Ks") {
+      current->ks = ReadRgb(line);
+    } else if (k == "Tf") {
+      current->tf = ReadRgb(line);
+    } else if (k == "Ka") {
       ReadRgb(line);
-    } else if (k == "Ns" || k == "Ni" || k == "d" || k == "Tr") {
+    } else if (k == "Ni" || k == "d" || k == "Tr" || k == "Ns") {
       line.ExpectArguments(1, 1);
-      line.Number(1);
+      const float value = line.Number(1);
+      if (k == "Ni") current->ni = value;
+      if (k == "d") current->d = value;
+      if (k == "Tr") current->d = 1.0f - value;  // Tr is the complement of d
     } else if (k == "illum") {
       line.ExpectArguments(1, 1);
-      if (const float illum = line.Number(1); illum > 2)
-        warnings.push_back(line.Warning("illum " + line.tokens[1] + " (specular) is baked as diffuse Kd for now"));
+      const float illum = line.Number(1);
+      if (illum != float(int(illum)) || illum < 0) line.Fail("illum takes a whole number 0-10");
+      current->illum = int(illum);
     } else if (k.rfind("map_", 0) == 0 || k == "bump" || k == "disp" || k == "refl") {
       warnings.push_back(line.Warning("'" + k + "' is ignored (textures are not used yet)"));
     } else {

@@ -2,6 +2,11 @@
 //
 // Supported: v, vn, vt, f (any polygon, fan-triangulated; v, v/t, v//n, v/t/n; negative indices), o, g, s,
 // mtllib, usemtl; in MTL: newmtl, Kd, Ke, Ka, Ks, Ns, Ni, d, Tr, Tf, illum, and map_* (warned, not used yet).
+//
+// The material class (mesh/scene.h) comes from illum:
+//   0-2 (and 10, with a warning): diffuse Kd. A Phong highlight Ks under illum 2 is not used.
+//   3, 5, 8: mirror: Kd plus an ideal mirror of reflectance Ks (default 1).
+//   4, 6, 7, 9: glass: index Ni (default 1.5), transmittance Tf, or else 1 - d (Tr = 1 - d; default clear).
 // Lines and points (l, p) are ignored with a warning. Anything else is an InputError.
 //
 // Why not tinyobjloader: it reads "v 1 2 abc" as (1, 2, 0), accepts NaN coordinates and reports no line for

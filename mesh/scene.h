@@ -1,6 +1,14 @@
 // A triangle scene as loaded from disk: vertex positions [m], triangles, and their materials.
 // Emission follows DESIGN.md: a face whose material has Ke emits radiance Ke [W/(m^2 sr)] one-sided along its
 // front normal (counter-clockwise winding), with a cosine distribution, so its flux is Phi = pi * Ke * A [W].
+//
+// Materials come in three classes (DESIGN.md, "Material classes"); every reflectance is dimensionless, per
+// channel in [0, 1]:
+//   diffuse: Lambertian reflectance Kd.
+//   mirror:  Lambertian Kd plus an ideal mirror of reflectance Ks, with Kd + Ks <= 1 per channel.
+//   glass:   a smooth dielectric of refractive index Ni: Fresnel reflection, and refraction filtered by the
+//            transmittance Tf (1 = clear). Its Kd is not used. A glass mesh is closed, front faces outward, so
+//            a photon arriving on the front side enters it.
 #pragma once
 
 #include <array>
@@ -13,11 +21,18 @@
 
 namespace pb {
 
+enum class MaterialClass : uint8_t { kDiffuse, kMirror, kGlass };
+
 struct Material {
   std::string name;
-  Rgb albedo;    // Kd: diffuse (Lambertian) reflectance, each channel in [0, 1].
-  Rgb emission;  // Ke: emitted radiance [W/(m^2 sr)], front side only.
+  MaterialClass kind = MaterialClass::kDiffuse;
+  Rgb albedo;          // Kd: diffuse (Lambertian) reflectance; diffuse and mirror classes.
+  Rgb emission;        // Ke: emitted radiance [W/(m^2 sr)], front side only.
+  Rgb specular;        // Ks: ideal mirror reflectance; mirror class only, else 0.
+  Rgb transmittance;   // Tf: fraction of refracted flux that passes; glass class only, else 0.
+  float ior = 1.0f;    // Ni: refractive index inside the glass, relative to the outside (air = 1).
   bool IsEmissive() const { return !emission.IsBlack(); }
+  bool IsSpecular() const { return kind != MaterialClass::kDiffuse; }
 };
 
 struct Triangle {

@@ -97,6 +97,50 @@ TEST(ObjLoader, RejectsBadMaterialsNamingTheMtlLine) {
   EXPECT_THROW(LoadObj(junk), InputError);
 }
 
+TEST(ObjLoader, MaterialClassFollowsIllum) {
+  const std::string mtl =
+      "newmtl matte\nKd 0.5 0.5 0.5\nKs 0.9 0.9 0.9\nillum 2\n"         // Phong highlight: still diffuse
+      "newmtl mirror\nKd 0.1 0.1 0.1\nKs 0.8 0.7 0.6\nillum 3\n"
+      "newmtl glass\nKd 0.2 0.2 0.2\nNi 1.33\nTf 0.9 1 1\nillum 7\n"
+      "newmtl frosted\nd 0.25\nillum 4\n"
+      "newmtl plain_mirror\nillum 5\n";
+  const LoadedScene loaded = LoadObj(WriteScene("classes", kQuad + "usemtl matte\nf 1 2 3\n", mtl));
+  const std::vector<Material>& m = loaded.scene.materials;
+  ASSERT_EQ(m.size(), 5u);
+  EXPECT_EQ(m[0].kind, MaterialClass::kDiffuse);
+  EXPECT_TRUE(m[0].specular.IsBlack());
+  EXPECT_EQ(m[1].kind, MaterialClass::kMirror);
+  EXPECT_FLOAT_EQ(m[1].specular.b, 0.6f);
+  EXPECT_FLOAT_EQ(m[1].albedo.r, 0.1f);
+  EXPECT_EQ(m[2].kind, MaterialClass::kGlass);
+  EXPECT_FLOAT_EQ(m[2].ior, 1.33f);
+  EXPECT_FLOAT_EQ(m[2].transmittance.r, 0.9f);
+  EXPECT_TRUE(m[2].albedo.IsBlack()) << "glass does not use Kd";
+  EXPECT_FLOAT_EQ(m[3].transmittance.g, 0.75f) << "without Tf, glass transmits 1 - d";
+  EXPECT_FLOAT_EQ(m[3].ior, 1.5f);
+  EXPECT_FLOAT_EQ(m[4].specular.g, 1.0f) << "a mirror without Ks reflects everything";
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings[0].find("scene.mtl:9: warning: material 'glass': Kd is not used"), std::string::npos)
+      << loaded.warnings[0];
+}
+
+TEST(ObjLoader, RejectsSpecularMaterialsThatCreateEnergy) {
+  const auto expect = [](const std::string& name, const std::string& mtl, const std::string& fragment,
+                         int line = 3) {
+    try {
+      LoadObj(WriteScene(name, kQuad, "newmtl ok\nKd 0.5 0.5 0.5\n" + mtl));
+      ADD_FAILURE() << mtl;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  expect("kd-ks", "newmtl m\nKd 0.6 0.6 0.6\nKs 0.5 0.5 0.5\nillum 3\n", "Kd + Ks <= 1");
+  expect("ni", "newmtl g\nNi 0\nillum 4\n", "Ni in (0, 10]");
+  expect("tf", "newmtl g\nTf 1.2 1 1\nillum 6\n", "Tf and d in [0, 1]");
+  expect("illum", "newmtl g\nillum 2.5\n", "whole number", 4);
+}
+
 TEST(Surfaces, GroupsConnectedCoplanarTrianglesOfOneMaterial) {
   // Two quads sharing an edge at a right angle, plus a coplanar quad of another material beside the first.
   const std::string path = WriteScene("surfaces", "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nv 0 1 0\nv 1 1 0\n"
