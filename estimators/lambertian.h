@@ -3,18 +3,10 @@
 // Directions wi and wo both point away from the surface (DESIGN.md).
 #pragma once
 
+#include "estimators/bsdf.h"
 #include "estimators/warps.h"
-#include "mesh/color.h"
-#include "mesh/geometry.h"
 
 namespace pb {
-
-struct BsdfSample {
-  Vector3 wi;         // unit, world, on the side of `side`
-  Rgb weight;         // f cos(theta) / pdf, dimensionless
-  float pdf = 0;      // [1/sr]
-  bool delta = false; // true for ideal specular lobes (none here)
-};
 
 inline Rgb LambertianBrdf(Rgb albedo) { return albedo * kInvPi; }
 
