@@ -6,7 +6,7 @@
 #include <algorithm>
 
 #include "estimators/emission.h"
-#include "estimators/lambertian.h"
+#include "estimators/scatter.h"
 #include "estimators/rng.h"
 
 namespace pb {
@@ -20,10 +20,15 @@ struct Block {
   TraceStats stats;
 };
 
+// The photon loop. kInterreflect: diffuse surfaces scatter (else a photon ends at its first diffuse surface).
+// kSpecular: materials of every class are sampled, with mirror and glass events (else every surface is
+// treated as the diffuse class, which the plan guarantees it is).
+template <bool kInterreflect, bool kSpecular>
 class PhotonTracer {
  public:
-  PhotonTracer(const Scene& scene, const RayScene& rays, uint32_t maxBounces)
-      : scene_(scene), rays_(rays), maxBounces_(maxBounces) {}
+  PhotonTracer(const Scene& scene, const RayScene& rays, const TransportPlan& plan, uint32_t maxBounces)
+      : scene_(scene), rays_(rays), maxBounces_(maxBounces), reflection_(plan.On(Effect::kReflection)),
+        refraction_(plan.On(Effect::kRefraction)), caustics_(plan.On(Effect::kCaustics)) {}
 
   // Traces one photon from `light` with the flux `power` [W], appending its hits to `block`.
   void Trace(const AreaLight& light, Rgb power, Rng& rng, Block& block) const {
@@ -32,38 +37,124 @@ class PhotonTracer {
     ++block.stats.emitted;
     Point3 origin = rays_.SpawnPoint(e.position, e.normal);
     Vector3 direction = e.direction;
+    bool afterSpecular = false;
     for (uint32_t bounce = 0; bounce < maxBounces_; ++bounce) {
       const auto hit = rays_.Intersect(origin, direction);
-      if (!hit) {
-        ++block.stats.escaped;
-        block.stats.powerEscaped.Add(power);
-        return;
-      }
+      if (!hit) return Escape(power, block.stats);
       const Normal3 front = scene_.FrontNormal(hit->triangle);
       const bool onFront = Dot(direction, front) < 0;
       const Normal3 side = onFront ? front : -front;  // the side the photon arrived on
-      const Point3 p = scene_.PointAt(hit->triangle, hit->b1, hit->b2);
+      const Material& material = scene_.MaterialOf(hit->triangle);
+      if (kSpecular && afterSpecular && !material.IsSpecular()) {
+        if (!caustics_) return Forbid(power, block.stats);
+        ++block.stats.causticHits;
+      }
       block.hits.emplace_back(power, -direction, hit->triangle, onFront, hit->b1, hit->b2);
-      const Rgb albedo = scene_.MaterialOf(hit->triangle).albedo;
-      block.stats.powerAbsorbed.Add(power * (Rgb{1, 1, 1} - albedo));
-      const float survival = albedo.Max();
-      if (rng.Uniform() >= survival) {
+      if constexpr (!kInterreflect && !kSpecular) return StopAtFirstSurface(material.albedo, power, block.stats);
+      const float uEvent = rng.Uniform();
+      const Point2 uDirection = rng.Uniform2();
+      const ScatterSample s = kSpecular ? SampleScatter(material, -direction, front, TransportMode::kImportance,
+                                                        uEvent, uDirection)
+                                        : ScatterDiffuse(material.albedo, side, uEvent, uDirection);
+      block.stats.powerAbsorbed.Add(power * s.expectedAbsorbed);
+      if (s.Absorbed()) {
         ++block.stats.absorbed;
         return;
       }
-      const BsdfSample s = SampleLambertian(albedo, side, rng.Uniform2());
-      power = power * s.weight / survival;
-      origin = rays_.SpawnPoint(p, side);
+      power = power * s.weight;
+      if (!Allowed(s.event)) return Forbid(power, block.stats);
+      Count(s.event, block.stats);
+      origin = rays_.SpawnPoint(scene_.PointAt(hit->triangle, hit->b1, hit->b2), s.transmitted ? -side : side);
       direction = s.wi;
+      afterSpecular = s.Specular();
     }
     ++block.stats.truncated;
   }
 
  private:
+  static void Escape(Rgb power, TraceStats& stats) {
+    ++stats.escaped;
+    stats.powerEscaped.Add(power);
+  }
+  static void Forbid(Rgb power, TraceStats& stats) {
+    ++stats.forbidden;
+    stats.powerForbidden.Add(power);
+  }
+  // Without interreflection: the absorbed and the forbidden (reflected) parts are tallied in expectation.
+  static void StopAtFirstSurface(Rgb albedo, Rgb power, TraceStats& stats) {
+    stats.powerAbsorbed.Add(power * (Rgb{1, 1, 1} - albedo));
+    stats.powerForbidden.Add(power * albedo);
+    ++(albedo.IsBlack() ? stats.absorbed : stats.forbidden);
+  }
+  bool Allowed(ScatterEvent event) const {
+    switch (event) {
+      case ScatterEvent::kDiffuse: return kInterreflect;
+      case ScatterEvent::kMirror:
+      case ScatterEvent::kFresnelReflection: return reflection_;
+      case ScatterEvent::kRefraction: return refraction_;
+      case ScatterEvent::kAbsorbed: break;
+    }
+    return false;
+  }
+  static void Count(ScatterEvent event, TraceStats& stats) {
+    if constexpr (!kSpecular) {
+      ++stats.diffuseBounces;
+      return;
+    }
+    switch (event) {
+      case ScatterEvent::kDiffuse: ++stats.diffuseBounces; break;
+      case ScatterEvent::kMirror: ++stats.mirrorReflections; break;
+      case ScatterEvent::kFresnelReflection: ++stats.fresnelReflections; break;
+      case ScatterEvent::kRefraction: ++stats.refractions; break;
+      case ScatterEvent::kAbsorbed: break;
+    }
+  }
+
   const Scene& scene_;
   const RayScene& rays_;
   uint32_t maxBounces_;
+  bool reflection_, refraction_, caustics_;
 };
+
+// Photon i belongs to light l when firstPhotonOf[l] <= i < firstPhotonOf[l + 1].
+struct PhotonSchedule {
+  std::vector<uint64_t> perLight, firstPhotonOf;
+  std::vector<Rgb> photonPower;  // [W] per photon of each light
+
+  PhotonSchedule(const std::vector<AreaLight>& lights, const TransportPlan& plan, uint64_t photons)
+      : perLight(AllocatePhotons(lights, photons, plan.lightReaches)), firstPhotonOf(lights.size() + 1, 0),
+        photonPower(lights.size()) {
+    for (size_t l = 0; l < lights.size(); ++l) {
+      firstPhotonOf[l + 1] = firstPhotonOf[l] + perLight[l];
+      photonPower[l] = perLight[l] ? lights[l].Power() / float(perLight[l]) : Rgb{};
+    }
+  }
+  size_t LightOf(uint64_t photon) const {
+    return size_t(std::upper_bound(firstPhotonOf.begin(), firstPhotonOf.end(), photon) - firstPhotonOf.begin()) - 1;
+  }
+};
+
+template <typename Tracer>
+std::vector<Block> TraceBlocks(const Tracer& tracer, const std::vector<AreaLight>& lights,
+                               const PhotonSchedule& schedule, const TraceSettings& settings, const Log& log) {
+  const uint64_t blockCount = (settings.photons + kBlockPhotons - 1) / kBlockPhotons;
+  std::vector<Block> blocks(blockCount);
+  Progress progress(log, "trace photons", settings.photons);
+  tbb::parallel_for(tbb::blocked_range<uint64_t>(0, blockCount, 1), [&](const tbb::blocked_range<uint64_t>& r) {
+    for (uint64_t b = r.begin(); b != r.end(); ++b) {
+      blocks[b].hits.reserve(kBlockPhotons * 3);  // ~2.5 hits per photon in a box: growth copies are rare
+      const uint64_t begin = b * kBlockPhotons, end = std::min(settings.photons, begin + kBlockPhotons);
+      for (uint64_t i = begin; i < end; ++i) {
+        const size_t light = schedule.LightOf(i);
+        Rng rng(settings.seed, i);
+        tracer.Trace(lights[light], schedule.photonPower[light], rng, blocks[b]);
+      }
+      blocks[b].stats.hits = blocks[b].hits.size();
+      progress.Advance(end - begin);
+    }
+  });
+  return blocks;
+}
 
 }  // namespace
 
@@ -72,42 +163,33 @@ void TraceStats::Add(const TraceStats& b) {
   hits += b.hits;
   absorbed += b.absorbed;
   escaped += b.escaped;
+  forbidden += b.forbidden;
   truncated += b.truncated;
+  diffuseBounces += b.diffuseBounces;
+  mirrorReflections += b.mirrorReflections;
+  fresnelReflections += b.fresnelReflections;
+  refractions += b.refractions;
+  causticHits += b.causticHits;
   powerEmitted.Add(b.powerEmitted);
   powerAbsorbed.Add(b.powerAbsorbed);
   powerEscaped.Add(b.powerEscaped);
+  powerForbidden.Add(b.powerForbidden);
 }
 
-PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights,
-                        const RayScene& rays, const TraceSettings& settings, const Log& log) {
-  const std::vector<uint64_t> perLight = AllocatePhotons(lights, settings.photons);
-  std::vector<uint64_t> firstPhotonOf(lights.size() + 1, 0);  // photon i belongs to light l when
-  for (size_t l = 0; l < lights.size(); ++l) firstPhotonOf[l + 1] = firstPhotonOf[l] + perLight[l];
-  std::vector<Rgb> photonPower(lights.size());
-  for (size_t l = 0; l < lights.size(); ++l)
-    photonPower[l] = perLight[l] ? lights[l].Power() / float(perLight[l]) : Rgb{};
-
-  const PhotonTracer tracer(scene, rays, settings.maxBounces);
-  const uint64_t blockCount = (settings.photons + kBlockPhotons - 1) / kBlockPhotons;
-  std::vector<Block> blocks(blockCount);
-  Progress progress(log, "trace photons", settings.photons);
-  tbb::parallel_for(tbb::blocked_range<uint64_t>(0, blockCount, 1), [&](const tbb::blocked_range<uint64_t>& r) {
-    for (uint64_t b = r.begin(); b != r.end(); ++b) {
-      blocks[b].hits.reserve(kBlockPhotons * 3);  // ~2.5 hits per photon in a box: growth copies are rare
-      const uint64_t begin = b * kBlockPhotons, end = std::min(settings.photons, begin + kBlockPhotons);
-      size_t light = size_t(std::upper_bound(firstPhotonOf.begin(), firstPhotonOf.end(), begin) - firstPhotonOf.begin()) - 1;
-      for (uint64_t i = begin; i < end; ++i) {
-        while (i >= firstPhotonOf[light + 1]) ++light;
-        Rng rng(settings.seed, i);
-        tracer.Trace(lights[light], photonPower[light], rng, blocks[b]);
-      }
-      blocks[b].stats.hits = blocks[b].hits.size();
-      progress.Advance(end - begin);
-    }
-  });
-
+PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
+                        const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
+  const PhotonSchedule schedule(lights, plan, settings.photons);
+  const auto run = [&]<bool kInterreflect, bool kSpecular>() {
+    const PhotonTracer<kInterreflect, kSpecular> tracer(scene, rays, plan, settings.maxBounces);
+    return TraceBlocks(tracer, lights, schedule, settings, log);
+  };
+  const bool bounce = plan.On(Effect::kInterreflection), specular = plan.NeedsSpecularKernel();
+  std::vector<Block> blocks = specular ? (bounce ? run.template operator()<true, true>()
+                                                 : run.template operator()<false, true>())
+                                       : (bounce ? run.template operator()<true, false>()
+                                                 : run.template operator()<false, false>());
   PhotonHits result;
-  result.stats.photonsPerLight = perLight;
+  result.stats.photonsPerLight = schedule.perLight;
   for (Block& b : blocks) {
     result.stats.Add(b.stats);  // in block order: the double sums do not depend on threads
     result.blocks.push_back(std::move(b.hits));

@@ -1,8 +1,13 @@
 // Stage 1: photon tracing (the paper's "How to trace a particle"; Shirley et al. 1995).
-// Each light emits N_i = n Phi_i / Phi photons of flux Phi_i / N_i [W] (RGB). A photon is traced with Embree
-// until it is absorbed or leaves the scene; at every surface it reaches, a PhotonHit is stored with the flux
-// that arrived. Diffuse reflection samples the cosine lobe; Russian roulette survives with probability
-// q = max(Kd) and divides the flux by q, so the expected flux stays exact.
+// Each light that reaches a receiver (stage 0) emits N_i = n Phi_i / Phi photons of flux Phi_i / N_i [W] (RGB).
+// A photon is traced with Embree through reflections and refractions until it is absorbed or leaves the scene;
+// at every surface it reaches, a PhotonHit is stored with the flux that arrived. Each event picks one lobe of
+// the material with Russian roulette folded in (estimators/scatter.h), so the expected flux stays exact.
+//
+// Only the transport the plan asks for is compiled into the loop that runs: four instantiations of one photon
+// loop, with or without diffuse bounces and with or without specular events. A purely diffuse scene runs a loop
+// that never looks at Fresnel, refraction or the material class; a scene of black receivers stops at the first
+// hit. A forbidden effect (--effects -NAME) drops the photon where it would happen and tallies the flux.
 //
 // Determinism: photon i draws only from Rng(seed, i); photons are traced in fixed blocks whose hits are
 // concatenated in block order, so the hit list is identical for any thread count.
@@ -11,6 +16,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "baker/0_plan_transport.h"
 #include "baker/progress.h"
 #include "mesh/color.h"
 #include "mesh/geometry.h"
@@ -54,10 +60,16 @@ struct TraceStats {
   uint64_t hits = 0;       // PhotonHits stored
   uint64_t absorbed = 0;   // photons ended by Russian roulette
   uint64_t escaped = 0;    // photons that left the scene
+  uint64_t forbidden = 0;  // photons dropped because their next event is an effect the plan turned off
   uint64_t truncated = 0;  // photons cut at maxBounces (should be 0)
-  RgbSum powerEmitted;     // [W], sum of the photons' initial flux
-  RgbSum powerAbsorbed;    // [W], sum over hits of flux * (1 - Kd): the expected absorption
-  RgbSum powerEscaped;     // [W]
+  // Events, by kind. A purely diffuse scene has only diffuse bounces.
+  uint64_t diffuseBounces = 0, mirrorReflections = 0, fresnelReflections = 0, refractions = 0;
+  uint64_t causticHits = 0;  // hits stored on a diffuse surface right after a specular event (L..S D)
+  RgbSum powerEmitted;       // [W], sum of the photons' initial flux
+  RgbSum powerAbsorbed;      // [W], sum over events of the flux the material absorbs on average
+  RgbSum powerEscaped;       // [W]
+  RgbSum powerForbidden;     // [W], flux dropped by forbidden effects
+  uint64_t SpecularEvents() const { return mirrorReflections + fresnelReflections + refractions; }
   void Add(const TraceStats& block);
 };
 
@@ -74,7 +86,7 @@ struct PhotonHits {
   }
 };
 
-PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights,
-                        const RayScene& rays, const TraceSettings& settings, const Log& log);
+PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
+                        const TransportPlan& plan, const TraceSettings& settings, const Log& log);
 
 }  // namespace pb

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 
+#include "baker/0_plan_transport.h"
 #include "baker/1_trace_photons.h"
 #include "baker/2_bin_photons.h"
 #include "baker/3_estimate_irradiance.h"
@@ -36,13 +37,6 @@ void RequireLight(const Scene& scene, const std::vector<AreaLight>& lights) {
     throw InputError(scene.path, 0, "scene has no light: no face uses a material with Ke > 0");
 }
 
-std::vector<std::pair<std::string, std::string>> Effects() {
-  return {{"direct light", "simulated"},
-          {"diffuse interreflection", "simulated (Russian roulette on Kd)"},
-          {"specular reflection", "skipped: not implemented yet, mirrors bake as diffuse Kd"},
-          {"refraction", "skipped: not implemented yet"}};
-}
-
 void ReportWarnings(BakeReport& report, std::vector<std::string> warnings, const Log& log) {
   constexpr size_t kShown = 10;
   for (size_t i = 0; i < warnings.size() && i < kShown; ++i) log.Warning(warnings[i]);
@@ -54,6 +48,7 @@ void ReportWarnings(BakeReport& report, std::vector<std::string> warnings, const
 
 BakeReport Bake(const BakeOptions& o, const Log& log) {
   ValidateOptions(o);
+  const EffectOverrides overrides = ParseEffectOverrides(o.effectsText);
   const ThreadScope threads(o.threads);
   BakeReport report{o, threads.Count()};
   StageClock clock(report.stageSeconds);
@@ -64,11 +59,12 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   const SurfaceSet surfaces = clock.Time("surfaces", [&] { return BuildSurfaces(scene); });
   const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
   RequireLight(scene, lights);
+  report.plan = clock.Time("plan", [&] { return PlanTransport(scene, surfaces, lights, overrides); });
   std::optional<RayScene> rays;
   clock.Time("bvh", [&] { rays.emplace(scene); });
 
   const PhotonHits photons =
-      clock.Time("trace", [&] { return TracePhotons(scene, lights, *rays, {o.photons, o.seed, o.maxBounces}, log); });
+      clock.Time("trace", [&] { return TracePhotons(scene, lights, *rays, report.plan, {o.photons, o.seed, o.maxBounces}, log); });
   const SurfaceBins bins = clock.Time("bin", [&] { return BinPhotons(surfaces, photons); });
   const SurfaceRegions regions = clock.Time("regions", [&] { return BuildRegions(surfaces); });
   const std::vector<float> bandwidths =
@@ -82,13 +78,12 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   report.degenerateTrianglesSkipped = scene.degenerateTrianglesSkipped;
   report.vertices = baked.mesh.VertexCount();
   report.faces = baked.mesh.faces.size();
-  report.lights = DescribeLights(scene, lights, photons.stats.photonsPerLight);
+  report.lights = DescribeLights(scene, lights, photons.stats.photonsPerLight, report.plan);
   report.surfaces = DescribeSurfaces(scene, surfaces, bins);
   report.curvedCharts = surfaces.CurvedCount();
   report.worstAreaDistortion = surfaces.WorstAreaDistortion();
   for (size_t s = 0; s < report.surfaces.size(); ++s) report.surfaces[s].bandwidth = bandwidths[s];
   report.trace = photons.stats;
-  report.effects = Effects();
   if (!o.reportPath.empty()) WriteReportJson(o.reportPath, report);
   return report;
 }

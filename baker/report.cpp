@@ -18,7 +18,8 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
           {"kernel", KernelName(o.estimator.kernel)}, {"k", o.estimator.neighbours},
           {"edge_correction", o.estimator.edgeCorrection},
           {"h_m", o.autoBandwidth ? nlohmann::json("auto") : nlohmann::json(o.estimator.bandwidth)},          {"photons", o.photons},   {"seed", o.seed},
-          {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly}};
+          {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly},
+          {"effects", o.effectsText}};
 }
 
 nlohmann::json TraceJson(const TraceStats& t) {
@@ -26,12 +27,17 @@ nlohmann::json TraceJson(const TraceStats& t) {
           {"hits_stored", t.hits},
           {"absorbed", t.absorbed},
           {"escaped", t.escaped},
+          {"forbidden", t.forbidden},
           {"truncated", t.truncated},
+          {"events", {{"diffuse", t.diffuseBounces}, {"mirror", t.mirrorReflections},
+                      {"fresnel_reflection", t.fresnelReflections}, {"refraction", t.refractions},
+                      {"caustic_hits", t.causticHits}}},
           {"record_bytes", sizeof(PhotonHit)},
           {"store_bytes", t.hits * sizeof(PhotonHit)},
           {"power_emitted_W", Json(t.powerEmitted)},
           {"power_absorbed_W", Json(t.powerAbsorbed)},
-          {"power_escaped_W", Json(t.powerEscaped)}};
+          {"power_escaped_W", Json(t.powerEscaped)},
+          {"power_forbidden_W", Json(t.powerForbidden)}};
 }
 
 // The chart counts, then one row per surface, up to kRows rows.
@@ -61,11 +67,11 @@ double BakeReport::TotalSeconds() const {
 }
 
 std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<AreaLight>& lights,
-                                        const std::vector<uint64_t>& photonsPerLight) {
+                                        const std::vector<uint64_t>& photonsPerLight, const TransportPlan& plan) {
   std::vector<LightReport> out;
   for (size_t l = 0; l < lights.size(); ++l) {
     const std::string& name = scene.materials[scene.triangles[lights[l].triangles.front()].material].name;
-    out.push_back({lights[l].surface, name, lights[l].area, lights[l].Power(), photonsPerLight[l]});
+    out.push_back({lights[l].surface, name, lights[l].area, lights[l].Power(), photonsPerLight[l], plan.lightNotes[l]});
   }
   return out;
 }
@@ -90,21 +96,23 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   s += fmt::format("  scene     {} triangles ({} zero-area skipped), {} surfaces, {} lights\n", r.triangles,
                    r.degenerateTrianglesSkipped, r.surfaces.size(), r.lights.size());
   for (const LightReport& l : r.lights)
-    s += fmt::format("  light     {:<20} area {:.4g} m^2  Phi {} W  {} photons\n", l.material, l.area, Text(l.power),
-                     l.photons);
-  s += fmt::format("  photons   {} emitted, {} hits stored, {} absorbed, {} escaped, {} truncated\n", t.emitted,
-                   t.hits, t.absorbed, t.escaped, t.truncated);
+    s += fmt::format("  light     {:<20} area {:.4g} m^2  Phi {} W  {} photons{}\n", l.material, l.area,
+                     Text(l.power), l.photons, l.note.empty() ? "" : "  (" + l.note + ")");
+  s += fmt::format("  photons   {} emitted, {} hits stored, {} absorbed, {} escaped, {} forbidden, {} truncated\n",
+                   t.emitted, t.hits, t.absorbed, t.escaped, t.forbidden, t.truncated);
+  s += fmt::format("  events    {} diffuse, {} mirror, {} Fresnel reflections, {} refractions; {} caustic hits\n",
+                   t.diffuseBounces, t.mirrorReflections, t.fresnelReflections, t.refractions, t.causticHits);
   s += fmt::format("  store     {} B per hit, {:.1f} MiB\n", sizeof(PhotonHit), t.hits * sizeof(PhotonHit) / 1048576.0);
-  const double balance = t.powerEmitted.Mean() > 0
-                             ? (t.powerAbsorbed.Mean() + t.powerEscaped.Mean()) / t.powerEmitted.Mean() - 1.0
-                             : 0.0;
-  s += fmt::format("  flux      emitted {:.5g} W = absorbed {:.5g} W + escaped {:.5g} W  (balance {:+.3f}%)\n",
-                   t.powerEmitted.Mean(), t.powerAbsorbed.Mean(), t.powerEscaped.Mean(), 100.0 * balance);
+  const double out = t.powerAbsorbed.Mean() + t.powerEscaped.Mean() + t.powerForbidden.Mean();
+  const double balance = t.powerEmitted.Mean() > 0 ? out / t.powerEmitted.Mean() - 1.0 : 0.0;
+  s += fmt::format("  flux      emitted {:.5g} W = absorbed {:.5g} W + escaped {:.5g} W + forbidden {:.5g} W"
+                   "  (balance {:+.3f}%)\n", t.powerEmitted.Mean(), t.powerAbsorbed.Mean(), t.powerEscaped.Mean(),
+                   t.powerForbidden.Mean(), 100.0 * balance);
   s += SurfaceTable(r);
   s += "  seconds  ";
   for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
   s += fmt::format(" total {:.3f} ({} threads)\n", r.TotalSeconds(), r.threads);
-  for (const auto& [effect, status] : r.effects) s += fmt::format("  effect    {}: {}\n", effect, status);
+  for (Effect e : kAllEffects) s += fmt::format("  effect    {}: {}\n", EffectName(e), r.plan.Describe(e));
   s += fmt::format("  output    {}: {} vertices, {} triangles, display exposure {:.4g}\n", r.options.outputPath,
                    r.vertices, r.faces, r.exposure);
   log.Info(s);
@@ -121,7 +129,7 @@ void WriteReportJson(const std::string& path, const BakeReport& r) {
                 {"worst_area_distortion", r.worstAreaDistortion}};
   for (const LightReport& l : r.lights)
     j["lights"].push_back({{"surface", l.surface}, {"material", l.material}, {"area_m2", l.area},
-                           {"power_W", Json(l.power)}, {"photons", l.photons}});
+                           {"power_W", Json(l.power)}, {"photons", l.photons}, {"note", l.note}});
   j["photons"] = TraceJson(r.trace);
   for (const SurfaceReport& s : r.surfaces)
     j["surfaces"].push_back({{"object", s.object}, {"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
@@ -130,7 +138,11 @@ void WriteReportJson(const std::string& path, const BakeReport& r) {
                              {"h_m", s.bandwidth}});
   for (const auto& [name, seconds] : r.stageSeconds) j["seconds"][name] = seconds;
   j["seconds"]["total"] = r.TotalSeconds();
-  for (const auto& [effect, status] : r.effects) j["effects"][effect] = status;
+  for (Effect e : kAllEffects) {
+    const EffectDecision& d = r.plan.effects[size_t(e)];
+    j["effects"][EffectName(e)] = {{"simulated", d.simulated}, {"overridden", d.overridden}, {"reason", d.reason}};
+  }
+  j["effects"]["significant_diffuse_bounces"] = r.plan.significantBounces;
   j["output"] = {{"path", r.options.outputPath}, {"vertices", r.vertices}, {"faces", r.faces},
                  {"display_exposure", r.exposure}};
   j["warnings"] = r.warnings;

@@ -20,6 +20,7 @@ struct LightReport {
   double area = 0;  // [m^2]
   Rgb power;        // Phi [W]
   uint64_t photons = 0;
+  std::string note;  // why it got no photons; "" when it got its share
 };
 
 struct SurfaceReport {
@@ -43,7 +44,7 @@ struct BakeReport {
   std::vector<SurfaceReport> surfaces;
   TraceStats trace;
   std::vector<std::pair<std::string, double>> stageSeconds;  // in pipeline order
-  std::vector<std::pair<std::string, std::string>> effects;  // effect -> "simulated" or "skipped: why"
+  TransportPlan plan;  // the effects simulated and skipped, with reasons
   std::vector<std::string> warnings;
   float exposure = 1;
 
@@ -51,7 +52,7 @@ struct BakeReport {
 };
 
 std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<AreaLight>& lights,
-                                        const std::vector<uint64_t>& photonsPerLight);
+                                        const std::vector<uint64_t>& photonsPerLight, const TransportPlan& plan);
 std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins);
 
 void PrintSummary(const BakeReport& report, const Log& log);

@@ -20,15 +20,17 @@ EmissionSample SampleEmission(const Scene& scene, const AreaLight& light, Rng& r
 }
 
 
-std::vector<uint64_t> AllocatePhotons(const std::vector<AreaLight>& lights, uint64_t n) {
-  double total = 0;
-  for (const AreaLight& l : lights) total += l.Power().Mean();
+std::vector<uint64_t> AllocatePhotons(const std::vector<AreaLight>& lights, uint64_t n,
+                                      const std::vector<bool>& eligible) {
+  std::vector<double> power(lights.size());
+  for (size_t i = 0; i < lights.size(); ++i) power[i] = eligible.empty() || eligible[i] ? lights[i].Power().Mean() : 0.0;
+  const double total = std::accumulate(power.begin(), power.end(), 0.0);
   std::vector<uint64_t> count(lights.size(), 0);
   if (lights.empty() || !(total > 0)) return count;
   std::vector<double> remainder(lights.size());
   uint64_t assigned = 0;
   for (size_t i = 0; i < lights.size(); ++i) {
-    const double exact = double(n) * lights[i].Power().Mean() / total;
+    const double exact = double(n) * power[i] / total;
     count[i] = uint64_t(exact);
     remainder[i] = exact - double(count[i]);
     assigned += count[i];

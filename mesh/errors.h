@@ -15,9 +15,10 @@ class InputError : public std::runtime_error {
  public:
   // line 0 means "the whole file" and is not printed.
   InputError(const std::string& file, int line, const std::string& message)
-      : std::runtime_error(Format(file, line, message)), file_(file), line_(line) {}
+      : std::runtime_error(Format(file, line, message)), file_(file), line_(line), message_(message) {}
   const std::string& file() const { return file_; }
   int line() const { return line_; }
+  const std::string& message() const { return message_; }  // without the "file:line: error: " prefix
 
  private:
   static std::string Format(const std::string& file, int line, const std::string& message) {
@@ -27,6 +28,7 @@ class InputError : public std::runtime_error {
   }
   std::string file_;
   int line_;
+  std::string message_;
 };
 
 [[noreturn]] inline void CheckFailed(const char* condition, const char* file, int line, const char* message) {

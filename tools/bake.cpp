@@ -8,7 +8,9 @@
 #include <string>
 #include <string_view>
 
+#include "baker/0_plan_transport.h"
 #include "baker/bake.h"
+#include "estimators/enum_names.h"
 #include "mesh/errors.h"
 
 namespace {
@@ -69,6 +71,21 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
       ->capture_default_str();
   app.add_option("--threads", o.threads, "worker threads; 0 = all cores")->capture_default_str();
   app.add_option("--scale", o.scale, "metres per scene unit; range > 0, typical 1, or 0.001 for millimetres")
+      ->capture_default_str();
+  app.add_option("--effects", o.effectsText,
+                 "light transport to simulate: 'auto' (what the scene's materials call for), 'all', or a list such as "
+                 "'+caustics,-refraction' (NAME or +NAME forces on, -NAME forbids); names: " +
+                     pb::JoinNames(pb::kAllEffects, pb::EffectName))
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            try {
+              pb::ParseEffectOverrides(text);
+              return std::string();
+            } catch (const pb::InputError& e) {
+              return e.message();
+            }
+          },
+          "EFFECTS", "effects"))
       ->capture_default_str();
   app.add_option("--report", o.reportPath, "write the summary figures as JSON to this file");
   app.add_option("--exposure", o.exposure, "display exposure on radiance for the PLY's uchar colours; range > 0; "

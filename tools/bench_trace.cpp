@@ -25,10 +25,11 @@ struct Fixture {
   pb::Scene scene;
   pb::SurfaceSet surfaces;
   std::vector<pb::AreaLight> lights;
+  pb::TransportPlan plan;
   std::optional<pb::RayScene> rays;
   Fixture()
       : scene(pb::LoadObj(g_scenePath).scene), surfaces(pb::BuildSurfaces(scene)),
-        lights(pb::CollectLights(scene, surfaces)) {
+        lights(pb::CollectLights(scene, surfaces)), plan(pb::PlanTransport(scene, surfaces, lights, {})) {
     rays.emplace(scene);
   }
   static const Fixture& Get() {
@@ -82,7 +83,7 @@ void BM_TracePhotons(benchmark::State& state) {
   const pb::Log quiet(true);
   uint64_t rays = 0, photons = 0;
   for (auto _ : state) {
-    const pb::PhotonHits hits = pb::TracePhotons(f.scene, f.lights, *f.rays, {kPhotons, 7, 10000}, quiet);
+    const pb::PhotonHits hits = pb::TracePhotons(f.scene, f.lights, *f.rays, f.plan, {kPhotons, 7, 10000}, quiet);
     rays += hits.stats.hits + hits.stats.escaped;
     photons += hits.stats.emitted;
   }

@@ -22,7 +22,9 @@ TEST(AutoBandwidth, LandsWithinAFactorOfTwoOfTheScannedOptimum) {
   const SurfaceSet surfaces = BuildSurfaces(scene);
   const RayScene rays(scene);
   const Log quiet(true);
-  const PhotonHits hits = TracePhotons(scene, CollectLights(scene, surfaces), rays, {1'000'000, 5, 10000}, quiet);
+  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
+  const TransportPlan plan = PlanTransport(scene, surfaces, lights, {});
+  const PhotonHits hits = TracePhotons(scene, lights, rays, plan, {1'000'000, 5, 10000}, quiet);
   const SurfaceBins bins = BinPhotons(surfaces, hits);
   const SurfaceRegions regions = BuildRegions(surfaces);
   const EstimatorSettings settings;

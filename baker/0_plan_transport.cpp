@@ -1,0 +1,163 @@
+#include "baker/0_plan_transport.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "estimators/enum_names.h"
+#include "mesh/errors.h"
+
+namespace pb {
+namespace {
+
+// Fraction of a photon's flux below which further diffuse bounces are not worth naming in the report.
+constexpr double kNegligibleFlux = 1e-3;
+
+// What the scene's materials contain, over the materials some triangle uses.
+struct MaterialCensus {
+  float largestAlbedo = 0;
+  int mirrors = 0, glasses = 0, transmissive = 0;
+};
+
+MaterialCensus CountMaterials(const Scene& scene) {
+  std::vector<bool> used(scene.materials.size(), false);
+  for (const Triangle& t : scene.triangles) used[t.material] = true;
+  MaterialCensus c;
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    if (!used[i]) continue;
+    const Material& m = scene.materials[i];
+    c.largestAlbedo = std::max(c.largestAlbedo, m.albedo.Max());
+    c.mirrors += m.kind == MaterialClass::kMirror && !m.specular.IsBlack();
+    c.glasses += m.kind == MaterialClass::kGlass;
+    c.transmissive += m.kind == MaterialClass::kGlass && !m.transmittance.IsBlack();
+  }
+  return c;
+}
+
+// True unless `light` is planar and every vertex of every other surface lies on or behind its plane.
+bool ReachesAnyReceiver(const Scene& scene, const SurfaceSet& surfaces, const AreaLight& light, float tolerance) {
+  const Surface& surface = surfaces.surfaces[light.surface];
+  if (!surface.planar) return true;  // conservative: a curved light is assumed to see something
+  const SurfaceChart& plane = surface.chart;
+  for (uint32_t t = 0; t < scene.triangles.size(); ++t) {
+    if (surfaces.surfaceOfTriangle[t] == light.surface) continue;
+    for (int k = 0; k < 3; ++k)
+      if (Dot(scene.Corner(t, k) - plane.origin, plane.frame.n) > tolerance) return true;
+  }
+  return false;
+}
+
+float SceneExtent(const Scene& scene) {
+  float largest = 0;
+  for (const Point3& p : scene.positions) largest = std::max(largest, MaxAbsComponent(p));
+  return largest;
+}
+
+EffectDecision Decide(bool needed, std::string whyOn, std::string whyOff) {
+  return needed ? EffectDecision{true, false, std::move(whyOn)} : EffectDecision{false, false, std::move(whyOff)};
+}
+
+EffectDecision DecideInterreflection(float largestAlbedo, uint32_t bounces) {
+  if (largestAlbedo >= 1.0f)
+    return {true, false, "largest Kd is 1: no bounce is negligible; paths end only by escaping"};
+  return Decide(largestAlbedo > 0,
+                fmt::format("largest Kd {:.2f}: {} bounces carry all but 0.1% of the flux", largestAlbedo, bounces),
+                "every surface is black (Kd 0): photons stop at the first surface they reach");
+}
+
+void ApplyOverrides(TransportPlan& plan, const EffectOverrides& overrides) {
+  for (Effect e : kAllEffects) {
+    const std::optional<bool>& forced = overrides.forced[size_t(e)];
+    EffectDecision& d = plan.effects[size_t(e)];
+    if (!forced || *forced == d.simulated) continue;
+    d.reason = fmt::format("{} by --effects (the scene alone: {})", *forced ? "forced on" : "forbidden", d.reason);
+    d.simulated = *forced;
+    d.overridden = true;
+  }
+}
+
+void PlanLights(TransportPlan& plan, const Scene& scene, const SurfaceSet& surfaces,
+                const std::vector<AreaLight>& lights) {
+  const float tolerance = 1e-5f * SceneExtent(scene);
+  int reaching = 0;
+  for (const AreaLight& light : lights) {
+    const bool reaches = ReachesAnyReceiver(scene, surfaces, light, tolerance);
+    reaching += reaches;
+    plan.lightReaches.push_back(reaches);
+    plan.lightNotes.push_back(reaches ? "" : "no photons: every other surface lies behind its emitting side");
+  }
+  if (reaching == 0)
+    throw InputError(scene.path, 0, "no light reaches any surface: every light faces away from the rest of the scene");
+  plan.effects[size_t(Effect::kDirect)] = {true, false, fmt::format("{} of {} lights reach a surface", reaching, lights.size())};
+}
+
+}  // namespace
+
+std::string EffectName(Effect e) {
+  switch (e) {
+    case Effect::kDirect: return "direct";
+    case Effect::kInterreflection: return "interreflection";
+    case Effect::kReflection: return "reflection";
+    case Effect::kRefraction: return "refraction";
+    case Effect::kCaustics: return "caustics";
+  }
+  return "?";
+}
+
+EffectOverrides ParseEffectOverrides(std::string_view text) {
+  EffectOverrides o;
+  if (text == "auto") return o;
+  if (text == "all") {
+    for (auto& f : o.forced) f = true;
+    return o;
+  }
+  for (size_t start = 0; start <= text.size();) {
+    const size_t comma = std::min(text.find(',', start), text.size());
+    std::string_view item = text.substr(start, comma - start);
+    start = comma + 1;
+    const bool on = item.empty() || item[0] != '-';
+    if (!item.empty() && (item[0] == '-' || item[0] == '+')) item.remove_prefix(1);
+    const std::optional<Effect> e = ParseName(item, kAllEffects, EffectName);
+    if (!e)
+      throw InputError("--effects", 0,
+                       fmt::format("unknown effect '{}'; use auto, all, or a list of NAME, +NAME, -NAME with NAME one "
+                                   "of: {}", item, JoinNames(kAllEffects, EffectName)));
+    if (*e == Effect::kDirect && !on) throw InputError("--effects", 0, "direct light cannot be turned off");
+    o.forced[size_t(*e)] = on;
+  }
+  return o;
+}
+
+std::string TransportPlan::Describe(Effect e) const {
+  const EffectDecision& d = effects[size_t(e)];
+  return (d.simulated ? "simulated: " : "skipped: ") + d.reason;
+}
+
+TransportPlan PlanTransport(const Scene& scene, const SurfaceSet& surfaces, const std::vector<AreaLight>& lights,
+                            const EffectOverrides& overrides) {
+  TransportPlan plan;
+  PlanLights(plan, scene, surfaces, lights);
+  const MaterialCensus c = CountMaterials(scene);
+  plan.largestAlbedo = c.largestAlbedo;
+  plan.specularMaterials = c.mirrors + c.glasses > 0;
+  if (c.largestAlbedo > 0 && c.largestAlbedo < 1)
+    plan.significantBounces = uint32_t(std::ceil(std::log(kNegligibleFlux) / std::log(double(c.largestAlbedo))));
+  plan.effects[size_t(Effect::kInterreflection)] = DecideInterreflection(c.largestAlbedo, plan.significantBounces);
+  plan.effects[size_t(Effect::kReflection)] =
+      Decide(c.mirrors + c.glasses > 0, fmt::format("{} mirror and {} glass materials", c.mirrors, c.glasses),
+             "no mirror or glass material");
+  plan.effects[size_t(Effect::kRefraction)] =
+      Decide(c.transmissive > 0, fmt::format("{} transmissive glass materials", c.transmissive),
+             "no transmissive material");
+  ApplyOverrides(plan, overrides);  // caustics follow the specular effects as the user left them
+  const bool specular = plan.On(Effect::kReflection) || plan.On(Effect::kRefraction);
+  plan.effects[size_t(Effect::kCaustics)] =
+      Decide(specular, "light reaching diffuse surfaces by mirrors or glass",
+             c.mirrors + c.glasses > 0 ? "reflection and refraction are off" : "no mirror or glass surface");
+  EffectOverrides causticsOnly;
+  causticsOnly.forced[size_t(Effect::kCaustics)] = overrides.forced[size_t(Effect::kCaustics)];
+  ApplyOverrides(plan, causticsOnly);
+  return plan;
+}
+
+}  // namespace pb
