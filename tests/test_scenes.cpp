@@ -152,10 +152,11 @@ std::string WriteSquareLightOverFloor(const std::string& directory, float lightS
   return directory + "/scene.obj";
 }
 
-std::string WriteClosedBox(const std::string& directory, float side, float albedo, float lightSide, float radiance) {
+std::string WriteClosedBox(const std::string& directory, float side, float albedo, float lightSide, float radiance,
+                           float glassRadius, float ior) {
   WriteText(directory + "/box.mtl", fmt::format("newmtl wall\nKd {0} {0} {0}\nnewmtl light\nKd {0} {0} {0}\n"
-                                                "Ke {1} {1} {1}\n",
-                                                albedo, radiance));
+                                                "Ke {1} {1} {1}\nnewmtl glass\nNi {2}\nTf 1 1 1\nillum 7\n",
+                                                albedo, radiance, ior));
   ObjWriter obj;
   obj.text = "mtllib box.mtl\nusemtl wall\n";
   const float s = side;
@@ -173,6 +174,13 @@ std::string WriteClosedBox(const std::string& directory, float side, float albed
   const float c = s / 2, l = lightSide / 2, y = s * 0.999f;
   const float la[3] = {c - l, y, c - l}, lb[3] = {c + l, y, c - l}, ld[3] = {c - l, y, c + l};
   obj.Quad(la, lb, ld, 1);
+  if (glassRadius > 0) {
+    obj.text += "o glass\nusemtl glass\n";
+    Mesh sphere = Icosphere(3);
+    for (auto& p : sphere.v)
+      p = {c + glassRadius * p[0], 0.01 * s + glassRadius * (1 + p[1]), c + glassRadius * p[2]};
+    AppendMesh(obj.text, obj.vertices, sphere, 1.0, false);
+  }
   WriteText(directory + "/box.obj", obj.text);
   return directory + "/box.obj";
 }
