@@ -18,10 +18,14 @@ uint8_t ToByte(float x) {
 }  // namespace
 
 float AutoExposure(std::span<const Rgb> radiance) {
-  if (radiance.empty()) return 1.0f;
   double logSum = 0;
-  for (const Rgb& L : radiance) logSum += std::log(1e-6 + std::max(0.0f, Luminance(L)));
-  return float(0.18 / std::exp(logSum / double(radiance.size())));
+  size_t lit = 0;
+  for (const Rgb& L : radiance)
+    if (const float y = Luminance(L); y > 0) {
+      logSum += std::log(double(y));
+      ++lit;
+    }
+  return lit ? float(0.18 / std::exp(logSum / double(lit))) : 1.0f;
 }
 
 std::array<uint8_t, 3> ToneMap(Rgb radiance, float exposure) {

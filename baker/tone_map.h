@@ -12,7 +12,9 @@
 
 namespace pb {
 
-// 0.18 / exp(mean ln(1e-6 + Y)) over the given radiances; 1 when there are none.
+// 0.18 / exp(mean ln Y) over the radiances with luminance Y > 0; 1 when there are none. Black vertices (glass,
+// black paint, unlit corners) say nothing about the exposure, and any fixed offset inside the log would depend
+// on the scene's units, so they are left out.
 float AutoExposure(std::span<const Rgb> radiance);
 
 std::array<uint8_t, 3> ToneMap(Rgb radiance, float exposure);
