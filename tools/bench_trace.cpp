@@ -3,6 +3,9 @@
 //     directions: no storage, no flux, no roulette bookkeeping. This is the ray rate the tracer can approach.
 //   BM_TracePhotons:  the real stage 1 (TracePhotons), storing every hit.
 // Both report rays/s (Embree calls per second); their ratio is the tracer's efficiency (target >= 0.8).
+//   BM_TraceEffects/forced:0|1: stage 1 with the effects the scene calls for (0) and with every effect forced on
+//     (--effects all, 1), which runs the specular photon loop. On a diffuse scene both give identical hits, so
+//     the time ratio is what planning the transport saves.
 // Usage: bench_trace [scene.obj] [--benchmark_filter=...]; the default scene is data/box/box.obj.
 #include <benchmark/benchmark.h>
 #include <tbb/blocked_range.h>
@@ -92,8 +95,20 @@ void BM_TracePhotons(benchmark::State& state) {
   state.counters["bytes/hit"] = double(sizeof(pb::PhotonHit));
 }
 
+void BM_TraceEffects(benchmark::State& state) {
+  const Fixture& f = Fixture::Get();
+  const pb::ThreadScope threads(2);
+  const pb::TransportPlan plan =
+      pb::PlanTransport(f.scene, f.surfaces, f.lights, pb::ParseEffectOverrides(state.range(0) ? "all" : "auto"));
+  const pb::Log quiet(true);
+  uint64_t photons = 0;
+  for (auto _ : state) photons += pb::TracePhotons(f.scene, f.lights, *f.rays, plan, {kPhotons, 7, 10000}, quiet).stats.emitted;
+  state.counters["photons/s"] = benchmark::Counter(double(photons), benchmark::Counter::kIsRate);
+}
+
 BENCHMARK(BM_RawEmbreeWalk)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_TracePhotons)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_TraceEffects)->ArgName("forced")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 }  // namespace
 
