@@ -1,0 +1,170 @@
+#include "estimators/importance_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "mesh/errors.h"
+
+namespace pb {
+namespace {
+
+constexpr float kBelowOne = 0x1.fffffep-1f;  // the largest float < 1
+
+float Unit(double x) { return std::clamp(float(x), 0.0f, kBelowOne); }
+
+// A sampled point keeps this fraction of its region's side away from the region's edges, so that float rounding
+// on the way to a direction and back (cos, sin, atan2) cannot move it into a neighbouring region, whose pdf may
+// differ or be 0. It squeezes the uniform density within a region by 2e-4, far below any Monte Carlo noise.
+constexpr float kEdge = 1e-4f;
+float Inside(float local) { return std::clamp(local, kEdge, 1.0f - kEdge); }
+
+bool IsPowerOfTwo(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+// Rescales u in [0, 1) into the half of a split whose first half has probability q: returns which half.
+bool Descend(float& u, double q) {
+  if (u < q) {
+    u = Unit(u / q);
+    return false;
+  }
+  u = Unit((u - q) / (1.0 - q));
+  return true;
+}
+
+}  // namespace
+
+ImportanceMap::ImportanceMap(int rows, int cols, bool sphere)
+    : rows_(rows), cols_(cols), sphere_(sphere), importance_(size_t(rows) * size_t(cols), 0.0) {
+  PB_CHECK(rows >= 1 && cols >= 1, "an importance map has at least one region");
+  Finish(1.0f);  // uniform until built
+}
+
+float ImportanceMap::RegionSolidAngle() const { return float((sphere_ ? 4.0 : 2.0) * kPi / Regions()); }
+
+void ImportanceMap::Clear() { std::fill(importance_.begin(), importance_.end(), 0.0); }
+
+Point2 ImportanceMap::ToSquare(Vector3 d) const {
+  const float s = sphere_ ? 0.5f * (1.0f - d.z) : 1.0f - d.z;
+  float phi = std::atan2(d.y, d.x);
+  if (phi < 0) phi += float(2 * kPi);
+  return {Unit(s), Unit(phi / (2 * kPi))};
+}
+
+Vector3 ImportanceMap::FromSquare(Point2 st) const {
+  const float z = sphere_ ? 1.0f - 2.0f * st.u : 1.0f - st.u;
+  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  const float phi = float(2 * kPi) * st.v;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+std::optional<uint32_t> ImportanceMap::RegionOf(Vector3 d) const {
+  if (!sphere_ && d.z < 0) return std::nullopt;
+  const Point2 st = ToSquare(d);
+  const int row = std::min(rows_ - 1, int(st.u * float(rows_))), col = std::min(cols_ - 1, int(st.v * float(cols_)));
+  return uint32_t(row * cols_ + col);
+}
+
+void ImportanceMap::Add(Vector3 d, float importance) {
+  if (const auto region = RegionOf(d); region && importance > 0 && std::isfinite(importance))
+    importance_[*region] += importance;
+}
+
+void ImportanceMap::Finish(float floorFraction) {
+  const double total = std::accumulate(importance_.begin(), importance_.end(), 0.0);
+  const double n = Regions(), floor = total > 0 ? std::clamp(double(floorFraction), 0.0, 1.0) : 1.0;
+  probability_.resize(importance_.size());
+  cdf_.resize(importance_.size());
+  double running = 0;
+  for (size_t k = 0; k < importance_.size(); ++k) {
+    probability_[k] = float((total > 0 ? (1 - floor) * importance_[k] / total : 0.0) + floor / n);
+    cdf_[k] = running += probability_[k];
+  }
+  for (double& c : cdf_) c /= running;  // exactly 1 at the end despite float rounding of the probabilities
+  for (float& p : probability_) p = float(p / running);
+  summedArea_.assign(size_t(rows_ + 1) * size_t(cols_ + 1), 0.0);
+  const auto at = [&](int r, int c) -> double& { return summedArea_[size_t(r) * size_t(cols_ + 1) + size_t(c)]; };
+  for (int r = 0; r < rows_; ++r)
+    for (int c = 0; c < cols_; ++c)
+      at(r + 1, c + 1) = probability_[size_t(r * cols_ + c)] + at(r, c + 1) + at(r + 1, c) - at(r, c);
+}
+
+double ImportanceMap::RectangleSum(int r0, int r1, int c0, int c1) const {
+  const auto at = [&](int r, int c) { return summedArea_[size_t(r) * size_t(cols_ + 1) + size_t(c)]; };
+  return at(r1, c1) - at(r0, c1) - at(r1, c0) + at(r0, c0);
+}
+
+Point2 ImportanceMap::SampleInversionSquare(Point2 u, uint32_t& region) const {
+  region = uint32_t(std::min<ptrdiff_t>(std::upper_bound(cdf_.begin(), cdf_.end(), double(u.u)) - cdf_.begin(),
+                                        ptrdiff_t(cdf_.size()) - 1));
+  const double start = region ? cdf_[region - 1] : 0.0, width = cdf_[region] - start;
+  const float a = width > 0 ? Unit((u.u - start) / width) : 0.5f;
+  const int row = int(region) / cols_, col = int(region) % cols_;
+  return {(float(row) + Inside(a)) / float(rows_), (float(col) + Inside(u.v)) / float(cols_)};
+}
+
+Point2 ImportanceMap::SampleMipmapSquare(Point2 u, uint32_t& region) const {
+  int r0 = 0, r1 = rows_, c0 = 0, c1 = cols_;
+  while (r1 - r0 > 1 || c1 - c0 > 1) {
+    const double whole = RectangleSum(r0, r1, c0, c1);
+    if (r1 - r0 >= c1 - c0) {
+      const int mid = (r0 + r1) / 2;
+      (Descend(u.u, RectangleSum(r0, mid, c0, c1) / whole) ? r0 : r1) = mid;
+    } else {
+      const int mid = (c0 + c1) / 2;
+      (Descend(u.v, RectangleSum(r0, r1, c0, mid) / whole) ? c0 : c1) = mid;
+    }
+  }
+  region = uint32_t(r0 * cols_ + c0);
+  return {(float(r0) + Inside(u.u)) / float(rows_), (float(c0) + Inside(u.v)) / float(cols_)};
+}
+
+ImportanceSample ImportanceMap::Sample(Point2 u, ImportanceWarp warp) const {
+  PB_CHECK(warp != ImportanceWarp::kMipmap || (IsPowerOfTwo(rows_) && IsPowerOfTwo(cols_)),
+           "mip-map warping needs power-of-two rows and cols");
+  uint32_t region = 0;
+  const Point2 st = warp == ImportanceWarp::kMipmap ? SampleMipmapSquare(u, region) : SampleInversionSquare(u, region);
+  return {FromSquare(st), probability_[region] / RegionSolidAngle(), region};
+}
+
+float ImportanceMap::Pdf(Vector3 d) const {
+  const auto region = RegionOf(d);
+  return region ? probability_[*region] / RegionSolidAngle() : 0.0f;
+}
+
+Point2 ImportanceMap::InvertInversionSquare(uint32_t region, Point2 local) const {
+  const double start = region ? cdf_[region - 1] : 0.0;
+  return {Unit(start + local.u * (cdf_[region] - start)), local.v};
+}
+
+Point2 ImportanceMap::InvertMipmapSquare(int row, int col, Point2 local) const {
+  int r0 = 0, r1 = rows_, c0 = 0, c1 = cols_;
+  double ox = 0, sx = 1, oy = 0, sy = 1;  // u = o + s * (the coordinate inside the current node)
+  while (r1 - r0 > 1 || c1 - c0 > 1) {
+    const double whole = RectangleSum(r0, r1, c0, c1);
+    const bool splitRows = r1 - r0 >= c1 - c0;
+    const int mid = splitRows ? (r0 + r1) / 2 : (c0 + c1) / 2;
+    const double q = splitRows ? RectangleSum(r0, mid, c0, c1) / whole : RectangleSum(r0, r1, c0, mid) / whole;
+    double& o = splitRows ? ox : oy;
+    double& s = splitRows ? sx : sy;
+    if ((splitRows ? row : col) < mid) {
+      s *= q;
+      (splitRows ? r1 : c1) = mid;
+    } else {
+      o += s * q;
+      s *= 1 - q;
+      (splitRows ? r0 : c0) = mid;
+    }
+  }
+  return {Unit(ox + sx * local.u), Unit(oy + sy * local.v)};
+}
+
+std::optional<Point2> ImportanceMap::Invert(Vector3 d, ImportanceWarp warp) const {
+  const auto region = RegionOf(d);
+  if (!region || probability_[*region] <= 0) return std::nullopt;
+  const Point2 st = ToSquare(d);
+  const int row = int(*region) / cols_, col = int(*region) % cols_;
+  const Point2 local{Unit(st.u * float(rows_) - float(row)), Unit(st.v * float(cols_) - float(col))};
+  return warp == ImportanceWarp::kMipmap ? InvertMipmapSquare(row, col, local) : InvertInversionSquare(*region, local);
+}
+
+}  // namespace pb

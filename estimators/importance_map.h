@@ -1,0 +1,81 @@
+// The importance map of Jensen 1995, "Importance Driven Path Tracing using the Photon Map" (Rendering
+// Techniques '95), as described in the particle-tracing paper: a (hemi)sphere of directions cut into regions,
+// each holding the importance that photons arriving from its directions carry (power x BRDF), plus a uniform
+// floor so that every direction stays possible. A direction is drawn with probability proportional to the
+// region's importance, uniformly within the region.
+//
+// Directions are in a local frame whose z axis is the surface normal. The map is a rows x cols grid over the
+// unit square (s, t) (Point2 u = s, v = t): cos(theta) = 1 - s (hemisphere) or 1 - 2s (sphere), phi = 2 pi t. That map preserves
+// area, so every region spans the same solid angle Omega_r = Omega / (rows cols), with Omega = 2 pi (hemisphere)
+// or 4 pi (sphere) [sr].
+//
+// The pdf of a direction in region k is P_k / Omega_r [1/sr], with P_k = I_k / I its share of the importance.
+// The weight of a sample, f cos / pdf, therefore carries the factor 1 / (P_k n) times Omega: for equal-area
+// regions this is the paper's scale factor s = I / (I_k n), with n the number of regions.
+//
+// Two warps pick the region and the point in it:
+//   kInversion: the regions in row order as one array; a binary search of its CDF (the paper's linear scan picks
+//               the same region for the same number).
+//   kMipmap:    hierarchical warping (the paper's mip-map method; McCool and Harwood 1997): the grid is halved
+//               along its longer side, level by level, and each coordinate is rescaled into the chosen half
+//               in proportion to the halves' importance. The region sums come from a summed-area table.
+// Both warps have the same pdf; each has an exact Invert where the pdf is positive.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "mesh/geometry.h"
+
+namespace pb {
+
+enum class ImportanceWarp : uint8_t { kMipmap, kInversion };
+
+struct ImportanceSample {
+  Vector3 direction;  // unit, local frame
+  float pdf = 0;      // [1/sr]
+  uint32_t region = 0;
+};
+
+class ImportanceMap {
+ public:
+  // rows, cols >= 1; for kMipmap both must be powers of two.
+  ImportanceMap(int rows, int cols, bool sphere = false);
+
+  int Rows() const { return rows_; }
+  int Cols() const { return cols_; }
+  int Regions() const { return rows_ * cols_; }
+  float RegionSolidAngle() const;  // [sr]
+
+  // Accumulation. `importance` >= 0 [any consistent unit, e.g. W/sr]; directions below the domain are ignored.
+  void Clear();
+  void Add(Vector3 localDirection, float importance);
+  // Mixes in the floor: I'_k = (1 - floor) I_k / I + floor / n, with floor in [0, 1]. With no importance at all
+  // the map becomes uniform. Builds the tables that Sample and Pdf use; call once after the last Add.
+  void Finish(float floorFraction);
+
+  ImportanceSample Sample(Point2 u, ImportanceWarp warp) const;
+  float Pdf(Vector3 localDirection) const;                   // [1/sr]; 0 outside the domain
+  std::optional<Point2> Invert(Vector3 localDirection, ImportanceWarp warp) const;  // none where pdf is 0
+  float RegionProbability(uint32_t region) const { return probability_[region]; }
+  std::optional<uint32_t> RegionOf(Vector3 localDirection) const;
+
+ private:
+  Point2 ToSquare(Vector3 localDirection) const;  // (s, t)
+  Vector3 FromSquare(Point2 st) const;
+  double RectangleSum(int r0, int r1, int c0, int c1) const;  // rows [r0, r1), cols [c0, c1)
+  Point2 SampleInversionSquare(Point2 u, uint32_t& region) const;
+  Point2 SampleMipmapSquare(Point2 u, uint32_t& region) const;
+  Point2 InvertInversionSquare(uint32_t region, Point2 local) const;
+  Point2 InvertMipmapSquare(int row, int col, Point2 local) const;
+
+  int rows_, cols_;
+  bool sphere_;
+  std::vector<double> importance_;   // accumulated, row-major
+  std::vector<float> probability_;   // P_k after the floor
+  std::vector<double> cdf_;          // inclusive prefix sums of probability_, back() == 1
+  std::vector<double> summedArea_;   // (rows + 1) x (cols + 1) table of probability_
+};
+
+}  // namespace pb
