@@ -12,27 +12,15 @@
 #include "baker/bake.h"
 #include "estimators/enum_names.h"
 #include "mesh/errors.h"
+#include "tools/cli_options.h"
 
 namespace {
 
-// An option that takes one of a fixed set of names; anything else is refused with the list of valid names.
-template <typename Enum>
-void AddNamedOption(CLI::App& app, const std::string& flag, Enum& target, std::optional<Enum> (*parse)(std::string_view),
-                    std::string (*name)(Enum), const std::string& names, const std::string& noun,
-                    const std::string& help) {
-  const auto valid = [=](const std::string& text) {
-    return parse(text) ? std::string() : "unknown " + noun + " '" + text + "'; choose one of: " + names;
-  };
-  app.add_option_function<std::string>(flag, [&target, parse](const std::string& text) { target = *parse(text); },
-                                        help + ": " + names)
-      ->check(CLI::Validator(valid, "NAME", "name"))
-      ->default_str(name(target));
-}
 
 void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& automatic) {
-  AddNamedOption(app, "--estimator", e.kind, pb::ParseEstimator, pb::EstimatorName, pb::EstimatorNames(), "estimator",
+  pb::tools::AddNamedOption(app, "--estimator", e.kind, pb::ParseEstimator, pb::EstimatorName, pb::EstimatorNames(), "estimator",
                  "density estimator (the paper's three classes)");
-  AddNamedOption(app, "--kernel", e.kernel, pb::ParseKernel, pb::KernelName, pb::KernelNames(), "kernel",
+  pb::tools::AddNamedOption(app, "--kernel", e.kernel, pb::ParseKernel, pb::KernelName, pb::KernelNames(), "kernel",
                  "kernel of --estimator kernel");
   app.add_option_function<std::string>(
          "--h",

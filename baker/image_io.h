@@ -1,0 +1,30 @@
+// Images of the path tracer: linear RGB radiance L [W/(m^2 sr)] per pixel, written as
+//   OpenEXR: 32-bit float channels R, G, B, with header attributes naming the quantity and its units;
+//   PNG: 8-bit sRGB of Reinhard(exposure * L) (baker/tone_map.h), for viewing.
+// Both are written atomically (baker/atomic_file.h): a reader never sees a half-written image.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mesh/color.h"
+
+namespace pb {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<Rgb> pixels;  // row-major, top row first
+  Image() = default;
+  Image(int w, int h) : width(w), height(h), pixels(size_t(w) * size_t(h)) {}
+  Rgb& At(int x, int y) { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
+  const Rgb& At(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
+};
+
+// Extra string attributes go into the EXR header beside "quantity" and "units".
+void WriteExr(const std::string& path, const Image& image,
+              const std::vector<std::pair<std::string, std::string>>& attributes = {});
+Image ReadExr(const std::string& path);  // for tests and tools; InputError on failure
+void WritePng(const std::string& path, const Image& image, float exposure);
+
+}  // namespace pb

@@ -1,0 +1,79 @@
+#include "baker/path_tracer.h"
+
+#include <chrono>
+
+#include "estimators/scatter.h"
+#include "mesh/errors.h"
+
+namespace pb {
+
+std::string SamplingName(DirectionSampling s) { return s == DirectionSampling::kBrdf ? "brdf" : "photons"; }
+std::string WarpName(ImportanceWarp w) { return w == ImportanceWarp::kMipmap ? "mipmap" : "inversion"; }
+
+void PathStats::Add(const PathStats& o) {
+  paths += o.paths;
+  rays += o.rays;
+  importanceMaps += o.importanceMaps;
+  importanceSeconds += o.importanceSeconds;
+}
+
+PathTracer::PathTracer(const Scene& scene, const RayScene& rays, const PhotonMap* photons, const PathSettings& settings)
+    : scene_(scene), rays_(rays), photons_(photons), settings_(settings) {
+  PB_CHECK(settings.sampling == DirectionSampling::kBrdf || photons != nullptr, "photon sampling needs a photon map");
+}
+
+PathTracer::Direction PathTracer::SampleByPhotons(Point3 p, Normal3 side, Rgb albedo, Point2 u, PathScratch& scratch,
+                                                  PathStats& stats) const {
+  const auto start = std::chrono::steady_clock::now();
+  const Frame frame = Frame::FromNormal(side);
+  const float brdf = Luminance(albedo) * kInvPi;  // Lambertian: the same for every pair of directions
+  ImportanceMap& map = scratch.map;
+  map.Clear();
+  const size_t found = photons_->Nearest(p, settings_.neighbours, scratch.indices, scratch.distance2);
+  for (size_t i = 0; i < found; ++i) {
+    const MapPhoton& photon = (*photons_)[scratch.indices[i]];
+    map.Add(frame.ToLocal(photon.wi), Luminance(photon.power) * brdf);  // ignored unless in the hemisphere
+  }
+  map.Finish(settings_.floorFraction);
+  const ImportanceSample s = map.Sample(u, settings_.warp);
+  ++stats.importanceMaps;
+  stats.importanceSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // f cos / pdf, with f = Kd / pi.
+  return {frame.ToWorld(s.direction), albedo * (kInvPi * s.direction.z / s.pdf)};
+}
+
+Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& scratch, PathStats& stats) const {
+  ++stats.paths;
+  Rgb radiance, throughput{1, 1, 1};
+  for (uint32_t depth = 0; depth < settings_.maxDepth; ++depth) {
+    ++stats.rays;
+    const auto hit = rays_.Intersect(origin, direction);
+    if (!hit) break;
+    const Normal3 front = scene_.FrontNormal(hit->triangle);
+    const bool onFront = Dot(direction, front) < 0;
+    const Normal3 side = onFront ? front : -front;
+    const Material& material = scene_.MaterialOf(hit->triangle);
+    if (onFront && material.IsEmissive()) radiance += throughput * material.emission;
+    const Point3 p = scene_.PointAt(hit->triangle, hit->b1, hit->b2);
+    const float uEvent = rng.Uniform();
+    const Point2 uDirection = rng.Uniform2();
+    bool transmitted = false;
+    if (settings_.sampling == DirectionSampling::kPhotons && material.kind == MaterialClass::kDiffuse) {
+      const float survival = material.albedo.Max();
+      if (uEvent >= survival) break;
+      const Direction d = SampleByPhotons(p, side, material.albedo, uDirection, scratch, stats);
+      throughput = throughput * d.weight / survival;
+      direction = d.wi;
+    } else {
+      const ScatterSample s = SampleScatter(material, -direction, front, TransportMode::kRadiance, uEvent, uDirection);
+      if (s.Absorbed()) break;
+      throughput = throughput * s.weight;
+      direction = s.wi;
+      transmitted = s.transmitted;
+    }
+    origin = rays_.SpawnPoint(p, transmitted ? -side : side);
+  }
+  return radiance;
+}
+
+}  // namespace pb

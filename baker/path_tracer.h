@@ -1,0 +1,83 @@
+// The importance-driven path tracer of the particle-tracing paper's second half (Jensen 1995, "Importance
+// Driven Path Tracing using the Photon Map"). A path starts at the camera and continues at each surface in a new
+// direction until it is absorbed, leaves the scene or reaches maxDepth. Radiance [W/(m^2 sr)] is collected when
+// a path reaches a light's front side (the paper's pure form: lights are hit, not sampled).
+//
+// At a diffuse surface the direction comes from one of two samplers:
+//   kBrdf:    cosine-weighted, the BRDF alone (the baseline); weight Kd / max(Kd) with Russian roulette.
+//   kPhotons: the paper's importance map. The N nearest photons (estimators/photon_map.h) whose incoming
+//             direction lies in the surface's hemisphere each add power x BRDF (luminance) to the region of that
+//             direction; a floor fraction of the total is spread over all regions (estimators/importance_map.h).
+//             The direction is drawn by the chosen warp and weighted by f cos / pdf: for equal-area regions the
+//             pdf is P_k n / (2 pi), so the weight holds the paper's scale factor s = I / (I_k n).
+// Mirrors and glass scatter by their own lobes (estimators/scatter.h) in radiance mode.
+//
+// Determinism: a pixel's samples draw from Rng(seed, pixel index) in order, so an image does not depend on
+// the thread count.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "estimators/enum_names.h"
+#include "estimators/importance_map.h"
+#include "estimators/photon_map.h"
+#include "estimators/rng.h"
+#include "mesh/ray_scene.h"
+#include "mesh/scene.h"
+
+namespace pb {
+
+enum class DirectionSampling : uint8_t { kBrdf, kPhotons };
+inline constexpr std::array<DirectionSampling, 2> kAllSamplings = {DirectionSampling::kBrdf, DirectionSampling::kPhotons};
+std::string SamplingName(DirectionSampling s);
+inline constexpr std::array<ImportanceWarp, 2> kAllWarps = {ImportanceWarp::kMipmap, ImportanceWarp::kInversion};
+std::string WarpName(ImportanceWarp w);
+inline std::optional<DirectionSampling> ParseSampling(std::string_view s) { return ParseName(s, kAllSamplings, SamplingName); }
+inline std::optional<ImportanceWarp> ParseWarp(std::string_view s) { return ParseName(s, kAllWarps, WarpName); }
+
+struct PathSettings {
+  DirectionSampling sampling = DirectionSampling::kBrdf;
+  uint32_t neighbours = 50;       // N nearest photons per importance map; >= 1, typical 20-200
+  int thetaRegions = 8;           // importance map rows (equal solid angle bands from the normal)
+  int phiRegions = 16;            // importance map columns (azimuth)
+  float floorFraction = 0.1f;     // share of the total importance spread over all regions; [0, 1]
+  ImportanceWarp warp = ImportanceWarp::kMipmap;
+  uint32_t maxDepth = 1000;       // safety cap on surfaces per path
+};
+
+// Per-thread working memory, reused from path to path.
+struct PathScratch {
+  ImportanceMap map;
+  std::vector<uint32_t> indices;
+  std::vector<float> distance2;
+  explicit PathScratch(const PathSettings& s) : map(s.thetaRegions, s.phiRegions) {}
+};
+
+struct PathStats {
+  uint64_t paths = 0, rays = 0, importanceMaps = 0;
+  double importanceSeconds = 0;  // thread-seconds spent finding neighbours and building maps
+  void Add(const PathStats& o);
+};
+
+class PathTracer {
+ public:
+  // `photons` may be null for kBrdf.
+  PathTracer(const Scene& scene, const RayScene& rays, const PhotonMap* photons, const PathSettings& settings);
+  // Radiance arriving at `origin` from direction -`direction` [W/(m^2 sr)], one sample.
+  Rgb Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& scratch, PathStats& stats) const;
+
+ private:
+  struct Direction {
+    Vector3 wi;
+    Rgb weight;
+  };
+  Direction SampleByPhotons(Point3 p, Normal3 side, Rgb albedo, Point2 u, PathScratch& scratch, PathStats& stats) const;
+
+  const Scene& scene_;
+  const RayScene& rays_;
+  const PhotonMap* photons_;
+  PathSettings settings_;
+};
+
+}  // namespace pb

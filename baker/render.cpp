@@ -1,0 +1,227 @@
+#include "baker/render.h"
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "baker/0_plan_transport.h"
+#include "baker/atomic_file.h"
+#include "baker/stage_clock.h"
+#include "baker/threads.h"
+#include "baker/tone_map.h"
+#include "mesh/errors.h"
+#include "mesh/lights.h"
+#include "mesh/obj_loader.h"
+#include "mesh/surfaces.h"
+
+namespace pb {
+namespace {
+
+void ValidateOptions(const RenderOptions& o) {
+  if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
+    throw InputError("--size", 0, "width and height must lie in [1, 16384] pixels");
+  if (o.spp < 1) throw InputError("--spp", 0, "must be at least 1");
+  for (uint32_t s : o.sppSweep)
+    if (s < 1) throw InputError("--spp-sweep", 0, "every count must be at least 1");
+  if (o.path.neighbours < 1) throw InputError("--neighbours", 0, "must be at least 1");
+  if (!(o.path.floorFraction >= 0 && o.path.floorFraction <= 1)) throw InputError("--floor", 0, "must lie in [0, 1]");
+  const auto powerOfTwo = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
+  if (o.path.thetaRegions < 1 || o.path.phiRegions < 1 || o.path.thetaRegions * o.path.phiRegions > 65536)
+    throw InputError("--regions", 0, "needs ROWSxCOLS with 1 <= ROWS x COLS <= 65536");
+  if (o.path.warp == ImportanceWarp::kMipmap && !(powerOfTwo(o.path.thetaRegions) && powerOfTwo(o.path.phiRegions)))
+    throw InputError("--regions", 0, "--warp mipmap needs power-of-two ROWS and COLS (use --warp inversion otherwise)");
+  if (o.photons == 0 && o.path.sampling == DirectionSampling::kPhotons) throw InputError("--photons", 0, "must be at least 1");
+  if (!(o.scale > 0) || !std::isfinite(o.scale)) throw InputError("--scale", 0, "must be a finite number > 0");
+  if (o.exposure && !(*o.exposure > 0)) throw InputError("--exposure", 0, "must be > 0");
+  RequireWritableLocation(o.outputPath);
+  if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
+}
+
+std::string WithSuffix(const std::string& exrPath, const std::string& suffix, const std::string& extension) {
+  const bool exr = exrPath.size() > 4 && exrPath.compare(exrPath.size() - 4, 4, ".exr") == 0;
+  return (exr ? exrPath.substr(0, exrPath.size() - 4) : exrPath) + suffix + extension;
+}
+
+// Accumulates one pixel's samples: mean and the variance of the mean, per channel.
+struct PixelMoments {
+  RgbSum sum, squares;
+  void Add(Rgb x) {
+    sum.Add(x);
+    squares.Add(x * x);
+  }
+  void Finish(uint32_t n, Rgb& mean, Rgb& meanVariance) const {
+    const double inv = 1.0 / n;
+    const auto variance = [&](double s, double q) { return n > 1 ? std::max(0.0, (q - s * s * inv) / (n - 1)) * inv : 0.0; };
+    mean = {float(sum.r * inv), float(sum.g * inv), float(sum.b * inv)};
+    meanVariance = {float(variance(sum.r, squares.r)), float(variance(sum.g, squares.g)), float(variance(sum.b, squares.b))};
+  }
+};
+
+Image StripOf(const std::vector<const Image*>& images) {
+  int width = 0, height = 0;
+  for (const Image* i : images) {
+    width += i->width;
+    height = std::max(height, i->height);
+  }
+  Image strip(width, height);
+  int x0 = 0;
+  for (const Image* i : images) {
+    for (int y = 0; y < i->height; ++y)
+      for (int x = 0; x < i->width; ++x) strip.At(x0 + x, y) = i->At(x, y);
+    x0 += i->width;
+  }
+  return strip;
+}
+
+std::vector<std::pair<std::string, std::string>> ExrAttributes(const RenderOptions& o, uint32_t spp) {
+  return {{"scene", o.scenePath},
+          {"sampling", SamplingName(o.path.sampling)},
+          {"spp", std::to_string(spp)},
+          {"photons", o.path.sampling == DirectionSampling::kPhotons ? std::to_string(o.photons) : "0"},
+          {"warp", WarpName(o.path.warp)},
+          {"regions", fmt::format("{}x{}", o.path.thetaRegions, o.path.phiRegions)},
+          {"floor", fmt::format("{}", o.path.floorFraction)},
+          {"seed", std::to_string(o.seed)}};
+}
+
+void WriteRenderReport(const std::string& path, const RenderReport& r) {
+  nlohmann::json j;
+  j["scene"] = r.options.scenePath;
+  j["sampling"] = SamplingName(r.options.path.sampling);
+  j["warp"] = WarpName(r.options.path.warp);
+  j["regions"] = {r.options.path.thetaRegions, r.options.path.phiRegions};
+  j["floor"] = r.options.path.floorFraction;
+  j["neighbours"] = r.options.path.neighbours;
+  j["photons_stored"] = r.photonsStored;
+  j["threads"] = r.threads;
+  for (const auto& [name, seconds] : r.stageSeconds) j["seconds"][name] = seconds;
+  for (const auto& [spp, image] : r.images)
+    j["images"].push_back({{"spp", spp}, {"seconds", image.seconds}, {"paths", image.stats.paths},
+                           {"rays", image.stats.rays}, {"importance_maps", image.stats.importanceMaps},
+                           {"importance_thread_seconds", image.stats.importanceSeconds}});
+  j["outputs"] = r.outputs;
+  const std::string text = j.dump(2) + "\n";
+  WriteFileAtomically(path, [&](std::ostream& out) { out << text; });
+}
+
+}  // namespace
+
+PhotonMap BuildPhotonMap(const Scene& scene, const PhotonHits& hits) {
+  std::vector<MapPhoton> photons;
+  photons.reserve(hits.stats.hits);
+  hits.ForEach([&](const PhotonHit& h) {
+    photons.push_back({scene.PointAt(h.Triangle(), h.b1, h.b2), h.Wi(), h.power});
+  });
+  return PhotonMap(std::move(photons));
+}
+
+RenderedImage RenderImage(const PathTracer& tracer, const PathSettings& settings, const PinholeCamera& camera,
+                          int width, int height, uint32_t spp, uint64_t seed, const Log& log) {
+  RenderedImage result{Image(width, height), Image(width, height), {}, 0};
+  std::vector<PathStats> rowStats(static_cast<size_t>(height));
+  Progress progress(log, fmt::format("render {} spp", spp), uint64_t(height));
+  const auto start = std::chrono::steady_clock::now();
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 1), [&](const tbb::blocked_range<int>& rows) {
+    PathScratch scratch(settings);
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      for (int x = 0; x < width; ++x) {
+        Rng rng(seed, uint64_t(y) * uint64_t(width) + uint64_t(x));
+        PixelMoments moments;
+        for (uint32_t s = 0; s < spp; ++s) {
+          const Point2 jitter = rng.Uniform2();
+          const Vector3 d = camera.Direction(float(x) + jitter.u, float(y) + jitter.v);
+          moments.Add(tracer.Trace(camera.Origin(), d, rng, scratch, rowStats[size_t(y)]));
+        }
+        moments.Finish(spp, result.mean.At(x, y), result.meanVariance.At(x, y));
+      }
+      progress.Advance(1);
+    }
+  });
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (const PathStats& s : rowStats) result.stats.Add(s);
+  return result;
+}
+
+RenderReport Render(const RenderOptions& o, const Log& log) {
+  ValidateOptions(o);
+  const ThreadScope threads(o.threads);
+  RenderReport report{o, threads.Count()};
+  StageClock clock(report.stageSeconds);
+
+  const Camera cameraData = LoadCamera(o.cameraPath.empty() ? CameraSidecarPath(o.scenePath) : o.cameraPath);
+  const Scene scene = clock.Time("load", [&] { return LoadObj(o.scenePath, {o.scale}).scene; });
+  std::optional<RayScene> rays;
+  clock.Time("bvh", [&] { rays.emplace(scene); });
+  std::optional<PhotonMap> photonMap;
+  if (o.path.sampling == DirectionSampling::kPhotons) {
+    const SurfaceSet surfaces = BuildSurfaces(scene);
+    const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
+    if (lights.empty()) throw InputError(scene.path, 0, "scene has no light: no face uses a material with Ke > 0");
+    const TransportPlan plan = PlanTransport(scene, surfaces, lights, {});
+    const PhotonHits hits =
+        clock.Time("trace photons", [&] { return TracePhotons(scene, lights, *rays, plan, {o.photons, o.seed, 10'000}, log); });
+    photonMap.emplace(clock.Time("photon map", [&] { return BuildPhotonMap(scene, hits); }));
+    report.photonsStored = photonMap->Size();
+  }
+  const PathTracer tracer(scene, *rays, photonMap ? &*photonMap : nullptr, o.path);
+  const PinholeCamera camera(cameraData, o.width, o.height);
+
+  const std::vector<uint32_t> counts = o.sppSweep.empty() ? std::vector<uint32_t>{o.spp} : o.sppSweep;
+  for (uint32_t spp : counts)
+    report.images.emplace_back(spp, clock.Time(fmt::format("paths {} spp", spp), [&] {
+      return RenderImage(tracer, o.path, camera, o.width, o.height, spp, o.seed, log);
+    }));
+
+  const Image& last = report.images.back().second.mean;
+  report.exposure = o.exposure ? *o.exposure : AutoExposure(last.pixels);
+  clock.Time("write", [&] {
+    std::vector<const Image*> strip;
+    for (const auto& [spp, image] : report.images) {
+      const std::string suffix = o.sppSweep.empty() ? "" : fmt::format("_spp{}", spp);
+      const std::string exr = WithSuffix(o.outputPath, suffix, ".exr"), png = WithSuffix(o.outputPath, suffix, ".png");
+      WriteExr(exr, image.mean, ExrAttributes(o, spp));
+      WritePng(png, image.mean, report.exposure);
+      report.outputs.insert(report.outputs.end(), {exr, png});
+      strip.push_back(&image.mean);
+    }
+    if (!o.sppSweep.empty()) {
+      const std::string path = WithSuffix(o.outputPath, "_strip", ".png");
+      WritePng(path, StripOf(strip), report.exposure);
+      report.outputs.push_back(path);
+    }
+  });
+  if (!o.reportPath.empty()) WriteRenderReport(o.reportPath, report);
+  return report;
+}
+
+void PrintRenderSummary(const RenderReport& r, const Log& log) {
+  if (log.Quiet()) return;
+  const RenderOptions& o = r.options;
+  std::string s = fmt::format("\nrender summary: {} ({}x{}, {} threads)\n", o.scenePath, o.width, o.height, r.threads);
+  s += fmt::format("  sampling  {}", SamplingName(o.path.sampling));
+  if (o.path.sampling == DirectionSampling::kPhotons)
+    s += fmt::format(": {} photons stored, {} nearest, {}x{} regions, floor {}, warp {}", r.photonsStored,
+                     o.path.neighbours, o.path.thetaRegions, o.path.phiRegions, o.path.floorFraction,
+                     WarpName(o.path.warp));
+  s += "\n  seconds  ";
+  for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
+  s += "\n";
+  for (const auto& [spp, image] : r.images) {
+    const double threadSeconds = image.seconds * r.threads;
+    s += fmt::format("  {:>5} spp {:.3f} s: {} paths, {:.2f} M rays/s", spp, image.seconds, image.stats.paths,
+                     image.stats.rays / std::max(1e-9, image.seconds) * 1e-6);
+    if (image.stats.importanceMaps)
+      s += fmt::format(", {} importance maps at {:.2f} us each ({:.0f}% of path time)", image.stats.importanceMaps,
+                       1e6 * image.stats.importanceSeconds / double(image.stats.importanceMaps),
+                       100.0 * image.stats.importanceSeconds / std::max(1e-9, threadSeconds));
+    s += "\n";
+  }
+  for (const std::string& out : r.outputs) s += "  wrote     " + out + "\n";
+  s += fmt::format("  exposure  {:.4g} (PNG only; the EXR holds radiance in W/(m^2 sr))\n", r.exposure);
+  log.Info(s);
+}
+
+}  // namespace pb

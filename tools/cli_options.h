@@ -1,0 +1,50 @@
+// Command-line helpers shared by the tools (bake, render): options that take one of a fixed set of names, and
+// the common exit-status contract: 0 on success, 1 for bad input (InputError, message names file:line), 2 for a
+// bad command line (CLI11's message).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "mesh/errors.h"
+
+namespace pb::tools {
+
+// An option that takes one of a fixed set of names; anything else is refused with the list of valid names.
+template <typename Enum>
+void AddNamedOption(CLI::App& app, const std::string& flag, Enum& target, std::optional<Enum> (*parse)(std::string_view),
+                    std::string (*name)(Enum), const std::string& names, const std::string& noun,
+                    const std::string& help) {
+  const auto valid = [=](const std::string& text) {
+    return parse(text) ? std::string() : "unknown " + noun + " '" + text + "'; choose one of: " + names;
+  };
+  app.add_option_function<std::string>(flag, [&target, parse](const std::string& text) { target = *parse(text); },
+                                        help + ": " + names)
+      ->check(CLI::Validator(valid, "NAME", "name"))
+      ->default_str(name(target));
+}
+
+// Parses the command line and runs `work`, mapping errors to the exit statuses above.
+template <typename Work>
+int RunTool(CLI::App& app, int argc, char** argv, Work&& work) {
+  app.get_formatter()->column_width(24);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    work();
+    return 0;
+  } catch (const InputError& e) {
+    fmt::print(stderr, "{}\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace pb::tools

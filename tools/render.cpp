@@ -1,0 +1,80 @@
+// render: the importance-driven path tracer (Jensen 1995) of the particle-tracing paper, against BRDF sampling.
+// Writes a linear OpenEXR image of radiance [W/(m^2 sr)] and a tone-mapped PNG beside it.
+// Exit status: 0 on success, 1 for bad input (message names file:line), 2 for a bad command line.
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+#include "baker/render.h"
+#include "tools/cli_options.h"
+
+namespace {
+
+// "8x16" -> (8, 16); CLI11 refuses anything else before the run starts.
+bool ParsePair(const std::string& text, int& a, int& b) {
+  const size_t x = text.find('x');
+  if (x == std::string::npos) return false;
+  try {
+    size_t endA = 0, endB = 0;
+    a = std::stoi(text.substr(0, x), &endA);
+    b = std::stoi(text.substr(x + 1), &endB);
+    return endA == x && endB == text.size() - x - 1 && a > 0 && b > 0;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+void AddPairOption(CLI::App& app, const std::string& flag, int& a, int& b, const std::string& help) {
+  app.add_option_function<std::string>(flag, [&a, &b](const std::string& text) { ParsePair(text, a, b); }, help)
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            int x = 0, y = 0;
+            return ParsePair(text, x, y) ? std::string() : "expects AxB with whole numbers > 0, e.g. 8x16";
+          },
+          "AxB", "pair"))
+      ->default_str(std::to_string(a) + "x" + std::to_string(b));
+}
+
+void DefineOptions(CLI::App& app, pb::RenderOptions& o) {
+  app.add_option("scene", o.scenePath, "OBJ scene (with MTL); its camera is SCENE.camera.json unless --camera")
+      ->required();
+  app.add_option("-o,--output", o.outputPath, "OpenEXR image to write (radiance, W/(m^2 sr)); a PNG goes beside it")
+      ->required();
+  app.add_option("--camera", o.cameraPath, "camera JSON (position_m, look_at_m, up, vertical_fov_deg)");
+  AddPairOption(app, "--size", o.width, o.height, "image size in pixels, WIDTHxHEIGHT");
+  app.add_option("--spp", o.spp, "samples per pixel; >= 1")->capture_default_str();
+  app.add_option("--spp-sweep", o.sppSweep, "render once per count (e.g. 1,2,4,8) and write a strip of them")
+      ->delimiter(',');
+  pb::tools::AddNamedOption(app, "--sampling", o.path.sampling, pb::ParseSampling, pb::SamplingName,
+                            pb::JoinNames(pb::kAllSamplings, pb::SamplingName), "sampling",
+                            "direction sampling at diffuse surfaces: the BRDF alone, or the photon importance map");
+  app.add_option("--photons", o.photons, "photons traced for the photon map (--sampling photons)")->capture_default_str();
+  app.add_option("--neighbours", o.path.neighbours, "nearest photons per importance map; >= 1, typical 20-200")
+      ->capture_default_str();
+  AddPairOption(app, "--regions", o.path.thetaRegions, o.path.phiRegions,
+                "importance map regions, THETAxPHI (equal solid angle; powers of two for --warp mipmap)");
+  app.add_option("--floor", o.path.floorFraction, "fraction of the total importance spread over every region; [0, 1]")
+      ->capture_default_str();
+  pb::tools::AddNamedOption(app, "--warp", o.path.warp, pb::ParseWarp, pb::WarpName,
+                            pb::JoinNames(pb::kAllWarps, pb::WarpName), "warp",
+                            "how a region is drawn: hierarchical mip-map warping, or inversion of the region CDF");
+  app.add_option("--seed", o.seed, "random seed; the same seed gives the same image for any --threads")
+      ->capture_default_str();
+  app.add_option("--threads", o.threads, "worker threads; 0 = all cores")->capture_default_str();
+  app.add_option("--scale", o.scale, "metres per scene unit")->capture_default_str();
+  app.add_option("--exposure", o.exposure, "PNG exposure on radiance; default automatic");
+  app.add_option("--report", o.reportPath, "write the summary figures as JSON to this file");
+  app.add_flag("-q,--quiet", o.quiet, "no progress or summary");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"render: importance-driven path tracing with the photon map (photonbake)"};
+  pb::RenderOptions options;
+  DefineOptions(app, options);
+  return pb::tools::RunTool(app, argc, argv, [&] {
+    const pb::Log log(options.quiet);
+    pb::PrintRenderSummary(pb::Render(options, log), log);
+  });
+}
