@@ -64,9 +64,13 @@ void WriteExr(const std::string& path, const Image& image,
   });
 }
 
-Image ReadExr(const std::string& path) {
+Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes) {
   try {
     Imf::InputFile file(path.c_str());
+    if (attributes)
+      for (auto it = file.header().begin(); it != file.header().end(); ++it)
+        if (const auto* text = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+          attributes->emplace_back(it.name(), text->value());
     const Imath::Box2i window = file.header().dataWindow();
     Image image(window.max.x - window.min.x + 1, window.max.y - window.min.y + 1);
     Imf::FrameBuffer frame;

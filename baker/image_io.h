@@ -24,7 +24,8 @@ struct Image {
 // Extra string attributes go into the EXR header beside "quantity" and "units".
 void WriteExr(const std::string& path, const Image& image,
               const std::vector<std::pair<std::string, std::string>>& attributes = {});
-Image ReadExr(const std::string& path);  // for tests and tools; InputError on failure
+// For tests and tools; InputError on failure. With `attributes`, also returns the header's string attributes.
+Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes = nullptr);
 void WritePng(const std::string& path, const Image& image, float exposure);
 
 }  // namespace pb

@@ -45,18 +45,21 @@ std::string WithSuffix(const std::string& exrPath, const std::string& suffix, co
   return (exr ? exrPath.substr(0, exrPath.size() - 4) : exrPath) + suffix + extension;
 }
 
-// Accumulates one pixel's samples: mean and the variance of the mean, per channel.
+// Accumulates one pixel's samples: the mean, and the variance of the mean's luminance.
 struct PixelMoments {
-  RgbSum sum, squares;
+  RgbSum sum;
+  double luminance = 0, luminanceSquares = 0;
   void Add(Rgb x) {
     sum.Add(x);
-    squares.Add(x * x);
+    const double y = Luminance(x);
+    luminance += y;
+    luminanceSquares += y * y;
   }
-  void Finish(uint32_t n, Rgb& mean, Rgb& meanVariance) const {
+  void Finish(uint32_t n, Rgb& mean, float& meanVariance) const {
     const double inv = 1.0 / n;
-    const auto variance = [&](double s, double q) { return n > 1 ? std::max(0.0, (q - s * s * inv) / (n - 1)) * inv : 0.0; };
     mean = {float(sum.r * inv), float(sum.g * inv), float(sum.b * inv)};
-    meanVariance = {float(variance(sum.r, squares.r)), float(variance(sum.g, squares.g)), float(variance(sum.b, squares.b))};
+    const double variance = n > 1 ? std::max(0.0, (luminanceSquares - luminance * luminance * inv) / (n - 1)) : 0.0;
+    meanVariance = float(variance * inv);
   }
 };
 
@@ -120,7 +123,7 @@ PhotonMap BuildPhotonMap(const Scene& scene, const PhotonHits& hits) {
 
 RenderedImage RenderImage(const PathTracer& tracer, const PathSettings& settings, const PinholeCamera& camera,
                           int width, int height, uint32_t spp, uint64_t seed, const Log& log) {
-  RenderedImage result{Image(width, height), Image(width, height), {}, 0};
+  RenderedImage result{Image(width, height), std::vector<float>(size_t(width) * size_t(height)), {}, 0};
   std::vector<PathStats> rowStats(static_cast<size_t>(height));
   Progress progress(log, fmt::format("render {} spp", spp), uint64_t(height));
   const auto start = std::chrono::steady_clock::now();
@@ -135,7 +138,7 @@ RenderedImage RenderImage(const PathTracer& tracer, const PathSettings& settings
           const Vector3 d = camera.Direction(float(x) + jitter.u, float(y) + jitter.v);
           moments.Add(tracer.Trace(camera.Origin(), d, rng, scratch, rowStats[size_t(y)]));
         }
-        moments.Finish(spp, result.mean.At(x, y), result.meanVariance.At(x, y));
+        moments.Finish(spp, result.mean.At(x, y), result.luminanceVariance[size_t(y) * size_t(width) + size_t(x)]);
       }
       progress.Advance(1);
     }
@@ -211,8 +214,10 @@ void PrintRenderSummary(const RenderReport& r, const Log& log) {
   s += "\n";
   for (const auto& [spp, image] : r.images) {
     const double threadSeconds = image.seconds * r.threads;
-    s += fmt::format("  {:>5} spp {:.3f} s: {} paths, {:.2f} M rays/s", spp, image.seconds, image.stats.paths,
-                     image.stats.rays / std::max(1e-9, image.seconds) * 1e-6);
+    RgbSum mean;
+    for (const Rgb& p : image.mean.pixels) mean.Add(p, 1.0 / double(image.mean.pixels.size()));
+    s += fmt::format("  {:>5} spp {:.3f} s: mean L {:.5g} W/(m^2 sr), {} paths, {:.2f} M rays/s", spp, image.seconds,
+                     Luminance(mean.ToRgb()), image.stats.paths, image.stats.rays / std::max(1e-9, image.seconds) * 1e-6);
     if (image.stats.importanceMaps)
       s += fmt::format(", {} importance maps at {:.2f} us each ({:.0f}% of path time)", image.stats.importanceMaps,
                        1e6 * image.stats.importanceSeconds / double(image.stats.importanceMaps),

@@ -34,10 +34,11 @@ struct RenderOptions {
   bool quiet = false;
 };
 
-// One image: the per-pixel mean radiance and the variance of that mean (sample variance / spp), per channel.
+// One image: the per-pixel mean radiance, and the variance of each pixel mean's luminance (the sample variance
+// of the samples' luminance / spp) [(W/(m^2 sr))^2], for tests and error estimates.
 struct RenderedImage {
   Image mean;
-  Image meanVariance;
+  std::vector<float> luminanceVariance;  // row-major, as Image::pixels
   PathStats stats;
   double seconds = 0;
 };

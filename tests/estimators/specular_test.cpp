@@ -177,7 +177,9 @@ TEST(Scatter, DiffuseClassIsExactlyTheDiffuseEvent) {
     ASSERT_EQ(general.event, diffuse.event);
     EXPECT_EQ(general.wi.x, diffuse.wi.x);
     EXPECT_EQ(general.weight.r, diffuse.weight.r);
-    if (!general.Absorbed()) EXPECT_LT(general.wi.z, 0) << "leaves on the side it arrived from";
+    if (!general.Absorbed()) {
+      EXPECT_LT(general.wi.z, 0) << "leaves on the side it arrived from";
+    }
   }
 }
 

@@ -11,25 +11,14 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/ply_reader.h"
+#include "tests/run_tool.h"
 #include "tests/test_scenes.h"
 
 namespace pb {
 namespace {
 
-struct BakeRun {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
-
-BakeRun RunBake(const std::string& arguments) {
-  BakeRun run;
-  FILE* pipe = popen((std::string(PB_BAKE_EXE) + " " + arguments + " 2>&1").c_str(), "r");
-  std::array<char, 4096> buffer{};
-  for (size_t n; (n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0;) run.output.append(buffer.data(), n);
-  const int raw = pclose(pipe);
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return run;
-}
+using BakeRun = test::ToolRun;
+BakeRun RunBake(const std::string& arguments) { return test::RunTool(PB_BAKE_EXE, arguments); }
 
 // Leaves nothing named out.ply* (the output or its temporary) in `dir`.
 bool NoOutputIn(const std::string& dir) {
