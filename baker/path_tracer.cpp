@@ -6,6 +6,14 @@
 #include "mesh/errors.h"
 
 namespace pb {
+namespace {
+
+// A neighbour whose surface normal is more than about 25 degrees from the hit's describes light arriving at a
+// different surface (the floor beside a wall, the other side of a thin panel); it would steer samples toward
+// directions that do not light this point.
+constexpr float kSameSurfaceCosine = 0.9f;
+
+}  // namespace
 
 std::string SamplingName(DirectionSampling s) { return s == DirectionSampling::kBrdf ? "brdf" : "photons"; }
 std::string WarpName(ImportanceWarp w) { return w == ImportanceWarp::kMipmap ? "mipmap" : "inversion"; }
@@ -32,6 +40,7 @@ PathTracer::Direction PathTracer::SampleByPhotons(Point3 p, Normal3 side, Rgb al
   const size_t found = photons_->Nearest(p, settings_.neighbours, scratch.indices, scratch.distance2);
   for (size_t i = 0; i < found; ++i) {
     const MapPhoton& photon = (*photons_)[scratch.indices[i]];
+    if (Dot(photon.normal, side) < kSameSurfaceCosine) continue;  // light that reached another surface
     map.Add(frame.ToLocal(photon.wi), Luminance(photon.power) * brdf);  // ignored unless in the hemisphere
   }
   map.Finish(settings_.floorFraction);

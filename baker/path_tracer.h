@@ -5,8 +5,9 @@
 //
 // At a diffuse surface the direction comes from one of two samplers:
 //   kBrdf:    cosine-weighted, the BRDF alone (the baseline); weight Kd / max(Kd) with Russian roulette.
-//   kPhotons: the paper's importance map. The N nearest photons (estimators/photon_map.h) whose incoming
-//             direction lies in the surface's hemisphere each add power x BRDF (luminance) to the region of that
+//   kPhotons: the paper's importance map. Of the N nearest photons (estimators/photon_map.h), those that arrived
+//             on a surface facing the same way (normals within about 25 degrees; a refinement of the paper, as in
+//             Jensen's photon map lookups) each add power x BRDF (luminance) to the region of their incoming
 //             direction; a floor fraction of the total is spread over all regions (estimators/importance_map.h).
 //             The direction is drawn by the chosen warp and weighted by f cos / pdf: for equal-area regions the
 //             pdf is P_k n / (2 pi), so the weight holds the paper's scale factor s = I / (I_k n).
@@ -39,9 +40,12 @@ inline std::optional<ImportanceWarp> ParseWarp(std::string_view s) { return Pars
 struct PathSettings {
   DirectionSampling sampling = DirectionSampling::kBrdf;
   uint32_t neighbours = 50;       // N nearest photons per importance map; >= 1, typical 20-200
-  int thetaRegions = 8;           // importance map rows (equal solid angle bands from the normal)
-  int phiRegions = 16;            // importance map columns (azimuth)
-  float floorFraction = 0.1f;     // share of the total importance spread over all regions; [0, 1]
+  // Defaults measured on the box (README, "Photon-driven path tracing"): with 50 photons, 4 x 8 regions and a
+  // 0.3 floor gave the lowest RMSE at equal spp of the settings tried; finer maps are too sparse (rare
+  // floor-weighted samples become fireflies).
+  int thetaRegions = 4;           // importance map rows (equal solid angle bands from the normal)
+  int phiRegions = 8;             // importance map columns (azimuth)
+  float floorFraction = 0.3f;     // share of the total importance spread over all regions; [0, 1]
   ImportanceWarp warp = ImportanceWarp::kMipmap;
   uint32_t maxDepth = 1000;       // safety cap on surfaces per path
 };

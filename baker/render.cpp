@@ -116,7 +116,8 @@ PhotonMap BuildPhotonMap(const Scene& scene, const PhotonHits& hits) {
   std::vector<MapPhoton> photons;
   photons.reserve(hits.stats.hits);
   hits.ForEach([&](const PhotonHit& h) {
-    photons.push_back({scene.PointAt(h.Triangle(), h.b1, h.b2), h.Wi(), h.power});
+    const Normal3 front = scene.FrontNormal(h.Triangle());
+    photons.push_back({scene.PointAt(h.Triangle(), h.b1, h.b2), h.Wi(), h.power, h.OnFront() ? front : -front});
   });
   return PhotonMap(std::move(photons));
 }

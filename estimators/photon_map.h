@@ -16,6 +16,7 @@ struct MapPhoton {
   Point3 position;  // [m]
   Vector3 wi;       // unit, toward where the photon came from
   Rgb power;        // [W]
+  Normal3 normal;   // unit normal of the side of the surface it arrived on
 };
 
 class PhotonMap {

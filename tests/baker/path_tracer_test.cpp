@@ -146,8 +146,8 @@ TEST(PathTracer, DegenerateImportanceMapsStayFinite) {
   const Camera camera = LoadCamera(PB_SOURCE_DIR "/data/box/box.camera.json");
   std::vector<PhotonMap> maps;
   maps.emplace_back(std::vector<MapPhoton>{});                                            // no photons at all
-  maps.emplace_back(std::vector<MapPhoton>{{{0.3f, 0.01f, 0.3f}, {0, 1, 0}, {1, 1, 1}}});  // a single photon
-  maps.emplace_back(std::vector<MapPhoton>(500, {{0.3f, 0.2f, 0.3f}, {0, 1, 0}, {1, 1, 1}}));  // one region
+  maps.emplace_back(std::vector<MapPhoton>{{{0.3f, 0.01f, 0.3f}, {0, 1, 0}, {1, 1, 1}, {0, 1, 0}}});  // one photon
+  maps.emplace_back(std::vector<MapPhoton>(500, {{0.3f, 0.2f, 0.3f}, {0, 1, 0}, {1, 1, 1}, {0, 1, 0}}));  // one region
   for (float floor : {0.0f, 0.1f})
     for (const PhotonMap& map : maps) {
       PathSettings s;
