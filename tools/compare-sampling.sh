@@ -3,7 +3,8 @@
 # relative RMSE of luminance against a converged BRDF reference, at equal samples per pixel and at equal time.
 # Usage: tools/compare-sampling.sh [SCENE.obj] [OUT_DIR]   (after tools/build.sh)
 # Environment: SIZE (64x64), REFERENCE_SPP (8192), SWEEP (1,2,4,8,16,32,64,128), PHOTONS (1000000).
-# Writes OUT_DIR/table.md (spp, seconds and RMSE for each sampler) and the images and strips it measured.
+# Writes OUT_DIR/table.md: per spp, seconds, relative RMSE and mean absolute error (MAE) of each sampler; then one
+# equal-time row: BRDF sampling rendered for as long as photon sampling took at the largest count.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=${1:-data/box/box.obj}
@@ -20,7 +21,7 @@ for sampling in brdf photons; do
     --photons "$photons" --report "$out/$sampling.json" -q
 done
 
-python3 - "$out" "$sweep" <<'PY'
+python3 - "$out" "$sweep" "$scene" "$size" <<'PY'
 import json, subprocess, sys
 out, sweep = sys.argv[1], [int(s) for s in sys.argv[2].split(",")]
 rows = {}
@@ -31,11 +32,25 @@ for sampling in ("brdf", "photons"):
     errors = subprocess.run(["build/image_error", f"{out}/reference.exr"] + images, check=True,
                             capture_output=True, text=True).stdout.split("\n")
     for spp, image, line in zip(sweep, report["images"], errors):
-        rows.setdefault(spp, {})[sampling] = (image["seconds"] + setup, float(line.split()[1]))
-lines = ["| spp | brdf s | brdf RMSE | photons s (incl. photon map) | photons RMSE |", "|---|---|---|---|---|"]
+        fields = line.split()
+        rows.setdefault(spp, {})[sampling] = (image["seconds"] + setup, float(fields[1]), float(fields[3]))
+lines = ["| spp | brdf s | brdf RMSE | brdf MAE | photons s (incl. photon map) | photons RMSE | photons MAE |",
+         "|---|---|---|---|---|---|---|"]
 for spp in sweep:
     b, p = rows[spp]["brdf"], rows[spp]["photons"]
-    lines.append(f"| {spp} | {b[0]:.3f} | {b[1]:.4f} | {p[0]:.3f} | {p[1]:.4f} |")
+    lines.append(f"| {spp} | {b[0]:.3f} | {b[1]:.4f} | {b[2]:.4f} | {p[0]:.3f} | {p[1]:.4f} | {p[2]:.4f} |")
+# Equal time: BRDF with as many samples as fit in the time photon sampling took at the largest count.
+last = sweep[-1]
+matched = max(1, round(last * rows[last]["photons"][0] / rows[last]["brdf"][0]))
+report = f"{out}/brdf_equal_time.json"
+subprocess.run(["build/render", sys.argv[3], "-o", f"{out}/brdf_equal_time.exr", "--size", sys.argv[4], "--spp",
+                str(matched), "--report", report, "-q"], check=True)
+seconds = json.load(open(report))["images"][0]["seconds"]
+fields = subprocess.run(["build/image_error", f"{out}/reference.exr", f"{out}/brdf_equal_time.exr"], check=True,
+                        capture_output=True, text=True).stdout.split()
+lines.append(f"| equal time: brdf {matched} spp | {seconds:.3f} | {float(fields[1]):.4f} | {float(fields[3]):.4f} "
+             f"| photons {last} spp: {rows[last]['photons'][0]:.3f} | {rows[last]['photons'][1]:.4f} "
+             f"| {rows[last]['photons'][2]:.4f} |")
 open(f"{out}/table.md", "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))
 PY
