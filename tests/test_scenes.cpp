@@ -152,6 +152,27 @@ std::string WriteSquareLightOverFloor(const std::string& directory, float lightS
   return directory + "/scene.obj";
 }
 
+std::string WriteFloorWithLamps(const std::string& directory, float albedo, float radiance,
+                                const std::vector<TestLamp>& lamps) {
+  WriteText(directory + "/lamps.mtl", fmt::format("newmtl floor\nKd {0} {0} {0}\nnewmtl lamp\nKd 0 0 0\n"
+                                                  "Ke {1} {1} {1}\n", albedo, radiance));
+  ObjWriter obj;
+  obj.text = "mtllib lamps.mtl\nusemtl floor\n";
+  const float fa[3] = {-2, 0, 2}, fb[3] = {2, 0, 2}, fd[3] = {-2, 0, -2};  // counter-clockwise from above
+  obj.Quad(fa, fb, fd, 1);
+  obj.text += "usemtl lamp\n";
+  for (const TestLamp& l : lamps) {
+    const float a[3] = {l.x0, l.y, l.z0}, b[3] = {l.x1, l.y, l.z0}, d[3] = {l.x0, l.y, l.z1};  // faces -y
+    if (l.facingDown) {
+      obj.Quad(a, b, d, 1);
+    } else {
+      obj.Quad(a, d, b, 1);
+    }
+  }
+  WriteText(directory + "/lamps.obj", obj.text);
+  return directory + "/lamps.obj";
+}
+
 std::string WriteClosedBox(const std::string& directory, float side, float albedo, float lightSide, float radiance,
                            float glassRadius, float ior) {
   WriteText(directory + "/box.mtl", fmt::format("newmtl wall\nKd {0} {0} {0}\nnewmtl light\nKd {0} {0} {0}\n"

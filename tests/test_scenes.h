@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace pb::test {
 
@@ -17,6 +18,15 @@ void WriteText(const std::string& path, const std::string& text);
 // The floor is cut into `floorCells` x `floorCells` quads. Returns the OBJ path.
 std::string WriteSquareLightOverFloor(const std::string& directory, float lightSide, float radiance, float height,
                                       float floorSide, int floorCells);
+
+// A grey (Kd `albedo`) floor square y = 0, x and z in [-2, 2], facing up, under rectangular lamps of radiance
+// `radiance` (Kd 0) at height y, spanning [x0, x1] x [z0, z1], each facing down or up. Returns the OBJ path.
+struct TestLamp {
+  float x0, x1, z0, z1, y;
+  bool facingDown = true;
+};
+std::string WriteFloorWithLamps(const std::string& directory, float albedo, float radiance,
+                                const std::vector<TestLamp>& lamps);
 
 // A closed cube of side `side` whose six inward-facing walls have grey albedo `albedo`, with a small square
 // light of side `lightSide` and radiance `radiance` facing down just below the ceiling. With glassRadius > 0 a

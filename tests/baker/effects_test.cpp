@@ -87,12 +87,9 @@ TEST(TransportPlan, BlackReceiversStopAtTheFirstHit) {
 
 TEST(TransportPlan, ALightThatFacesAwayFromEverythingGetsNoPhotons) {
   const std::string dir = test::TempDirectory("facing-away");
-  test::WriteText(dir + "/s.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl lamp\nKe 1 1 1\n");
-  // Lamp 5 faces down onto the floor; lamp 9 (above it) faces up into empty space.
-  test::WriteText(dir + "/s.obj", "mtllib s.mtl\nusemtl floor\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nf 1 4 3 2\n"
-                                  "usemtl lamp\nv 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nf 5 6 7 8\n"
-                                  "v 0 2 0\nv 1 2 0\nv 1 2 1\nv 0 2 1\nf 9 12 11 10\n");
-  const BakeReport r = QuietBake(dir + "/s.obj", dir + "/out.ply", 10000);
+  // The first lamp faces down onto the floor; the second (above it) faces up into empty space.
+  const std::string path = test::WriteFloorWithLamps(dir, 0.5f, 1.0f, {{0, 1, 0, 1, 1, true}, {0, 1, 0, 1, 2, false}});
+  const BakeReport r = QuietBake(path, dir + "/out.ply", 10000);
   ASSERT_EQ(r.lights.size(), 2u);
   EXPECT_EQ(r.lights[0].photons, 10000u);
   EXPECT_EQ(r.lights[1].photons, 0u);
@@ -100,9 +97,8 @@ TEST(TransportPlan, ALightThatFacesAwayFromEverythingGetsNoPhotons) {
   EXPECT_EQ(r.lights[0].note, "");
   EXPECT_NEAR(r.trace.powerEmitted.g, M_PI, 1e-5) << "only the reaching light's flux is emitted";
 
-  test::WriteText(dir + "/away.obj", "mtllib s.mtl\nusemtl floor\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n"
-                                     "f 1 4 3 2\nusemtl lamp\nv 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nf 5 8 7 6\n");
-  EXPECT_THROW(QuietBake(dir + "/away.obj", dir + "/out.ply", 10000), InputError);
+  const std::string away = test::WriteFloorWithLamps(test::TempDirectory("all-away"), 0.5f, 1.0f, {{0, 1, 0, 1, 1, false}});
+  EXPECT_THROW(QuietBake(away, dir + "/out.ply", 10000), InputError);
 }
 
 TEST(Effects, ForcingEveryEffectOnADiffuseSceneGivesTheSameBytes) {

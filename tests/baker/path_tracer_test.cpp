@@ -119,11 +119,7 @@ TEST(PathTracer, PhotonSamplingMatchesBrdfSamplingOnTheBox) {
 // Two 0.4 m lights 1 m above a grey floor; the photon map holds photons from the first light only.
 TEST(PathTracer, TheFloorKeepsDirectionsWithoutPhotonsReachable) {
   const std::string dir = test::TempDirectory("floor-matters");
-  test::WriteText(dir + "/s.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl lamp\nKe 5 5 5\n");
-  test::WriteText(dir + "/s.obj", "mtllib s.mtl\nusemtl floor\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nf 1 4 3 2\n"
-                                  "usemtl lamp\nv -0.9 1 -0.2\nv -0.5 1 -0.2\nv -0.5 1 0.2\nv -0.9 1 0.2\nf 5 6 7 8\n"
-                                  "v 0.5 1 -0.2\nv 0.9 1 -0.2\nv 0.9 1 0.2\nv 0.5 1 0.2\nf 9 10 11 12\n");
-  const Fixture f(dir + "/s.obj");
+  const Fixture f(test::WriteFloorWithLamps(dir, 0.5f, 5.0f, {{-0.9f, -0.5f, -0.2f, 0.2f, 1}, {0.5f, 0.9f, -0.2f, 0.2f, 1}}));
   ASSERT_EQ(f.lights.size(), 2u);
   const PhotonMap firstOnly = f.Photons(100000, {f.lights[0]});
   const Camera down{{0, 0.8f, -0.01f}, {0, 0, 0}, {0, 0, 1}, 60};
