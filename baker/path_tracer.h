@@ -13,8 +13,8 @@
 //             pdf is P_k n / (2 pi), so the weight holds the paper's scale factor s = I / (I_k n).
 // Mirrors and glass scatter by their own lobes (estimators/scatter.h) in radiance mode.
 //
-// Determinism: a pixel's samples draw from Rng(seed, pixel index) in order, so an image does not depend on
-// the thread count.
+// Determinism: a pixel's samples draw from one stream keyed by (seed, pixel index) in order (baker/render.h), so
+// an image does not depend on the thread count.
 #pragma once
 
 #include <cstdint>

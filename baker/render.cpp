@@ -127,12 +127,14 @@ RenderedImage RenderImage(const PathTracer& tracer, const PathSettings& settings
   RenderedImage result{Image(width, height), std::vector<float>(size_t(width) * size_t(height)), {}, 0};
   std::vector<PathStats> rowStats(static_cast<size_t>(height));
   Progress progress(log, fmt::format("render {} spp", spp), uint64_t(height));
+  // Pixels draw from their own family of streams: with the bare seed, pixel i would repeat photon i's numbers.
+  const uint64_t pixelSeed = SplitMix64(seed ^ 0x7069786656C73ull);
   const auto start = std::chrono::steady_clock::now();
   tbb::parallel_for(tbb::blocked_range<int>(0, height, 1), [&](const tbb::blocked_range<int>& rows) {
     PathScratch scratch(settings);
     for (int y = rows.begin(); y != rows.end(); ++y) {
       for (int x = 0; x < width; ++x) {
-        Rng rng(seed, uint64_t(y) * uint64_t(width) + uint64_t(x));
+        Rng rng(pixelSeed, uint64_t(y) * uint64_t(width) + uint64_t(x));
         PixelMoments moments;
         for (uint32_t s = 0; s < spp; ++s) {
           const Point2 jitter = rng.Uniform2();

@@ -56,7 +56,8 @@ struct RenderReport {
 // The photon map of every stored hit: its world position, incoming direction and flux.
 PhotonMap BuildPhotonMap(const Scene& scene, const PhotonHits& hits);
 
-// Renders `spp` samples per pixel with `tracer`; pixel i draws from Rng(seed, i).
+// Renders `spp` samples per pixel with `tracer`; pixel i draws from Rng(SplitMix64(seed ^ c), i), a family of
+// streams apart from the photons' Rng(seed, i).
 RenderedImage RenderImage(const PathTracer& tracer, const PathSettings& settings, const PinholeCamera& camera,
                           int width, int height, uint32_t spp, uint64_t seed, const Log& log);
 
