@@ -38,9 +38,10 @@ struct VertexRecord {
 
 VertexRecord RecordOf(const BakedMesh& baked, size_t v, float exposure) {
   const Point3 p = baked.mesh.positions[v];
+  const std::array<double, 3>& o = baked.mesh.origin;  // back to world coordinates, added in double
   const Normal3 n = baked.mesh.normals[v];
   const Rgb H = baked.irradiance[v], L = baked.Radiance(v);
-  return {{p.x, p.y, p.z}, {n.x, n.y, n.z}, ToneMap(L, exposure), {H.r, H.g, H.b}, {L.r, L.g, L.b}, Luminance(H)};
+  return {{float(o[0] + p.x), float(o[1] + p.y), float(o[2] + p.z)}, {n.x, n.y, n.z}, ToneMap(L, exposure), {H.r, H.g, H.b}, {L.r, L.g, L.b}, Luminance(H)};
 }
 
 template <typename T>

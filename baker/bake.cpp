@@ -41,7 +41,25 @@ void ReportWarnings(BakeReport& report, std::vector<std::string> warnings, const
   constexpr size_t kShown = 10;
   for (size_t i = 0; i < warnings.size() && i < kShown; ++i) log.Warning(warnings[i]);
   if (warnings.size() > kShown) log.Warning(fmt::format("... and {} more warnings", warnings.size() - kShown));
-  report.warnings = std::move(warnings);
+  report.warnings.insert(report.warnings.end(), warnings.begin(), warnings.end());
+}
+
+// Warns about each surface whose h is below half its mean photon spacing sqrt(A / hits): most of its vertices see
+// no photon within h, so H there reads 0 between photons. knn adapts its radius and is never warned about.
+std::vector<std::string> BandwidthWarnings(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins,
+                                           const std::vector<float>& bandwidths, EstimatorKind kind) {
+  std::vector<std::string> warnings;
+  if (kind == EstimatorKind::kNearest) return warnings;
+  for (size_t s = 0; s < surfaces.surfaces.size(); ++s) {
+    if (bins.FrontHits(s) == 0) continue;
+    const double spacing = std::sqrt(surfaces.surfaces[s].area / double(bins.FrontHits(s)));
+    if (bandwidths[s] >= 0.5 * spacing) continue;
+    warnings.push_back(fmt::format("{}: warning: surface {} ({}): h = {:.3g} m is below the photon spacing "
+                                   "({:.3g} m): most vertices see no photon and read H = 0; raise --h or --photons",
+                                   scene.path, s, scene.materials[surfaces.surfaces[s].material].name, bandwidths[s],
+                                   spacing));
+  }
+  return warnings;
 }
 
 }  // namespace
@@ -55,6 +73,10 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
 
   LoadedScene loaded = clock.Time("load", [&] { return LoadObj(o.scenePath, {o.scale}); });
   const Scene& scene = loaded.scene;
+  if (scene.Recentred())
+    loaded.warnings.push_back(fmt::format("{}: note: the scene lies far from the origin; it is traced about "
+                                          "({:.6g}, {:.6g}, {:.6g}) m for float precision, and written back in world "
+                                          "coordinates", scene.path, scene.origin[0], scene.origin[1], scene.origin[2]));
   ReportWarnings(report, std::move(loaded.warnings), log);
   const SurfaceSet surfaces = clock.Time("surfaces", [&] { return BuildSurfaces(scene); });
   const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
@@ -69,6 +91,7 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   const SurfaceRegions regions = clock.Time("regions", [&] { return BuildRegions(surfaces); });
   const std::vector<float> bandwidths =
       clock.Time("bandwidth", [&] { return SurfaceBandwidths(regions, bins, o.estimator, o.autoBandwidth); });
+  ReportWarnings(report, BandwidthWarnings(scene, surfaces, bins, bandwidths, o.estimator.kind), log);
   const BakedMesh baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(scene, surfaces, regions, SplitBySurface(scene, surfaces), bins, o.estimator, bandwidths, log);
   });

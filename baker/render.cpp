@@ -79,6 +79,16 @@ Image StripOf(const std::vector<const Image*>& images) {
   return strip;
 }
 
+// The camera file is in world coordinates; the scene may be re-centred (mesh/scene.h).
+Camera InLocalCoordinates(Camera c, const Scene& scene) {
+  const auto shift = [&](Point3 p) {
+    return Point3{float(p.x - scene.origin[0]), float(p.y - scene.origin[1]), float(p.z - scene.origin[2])};
+  };
+  c.position = shift(c.position);
+  c.lookAt = shift(c.lookAt);
+  return c;
+}
+
 std::vector<std::pair<std::string, std::string>> ExrAttributes(const RenderOptions& o, uint32_t spp) {
   return {{"scene", o.scenePath},
           {"sampling", SamplingName(o.path.sampling)},
@@ -157,8 +167,9 @@ RenderReport Render(const RenderOptions& o, const Log& log) {
   RenderReport report{o, threads.Count()};
   StageClock clock(report.stageSeconds);
 
-  const Camera cameraData = LoadCamera(o.cameraPath.empty() ? CameraSidecarPath(o.scenePath) : o.cameraPath);
+  Camera cameraData = LoadCamera(o.cameraPath.empty() ? CameraSidecarPath(o.scenePath) : o.cameraPath);
   const Scene scene = clock.Time("load", [&] { return LoadObj(o.scenePath, {o.scale}).scene; });
+  cameraData = InLocalCoordinates(cameraData, scene);
   std::optional<RayScene> rays;
   clock.Time("bvh", [&] { rays.emplace(scene); });
   std::optional<PhotonMap> photonMap;

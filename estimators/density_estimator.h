@@ -38,6 +38,13 @@ struct EstimatorSettings {
 // far as 1/32, so that a needle-thin corner cannot multiply a few photons into a spike.
 inline constexpr double kMinEdgeMass = 1.0 / 32.0;
 
+// The floor for M(x) on a surface of area A [m^2]: kMinEdgeMass of the most mass the surface could offer any
+// point, min(1, A K_h(0)). When h is far above the surface's size every point sees only a small mass, and
+// dividing by it is exact (the estimate becomes the surface's flux over its area), not a spike.
+inline double MinimumKernelMass(double surfaceArea, Kernel kernel, float h) {
+  return kMinEdgeMass * std::min(1.0, surfaceArea * double(KernelDensity(kernel, 0.0f, h)));
+}
+
 class DensityEstimator {
  public:
   virtual ~DensityEstimator() = default;

@@ -15,7 +15,8 @@ constexpr double kMinCellBudget = 1 << 12;
 
 KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h, Kernel kernel,
                                  const SurfaceRegion* correction)
-    : h_(h), kernel_(kernel), correction_(correction) {
+    : h_(h), kernel_(kernel), correction_(correction),
+      minimumMass_(correction ? MinimumKernelMass(correction->Area(), kernel, h) : kMinEdgeMass) {
   PB_CHECK(h > 0 && std::isfinite(h), "bandwidth is positive and finite");
   PB_CHECK(uv.size() == power.size(), "one flux per photon");
   if (uv.empty()) return;
@@ -68,7 +69,7 @@ Rgb KernelEstimator::Estimate(Point2 x) const {
     }
   }
   if (correction_ == nullptr) return sum.ToRgb();
-  return sum.ToRgb() * float(1.0 / std::max(correction_->KernelMass(x, kernel_, h_), kMinEdgeMass));
+  return sum.ToRgb() * float(1.0 / std::max(correction_->KernelMass(x, kernel_, h_), minimumMass_));
 }
 
 }  // namespace pb

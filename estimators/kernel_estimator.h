@@ -33,6 +33,7 @@ class KernelEstimator final : public DensityEstimator {
   float h_;
   Kernel kernel_;
   const SurfaceRegion* correction_;
+  double minimumMass_ = kMinEdgeMass;  // MinimumKernelMass of the corrected surface
   Point2 lo_{};
   float cellSize_ = 1;
   int nu_ = 0, nv_ = 0;

@@ -48,7 +48,10 @@ Rgb NearestEstimator::Estimate(Point2 x) const {
   RgbSum flux;
   for (size_t i = 0; i < found; ++i) flux.Add(power_[index[i]]);
   const double r = std::sqrt(double(distance2[found - 1]));
-  const double fraction = edgeCorrection_ ? std::max(region_.KernelMass(x, Kernel::kUniform, r), kMinEdgeMass) : 1.0;
+  const double fraction =
+      edgeCorrection_ ? std::max(region_.KernelMass(x, Kernel::kUniform, r),
+                                 MinimumKernelMass(region_.Area(), Kernel::kUniform, float(r)))
+                      : 1.0;
   const double area = M_PI * r * r * fraction;
   if (!(area > 0)) return {};  // k photons at exactly x: no area to divide by
   return flux.ToRgb() * float(double(k_ - 1) / double(k_) / area);

@@ -30,10 +30,13 @@ struct Line {
            (atLeast == atMost ? std::to_string(atLeast) : std::to_string(atLeast) + " to " + std::to_string(atMost)) +
            " values, found " + std::to_string(n));
   }
-  float Number(size_t i) const {
+  float Number(size_t i) const { return Parse<float>(i); }
+  double Double(size_t i) const { return Parse<double>(i); }
+  template <typename T>
+  T Parse(size_t i) const {
     const std::string& t = tokens[i];
     const char* begin = t.data() + (t.size() > 1 && t[0] == '+');  // from_chars refuses a leading '+'.
-    float value = 0;
+    T value = 0;
     const auto [end, ec] = std::from_chars(begin, t.data() + t.size(), value);
     if (ec != std::errc() || end != t.data() + t.size()) Fail("malformed number '" + t + "' in '" + Keyword() + "'");
     if (!std::isfinite(value)) Fail("non-finite number '" + t + "' in '" + Keyword() + "'");
@@ -95,6 +98,22 @@ struct MtlEntry {
 
 bool InUnitInterval(Rgb c) { return c.r >= 0 && c.g >= 0 && c.b >= 0 && c.r <= 1 && c.g <= 1 && c.b <= 1; }
 
+// The largest reflectance a diffuse or mirror material keeps. A surface that absorbs nothing keeps photons (and
+// paths) bouncing until they escape: in a closed scene forever, and H = Phi / (A (1 - rho)) diverges. At 0.99 a
+// photon's expected path is still bounded, at 100 surfaces.
+constexpr float kMaxReflectance = 0.99f;
+
+// Scales Kd and Ks down together so that no channel of Kd + Ks exceeds kMaxReflectance, with a warning.
+void CapReflectance(Material& m, const Line& where, std::vector<std::string>& warnings) {
+  const float total = (m.albedo + m.specular).Max();
+  if (total <= kMaxReflectance) return;
+  warnings.push_back(where.Warning("material '" + m.name + "': reflectance " + std::to_string(total).substr(0, 5) +
+                                   " capped at 0.99, since a surface that absorbs nothing never ends a path in a "
+                                   "closed scene"));
+  m.albedo = m.albedo * (kMaxReflectance / total);
+  m.specular = m.specular * (kMaxReflectance / total);
+}
+
 MaterialClass ClassOfIllum(int illum) {
   switch (illum) {
     case 3: case 5: case 8: return MaterialClass::kMirror;
@@ -127,6 +146,7 @@ Material ResolveMaterial(MtlEntry e, std::vector<std::string>& warnings) {
     if (!m.albedo.IsBlack()) warnings.push_back(where.Warning(named + "Kd is not used by glass"));
     m.albedo = {};
   }
+  CapReflectance(m, where, warnings);
   return m;
 }
 
@@ -194,10 +214,12 @@ uint32_t PositionIndex(const Line& line, const std::string& corner, size_t posit
   return uint32_t(resolved);
 }
 
-bool IsDegenerate(const Point3& a, const Point3& b, const Point3& c) {
+using Position = std::array<double, 3>;  // world [m], as read
+
+bool IsDegenerate(const Position& a, const Position& b, const Position& c) {
   // In double, so that slivers of aspect ratio up to ~1e9 are kept and only zero-area faces are dropped.
-  const double e1[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
-  const double e2[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
+  const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
   const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
                cz = e1[0] * e2[1] - e1[1] * e2[0];
   const double twiceArea = std::sqrt(cx * cx + cy * cy + cz * cz);
@@ -219,6 +241,7 @@ class ObjParser {
     if (!reader.IsOpen()) throw InputError(path_, 0, "cannot open scene file");
     for (Line line; reader.Next(line);) Statement(line);
     if (result_.scene.triangles.empty()) throw InputError(path_, 0, "scene has no faces");
+    StorePositions();
     return std::move(result_);
   }
 
@@ -227,8 +250,8 @@ class ObjParser {
     const std::string& k = line.Keyword();
     if (k == "v") {
       line.ExpectArguments(3, 7);  // x y z [w] or x y z r g b (vertex colours, ignored).
-      const float s = options_.scale;
-      result_.scene.positions.push_back({line.Number(1) * s, line.Number(2) * s, line.Number(3) * s});
+      const double s = options_.scale;
+      positions_.push_back({line.Double(1) * s, line.Double(2) * s, line.Double(3) * s});
     } else if (k == "vn" || k == "vt") {
       line.ExpectArguments(k == "vn" ? 3 : 1, 3);
       for (size_t i = 1; i < line.tokens.size(); ++i) line.Number(i);
@@ -260,11 +283,11 @@ class ObjParser {
     Scene& scene = result_.scene;
     std::vector<uint32_t> corners;
     for (size_t i = 1; i < line.tokens.size(); ++i)
-      corners.push_back(PositionIndex(line, line.tokens[i], scene.positions.size()));
+      corners.push_back(PositionIndex(line, line.tokens[i], positions_.size()));
     for (size_t i = 1; i + 1 < corners.size(); ++i) {  // fan triangulation
       const Triangle t{{corners[0], corners[i], corners[i + 1]}, uint32_t(currentMaterial_), currentObject_,
                        uint32_t(line.number)};
-      if (IsDegenerate(scene.positions[t.v[0]], scene.positions[t.v[1]], scene.positions[t.v[2]])) {
+      if (IsDegenerate(positions_[t.v[0]], positions_[t.v[1]], positions_[t.v[2]])) {
         ++scene.degenerateTrianglesSkipped;
         result_.warnings.push_back(line.Warning("zero-area triangle skipped"));
         continue;
@@ -273,9 +296,33 @@ class ObjParser {
     }
   }
 
+  // Chooses the local origin (mesh/scene.h) and stores the positions relative to it, in float.
+  void StorePositions() {
+    Position lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (const Position& p : positions_)
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    double size = 0, distance = 0;
+    Position centre{};
+    for (int k = 0; k < 3; ++k) {
+      centre[k] = 0.5 * (lo[k] + hi[k]);
+      size = std::max(size, hi[k] - lo[k]);
+      distance = std::max(distance, std::abs(centre[k]));
+    }
+    Scene& scene = result_.scene;
+    if (distance > size) scene.origin = centre;
+    scene.positions.reserve(positions_.size());
+    for (const Position& p : positions_) {
+      const Point3 local{float(p[0] - scene.origin[0]), float(p[1] - scene.origin[1]), float(p[2] - scene.origin[2])};
+      if (!std::isfinite(local.x) || !std::isfinite(local.y) || !std::isfinite(local.z))
+        throw InputError(path_, 0, "the scene spans more than a float can hold (about 3e38 m)");
+      scene.positions.push_back(local);
+    }
+  }
+
   std::string path_;
   LoadOptions options_;
   LoadedScene result_;
+  std::vector<Position> positions_;
   std::unordered_map<std::string, uint32_t> materialByName_;
   int currentMaterial_ = -1;
   uint32_t currentObject_ = 0;

@@ -3,6 +3,9 @@
 // Supported: v, vn, vt, f (any polygon, fan-triangulated; v, v/t, v//n, v/t/n; negative indices), o, g, s,
 // mtllib, usemtl; in MTL: newmtl, Kd, Ke, Ka, Ks, Ns, Ni, d, Tr, Tf, illum, and map_* (warned, not used yet).
 //
+// Reflectance above 0.99 in any channel (Kd, or Kd + Ks for a mirror) is scaled down to 0.99 with a warning: a
+// surface that absorbs nothing would never end a path in a closed scene.
+//
 // The material class (mesh/scene.h) comes from illum:
 //   0-2 (and 10, with a warning): diffuse Kd. A Phong highlight Ks under illum 2 is not used.
 //   3, 5, 8: mirror: Kd plus an ideal mirror of reflectance Ks (default 1).

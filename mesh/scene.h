@@ -44,7 +44,11 @@ struct Triangle {
 
 struct Scene {
   std::string path;  // the OBJ file, for messages.
-  std::vector<Point3> positions;
+  // World position [m] of the local origin: world = origin + local. The loader moves it to the bounding box's
+  // centre when the scene lies further from the world origin than its own size, so that float coordinates keep
+  // their precision there (a 10^5 m offset would cost 8 mm per coordinate); otherwise it is 0.
+  std::array<double, 3> origin{0, 0, 0};
+  std::vector<Point3> positions;  // local [m]
   std::vector<Triangle> triangles;
   std::vector<Material> materials;
   std::vector<std::string> objectNames;     // from 'o' (or 'g') statements; "" before the first.
@@ -64,6 +68,7 @@ struct Scene {
     return p0 + (Corner(triangle, 1) - p0) * b1 + (Corner(triangle, 2) - p0) * b2;
   }
   const Material& MaterialOf(uint32_t triangle) const { return materials[triangles[triangle].material]; }
+  bool Recentred() const { return origin[0] != 0 || origin[1] != 0 || origin[2] != 0; }
 };
 
 }  // namespace pb

@@ -30,6 +30,7 @@ void FinishCurvedVertices(const Scene& scene, const SurfaceSet& surfaces, const 
 
 SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces) {
   SplitMesh mesh;
+  mesh.origin = scene.origin;
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
     const size_t first = mesh.positions.size();

@@ -17,7 +17,8 @@
 namespace pb {
 
 struct SplitMesh {
-  std::vector<Point3> positions;
+  std::array<double, 3> origin{0, 0, 0};  // Scene::origin: world = origin + position [m]
+  std::vector<Point3> positions;          // local [m]
   std::vector<Normal3> normals;
   std::vector<Point2> uv;             // in the chart of `surface[i]` [m]
   std::vector<uint32_t> surface;      // owning surface of each vertex

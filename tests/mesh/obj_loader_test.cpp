@@ -118,8 +118,10 @@ TEST(ObjLoader, MaterialClassFollowsIllum) {
   EXPECT_TRUE(m[2].albedo.IsBlack()) << "glass does not use Kd";
   EXPECT_FLOAT_EQ(m[3].transmittance.g, 0.75f) << "without Tf, glass transmits 1 - d";
   EXPECT_FLOAT_EQ(m[3].ior, 1.5f);
-  EXPECT_FLOAT_EQ(m[4].specular.g, 1.0f) << "a mirror without Ks reflects everything";
-  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_FLOAT_EQ(m[4].specular.g, 0.99f) << "a mirror without Ks reflects everything, capped at 0.99";
+  ASSERT_EQ(loaded.warnings.size(), 2u);
+  EXPECT_NE(loaded.warnings[1].find("material 'plain_mirror': reflectance 1.000 capped at 0.99"), std::string::npos)
+      << loaded.warnings[1];
   EXPECT_NE(loaded.warnings[0].find("scene.mtl:9: warning: material 'glass': Kd is not used"), std::string::npos)
       << loaded.warnings[0];
 }

@@ -1,0 +1,146 @@
+// Hard cases that must stay numerically stable (issue 7): each checks a number, not merely that nothing broke.
+//  - Scale: the same scene authored at 1e-3, 1 and 1e3 m (h scaled alike) gives the same H per vertex.
+//  - Far from the origin: the scene moved 1e5 m away gives the same H, and the PLY lands where the scene is.
+//  - Albedo 1 in a closed box (the white furnace): capped at 0.99 with a warning, and the flux reaching the walls
+//    then matches its closed form Phi / (1 - rho).
+//  - h far below the photon spacing: finite, with a warning; h far above the surface: every vertex reads the
+//    surface's mean irradiance, no blow-up at the edges.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "baker/bake.h"
+#include "mesh/obj_loader.h"
+#include "tests/ply_reader.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+// Rewrites the OBJ at `path` with every vertex multiplied by `scale` and then moved by `offset` [m].
+std::string TransformedCopy(const std::string& path, double scale, double offset, const std::string& name) {
+  std::ifstream in(path);
+  std::ostringstream out;
+  out.precision(17);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("v ", 0) == 0) {
+      std::istringstream v(line.substr(2));
+      double x, y, z;
+      v >> x >> y >> z;
+      out << "v " << x * scale + offset << " " << y * scale << " " << z * scale + offset << "\n";
+    } else {
+      out << line << "\n";
+    }
+  }
+  const std::string copy = path.substr(0, path.find_last_of('/') + 1) + name + ".obj";
+  test::WriteText(copy, out.str());
+  return copy;
+}
+
+struct Baked {
+  BakeReport report;
+  test::PlyData ply;
+};
+
+Baked BakeQuietly(const std::string& scene, float h, uint64_t photons = 200000) {
+  BakeOptions o;
+  o.scenePath = scene;
+  o.outputPath = scene + ".ply";
+  o.photons = photons;
+  o.estimator.bandwidth = h;
+  BakeReport report = Bake(o, Log(true));
+  return {std::move(report), test::ReadPly(o.outputPath)};
+}
+
+// Largest |a - b| / max(a, b) over vertices whose H (luminance) is above 1% of the largest.
+double WorstRelativeDifference(const test::PlyData& a, const test::PlyData& b) {
+  const std::vector<double>& qa = a.vertex.at("quality");
+  const std::vector<double>& qb = b.vertex.at("quality");
+  EXPECT_EQ(qa.size(), qb.size());
+  const double top = *std::max_element(qa.begin(), qa.end());
+  double worst = 0;
+  for (size_t i = 0; i < std::min(qa.size(), qb.size()); ++i)
+    if (std::max(qa[i], qb[i]) > 0.01 * top) worst = std::max(worst, std::abs(qa[i] - qb[i]) / std::max(qa[i], qb[i]));
+  return worst;
+}
+
+std::string SquareLightScene(const std::string& name) {
+  return test::WriteSquareLightOverFloor(test::TempDirectory(name), 0.5f, 10.0f, 1.0f, 2.0f, 20);
+}
+
+TEST(Stability, SameHAtAnyScale) {
+  // Irradiance is flux per area: scaling the scene scales both alike, so H per vertex is unchanged. The same
+  // seed draws the same numbers; only float rounding of the scaled coordinates differs, so the photon paths
+  // agree to rounding and H to far below its noise (about 2% per vertex here).
+  const std::string clean = SquareLightScene("scale");
+  const Baked unit = BakeQuietly(clean, 0.2f);
+  for (double scale : {1e-3, 1e3}) {
+    const Baked scaled = BakeQuietly(TransformedCopy(clean, scale, 0, "scaled"), float(0.2 * scale));
+    EXPECT_LT(WorstRelativeDifference(unit.ply, scaled.ply), 1e-3) << "scale " << scale;
+    const std::vector<double>& x = scaled.ply.vertex.at("x");
+    EXPECT_NEAR(*std::max_element(x.begin(), x.end()), 1.0 * scale, 1e-6 * scale);
+  }
+}
+
+TEST(Stability, SameHFarFromTheOrigin) {
+  const std::string clean = SquareLightScene("far");
+  const Baked near = BakeQuietly(clean, 0.2f);
+  const Baked far = BakeQuietly(TransformedCopy(clean, 1, 1e5, "far"), 0.2f);
+  EXPECT_LT(WorstRelativeDifference(near.ply, far.ply), 1e-3);
+  // The PLY is in world coordinates: 1e5 m away, to float precision there (ulp 0.0078 m).
+  const std::vector<double>& xNear = near.ply.vertex.at("x");
+  const std::vector<double>& xFar = far.ply.vertex.at("x");
+  for (size_t i = 0; i < xNear.size(); ++i) ASSERT_NEAR(xFar[i], xNear[i] + 1e5, 0.008);
+  bool noted = false;
+  for (const std::string& w : far.report.warnings) noted |= w.find("far from the origin") != std::string::npos;
+  EXPECT_TRUE(noted);
+}
+
+TEST(Stability, WhiteFurnaceIsCappedAndMatchesItsClosedForm) {
+  const std::string dir = test::TempDirectory("white-furnace");
+  const LoadedScene loaded = LoadObj(test::WriteClosedBox(dir, 1.0f, 1.0f, 0.2f, 10.0f));
+  ASSERT_FALSE(loaded.warnings.empty());
+  EXPECT_NE(loaded.warnings[0].find("capped at 0.99"), std::string::npos) << loaded.warnings[0];
+  const Scene& scene = loaded.scene;
+  const SurfaceSet surfaces = BuildSurfaces(scene);
+  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
+  const TransportPlan plan = PlanTransport(scene, surfaces, lights, {});
+  const RayScene rays(scene);
+  // Every hit keeps the photon's flux (grey albedo, survival = albedo), and the number of hits per photon is
+  // geometric with mean 1 / (1 - rho): the hit flux sums to Phi / (1 - rho), relative sd sqrt(rho / N) = 0.7%.
+  constexpr uint64_t kPhotons = 20000;
+  const PhotonHits hits = TracePhotons(scene, lights, rays, plan, {kPhotons, 4, 100000}, Log(true));
+  const double rho = 0.99;
+  double flux = 0;
+  hits.ForEach([&](const PhotonHit& h) { flux += h.power.g; });
+  EXPECT_NEAR(flux * (1 - rho) / hits.stats.powerEmitted.g, 1.0, 5 * std::sqrt(rho / kPhotons));
+  EXPECT_EQ(hits.stats.truncated, 0u);
+  EXPECT_EQ(hits.stats.escaped, 0u);
+}
+
+TEST(Stability, ExtremeBandwidthsStayFiniteAndHonest) {
+  const std::string scene = SquareLightScene("bandwidth");
+  const Baked tiny = BakeQuietly(scene, 1e-6f, 20000);
+  for (double h : tiny.ply.vertex.at("quality")) ASSERT_TRUE(std::isfinite(h) && h >= 0);
+  bool warned = false;
+  for (const std::string& w : tiny.report.warnings) warned |= w.find("below the photon spacing") != std::string::npos;
+  EXPECT_TRUE(warned) << "h = 1 micrometre is far below the photon spacing";
+
+  // h = 100 m over a 2 m floor: the kernel is flat across the floor, and boundary renormalisation turns the
+  // estimate into the floor's flux over its area at every vertex, corners included.
+  const Baked huge = BakeQuietly(scene, 100.0f, 20000);
+  const SurfaceReport& floor = huge.report.surfaces[0];
+  const double mean = Luminance(floor.meanIrradiance);
+  ASSERT_GT(mean, 0);
+  const std::vector<double>& q = huge.ply.vertex.at("quality");
+  const std::vector<double>& y = huge.ply.vertex.at("y");
+  for (size_t i = 0; i < huge.report.vertices; ++i) {
+    if (y[i] != 0.0) continue;  // the light's vertices
+    ASSERT_NEAR(q[i], mean, 1e-3 * mean) << i;
+  }
+}
+
+}  // namespace
+}  // namespace pb
