@@ -99,6 +99,7 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
 
   report.triangles = scene.triangles.size();
   report.degenerateTrianglesSkipped = scene.degenerateTrianglesSkipped;
+  report.duplicateTrianglesSkipped = scene.duplicateTrianglesSkipped;
   report.vertices = baked.mesh.VertexCount();
   report.faces = baked.mesh.faces.size();
   report.lights = DescribeLights(scene, lights, photons.stats.photonsPerLight, report.plan);

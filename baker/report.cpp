@@ -93,8 +93,9 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   if (log.Quiet()) return;
   const TraceStats& t = r.trace;
   std::string s = fmt::format("\nphotonbake summary: {} -> {}\n", r.options.scenePath, r.options.outputPath);
-  s += fmt::format("  scene     {} triangles ({} zero-area skipped), {} surfaces, {} lights\n", r.triangles,
-                   r.degenerateTrianglesSkipped, r.surfaces.size(), r.lights.size());
+  s += fmt::format("  scene     {} triangles ({} zero-area and {} duplicates skipped), {} surfaces, {} lights\n",
+                   r.triangles, r.degenerateTrianglesSkipped, r.duplicateTrianglesSkipped, r.surfaces.size(),
+                   r.lights.size());
   for (const LightReport& l : r.lights)
     s += fmt::format("  light     {:<20} area {:.4g} m^2  Phi {} W  {} photons{}\n", l.material, l.area,
                      Text(l.power), l.photons, l.note.empty() ? "" : "  (" + l.note + ")");
@@ -124,6 +125,7 @@ void WriteReportJson(const std::string& path, const BakeReport& r) {
   j["threads"] = r.threads;
   j["scene"] = {{"triangles", r.triangles},
                 {"zero_area_triangles_skipped", r.degenerateTrianglesSkipped},
+                {"duplicate_triangles_skipped", r.duplicateTrianglesSkipped},
                 {"surfaces", r.surfaces.size()},
                 {"curved_charts", r.curvedCharts},
                 {"worst_area_distortion", r.worstAreaDistortion}};

@@ -37,7 +37,7 @@ struct SurfaceReport {
 struct BakeReport {
   BakeOptions options;
   unsigned threads = 0;
-  size_t triangles = 0, degenerateTrianglesSkipped = 0, vertices = 0, faces = 0;
+  size_t triangles = 0, degenerateTrianglesSkipped = 0, duplicateTrianglesSkipped = 0, vertices = 0, faces = 0;
   size_t curvedCharts = 0;          // surfaces mapped by LSCM
   double worstAreaDistortion = 1;   // over all charts
   std::vector<LightReport> lights;

@@ -292,8 +292,31 @@ class ObjParser {
         result_.warnings.push_back(line.Warning("zero-area triangle skipped"));
         continue;
       }
+      if (const auto [it, isNew] = faceLines_.emplace(FaceKey(t), line.number); !isNew) {
+        ++scene.duplicateTrianglesSkipped;
+        result_.warnings.push_back(line.Warning("triangle repeats the one at line " + std::to_string(it->second) +
+                                                " (same corners, same side); skipped"));
+        continue;
+      }
       scene.triangles.push_back(t);
     }
+  }
+
+  // The triangle's corner positions, rotated so that the smallest comes first: equal for the same triangle
+  // facing the same way, whatever its vertex indices or starting corner; a back-to-back copy differs.
+  using Key = std::array<Position, 3>;
+  struct KeyHash {
+    size_t operator()(const Key& k) const {
+      size_t h = 0;
+      for (const Position& p : k)
+        for (double c : p) h = h * 1000003u ^ std::hash<double>()(c);
+      return h;
+    }
+  };
+  Key FaceKey(const Triangle& t) const {
+    Key k{positions_[t.v[0]], positions_[t.v[1]], positions_[t.v[2]]};
+    std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+    return k;
   }
 
   // Chooses the local origin (mesh/scene.h) and stores the positions relative to it, in float.
@@ -323,6 +346,7 @@ class ObjParser {
   LoadOptions options_;
   LoadedScene result_;
   std::vector<Position> positions_;
+  std::unordered_map<Key, int, KeyHash> faceLines_;  // each kept triangle -> its 'f' line
   std::unordered_map<std::string, uint32_t> materialByName_;
   int currentMaterial_ = -1;
   uint32_t currentObject_ = 0;

@@ -17,7 +17,10 @@
 //
 // Errors (InputError, "file:line: error: ..."): a missing OBJ or MTL file, a malformed number or index, a
 // non-finite coordinate, an index out of range, an unknown material, a face before any usemtl, Kd outside
-// [0, 1], a negative Ke. Zero-area triangles are skipped and counted in Scene::degenerateTrianglesSkipped.
+// [0, 1], a negative Ke. Zero-area triangles are skipped and counted in Scene::degenerateTrianglesSkipped. A triangle that repeats
+// an earlier one (the same corner positions, facing the same side) is skipped and counted in
+// Scene::duplicateTrianglesSkipped: coincident copies would split the photons and the area between them. A
+// back-to-back copy (a two-sided panel) is kept.
 #pragma once
 
 #include <string>

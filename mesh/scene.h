@@ -53,6 +53,7 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<std::string> objectNames;     // from 'o' (or 'g') statements; "" before the first.
   uint32_t degenerateTrianglesSkipped = 0;  // zero-area faces dropped at load time.
+  uint32_t duplicateTrianglesSkipped = 0;   // exact repeats (same corners, same side) dropped at load time.
 
   Point3 Corner(uint32_t triangle, int k) const { return positions[triangles[triangle].v[k]]; }
   // (p1 - p0) x (p2 - p0): points to the front side, length = 2 * area [m^2].

@@ -60,6 +60,17 @@ TEST(ObjLoader, SkipsAndCountsZeroAreaTriangles) {
   EXPECT_NE(loaded.warnings[0].find(":9: warning: zero-area"), std::string::npos) << loaded.warnings[0];
 }
 
+TEST(ObjLoader, SkipsRepeatedTrianglesButKeepsBackToBackCopies) {
+  // Face 2 repeats face 1 from another corner and through duplicated vertices; face 3 is face 1 turned over.
+  const std::string path = WriteScene("repeat", kQuad + "v 0 0 0\nv 1 0 0\nusemtl grey\nf 1 2 3\nf 3 5 6\nf 1 3 2\n");
+  const LoadedScene loaded = LoadObj(path);
+  EXPECT_EQ(loaded.scene.triangles.size(), 2u);
+  EXPECT_EQ(loaded.scene.duplicateTrianglesSkipped, 1u);
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings[0].find(":10: warning: triangle repeats the one at line 9"), std::string::npos)
+      << loaded.warnings[0];
+}
+
 TEST(ObjLoader, KeepsSliversThatHaveArea) {
   const std::string path = WriteScene("sliver", "v 0 0 0\nv 1 0 0\nv 0.5 0 1e-6\nusemtl grey\nf 1 3 2\n");
   EXPECT_EQ(LoadObj(path).scene.triangles.size(), 1u);
