@@ -174,7 +174,7 @@ std::string WriteFloorWithLamps(const std::string& directory, float albedo, floa
 }
 
 std::string WriteClosedBox(const std::string& directory, float side, float albedo, float lightSide, float radiance,
-                           float glassRadius, float ior) {
+                           float glassRadius, float ior, float lightGap) {
   WriteText(directory + "/box.mtl", fmt::format("newmtl wall\nKd {0} {0} {0}\nnewmtl light\nKd {0} {0} {0}\n"
                                                 "Ke {1} {1} {1}\nnewmtl glass\nNi {2}\nTf 1 1 1\nillum 7\n",
                                                 albedo, radiance, ior));
@@ -192,7 +192,7 @@ std::string WriteClosedBox(const std::string& directory, float side, float albed
   };
   for (const auto& w : walls) obj.Quad(w[0], w[1], w[2], 4);
   obj.text += "usemtl light\n";
-  const float c = s / 2, l = lightSide / 2, y = s * 0.999f;
+  const float c = s / 2, l = lightSide / 2, y = s * (1 - lightGap);
   const float la[3] = {c - l, y, c - l}, lb[3] = {c + l, y, c - l}, ld[3] = {c - l, y, c + l};
   obj.Quad(la, lb, ld, 1);
   if (glassRadius > 0) {

@@ -29,11 +29,12 @@ std::string WriteFloorWithLamps(const std::string& directory, float albedo, floa
                                 const std::vector<TestLamp>& lamps);
 
 // A closed cube of side `side` whose six inward-facing walls have grey albedo `albedo`, with a small square
-// light of side `lightSide` and radiance `radiance` facing down just below the ceiling. With glassRadius > 0 a
+// light of side `lightSide` and radiance `radiance` facing down `lightGap` x `side` below the ceiling (0: flush
+// with it, overlapping the ceiling's faces). With glassRadius > 0 a
 // clear glass icosphere (material "glass", index `ior`, Tf 1, 1280 triangles) of that radius stands on the
 // floor's centre, 1% of `side` above it. Returns the OBJ path.
 std::string WriteClosedBox(const std::string& directory, float side, float albedo, float lightSide, float radiance,
-                           float glassRadius = 0, float ior = 1.5f);
+                           float glassRadius = 0, float ior = 1.5f, float lightGap = 0.001f);
 
 // Closed curved receivers around a small emissive icosphere (radius `lightRadius`, radiance `radiance`, facing
 // out) at the origin. The receiver faces inward, has grey albedo `albedo`, and is one of:

@@ -120,6 +120,26 @@ TEST(Stability, WhiteFurnaceIsCappedAndMatchesItsClosedForm) {
   EXPECT_EQ(hits.stats.escaped, 0u);
 }
 
+TEST(Stability, ALightFlushWithTheCeilingNeitherLeaksNorShadowsItself) {
+  // The light's faces coincide with the ceiling's. Photons leave it from just below the plane, so none may hit the
+  // ceiling on the way out (self-intersections would add hits the closed form does not have), and none may leak
+  // through the corners.
+  // As in the white furnace, the hit flux is Phi / (1 - rho): relative sd sqrt(rho / N) = 0.16% at N = 200k.
+  const std::string dir = test::TempDirectory("flush-light");
+  const LoadedScene loaded = LoadObj(test::WriteClosedBox(dir, 1.0f, 0.5f, 0.2f, 10.0f, 0, 1.5f, 0.0f));
+  const Scene& scene = loaded.scene;
+  const SurfaceSet surfaces = BuildSurfaces(scene);
+  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
+  const RayScene rays(scene);
+  constexpr uint64_t kPhotons = 200000;
+  const PhotonHits hits =
+      TracePhotons(scene, lights, rays, PlanTransport(scene, surfaces, lights, {}), {kPhotons, 6, 10000}, Log(true));
+  double flux = 0;
+  hits.ForEach([&](const PhotonHit& h) { flux += h.power.g; });
+  EXPECT_NEAR(flux * 0.5 / hits.stats.powerEmitted.g, 1.0, 5 * std::sqrt(0.5 / kPhotons));
+  EXPECT_EQ(hits.stats.escaped, 0u) << "light leaks out of the box";
+}
+
 TEST(Stability, ExtremeBandwidthsStayFiniteAndHonest) {
   const std::string scene = SquareLightScene("bandwidth");
   const Baked tiny = BakeQuietly(scene, 1e-6f, 20000);
