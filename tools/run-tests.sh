@@ -1,7 +1,15 @@
 #!/usr/bin/env bash
-# Quick start 2 (and CI): install what is missing, build, and run the whole test suite.
+# Quick start 2 (and CI): install what is missing, build, and run the whole test suite; then build the suite
+# again with AddressSanitizer and UndefinedBehaviorSanitizer (into build-asan/) and run it there too.
+# SANITIZE=0 skips the second pass (it roughly triples the time: about 6 minutes more on 2 cores).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+root=$(pwd)
 bash tools/build.sh
-cd build
-ctest --output-on-failure --timeout 900 -j "$(nproc)"
+(cd build && ctest --output-on-failure --timeout 900 -j "$(nproc)")
+if [ "${SANITIZE:-1}" != 0 ]; then
+  BUILD_DIR=build-asan bash tools/build.sh -DPB_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  cd build-asan
+  LSAN_OPTIONS="suppressions=$root/tests/sanitizers/lsan.supp" \
+    UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure --timeout 900 -j "$(nproc)"
+fi
