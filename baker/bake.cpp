@@ -28,6 +28,9 @@ void ValidateOptions(const BakeOptions& o) {
   if (o.photons == 0) throw InputError("--photons", 0, "must be at least 1");
   if (!(o.scale > 0) || !std::isfinite(o.scale)) throw InputError("--scale", 0, "must be a finite number > 0");
   if (o.exposure && !(*o.exposure > 0)) throw InputError("--exposure", 0, "must be > 0");
+}
+
+void ValidateOutputs(const BakeOptions& o) {
   RequireWritableLocation(o.outputPath);
   if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
 }
@@ -64,7 +67,7 @@ std::vector<std::string> BandwidthWarnings(const Scene& scene, const SurfaceSet&
 
 }  // namespace
 
-BakeReport Bake(const BakeOptions& o, const Log& log) {
+BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
   ValidateOptions(o);
   const EffectOverrides overrides = ParseEffectOverrides(o.effectsText);
   const ThreadScope threads(o.threads);
@@ -92,10 +95,9 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   const std::vector<float> bandwidths =
       clock.Time("bandwidth", [&] { return SurfaceBandwidths(regions, bins, o.estimator, o.autoBandwidth); });
   ReportWarnings(report, BandwidthWarnings(scene, surfaces, bins, bandwidths, o.estimator.kind), log);
-  const BakedMesh baked = clock.Time("estimate", [&] {
+  BakedMesh baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(scene, surfaces, regions, SplitBySurface(scene, surfaces), bins, o.estimator, bandwidths, log);
   });
-  report.exposure = clock.Time("write", [&] { return WritePly(o.outputPath, baked, {o.asciiPly, o.exposure}); });
 
   report.triangles = scene.triangles.size();
   report.degenerateTrianglesSkipped = scene.degenerateTrianglesSkipped;
@@ -108,6 +110,15 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   report.worstAreaDistortion = surfaces.WorstAreaDistortion();
   for (size_t s = 0; s < report.surfaces.size(); ++s) report.surfaces[s].bandwidth = bandwidths[s];
   report.trace = photons.stats;
+  return {std::move(report), std::move(baked)};
+}
+
+BakeReport Bake(const BakeOptions& o, const Log& log) {
+  ValidateOutputs(o);
+  BakeResult result = BakeMesh(o, log);
+  BakeReport& report = result.report;
+  StageClock clock(report.stageSeconds);
+  report.exposure = clock.Time("write", [&] { return WritePly(o.outputPath, result.mesh, {o.asciiPly, o.exposure}); });
   if (!o.reportPath.empty()) WriteReportJson(o.reportPath, report);
   return report;
 }

@@ -8,6 +8,15 @@
 
 namespace pb {
 
+// The whole bake: BakeMesh, then the PLY and the JSON report.
 BakeReport Bake(const BakeOptions& options, const Log& log);
+
+// Everything before writing: the report (all but the display exposure and the write time) and the baked mesh.
+// options.outputPath and reportPath are not used. For tools that measure the estimate (tools/accuracy.cpp).
+struct BakeResult {
+  BakeReport report;
+  BakedMesh mesh;
+};
+BakeResult BakeMesh(const BakeOptions& options, const Log& log);
 
 }  // namespace pb

@@ -1,0 +1,40 @@
+// The accuracy tool's smoke test: --quick bakes the closed-form scene twice per configuration (two seeds) and
+// writes the CSV (one row per configuration, errors finite and in range), the SVG plot and the cheapest-run table.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "tests/ply_reader.h"
+#include "tests/run_tool.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+TEST(AccuracyCli, QuickSweepWritesCsvPlotAndTable) {
+  const std::string dir = test::TempDirectory("accuracy");
+  const test::ToolRun run = test::RunTool(PB_ACCURACY_EXE, "--quick --out " + dir);
+  ASSERT_EQ(run.status, 0) << run.output;
+  std::istringstream csv(test::ReadBytes(dir + "/accuracy.csv"));
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("estimator,kernel,h_m,auto_h,k,edge_correction,photons,seconds", 0), 0u) << header;
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    // rmse_rel is the 12th column: finite, positive, and below 100% for these runs.
+    std::istringstream fields(line);
+    std::string field;
+    for (int i = 0; i < 12; ++i) std::getline(fields, field, ',');
+    const double rmse = std::stod(field);
+    EXPECT_TRUE(rmse > 0 && rmse < 1) << line;
+  }
+  EXPECT_EQ(rows, 2);
+  EXPECT_NE(test::ReadBytes(dir + "/accuracy.svg").find("<polyline"), std::string::npos);
+  EXPECT_NE(test::ReadBytes(dir + "/cheapest.md").find("| 10% |"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace pb

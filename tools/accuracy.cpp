@@ -1,0 +1,301 @@
+// accuracy: what accuracy costs in time. Bakes a closed-form scene (a square light over a black floor, whose
+// irradiance Lambert's polygon formula gives exactly; tests/lambert.h) over a sweep of photon counts, estimators,
+// kernels, bandwidths and boundary correction, and records for each run:
+//   wall time per stage [s] and peak memory [MiB] (each run is a child process, measured by wait4);
+//   relative RMSE, mean bias and max error of H over floor vertices, for all, interior and edge vertices (edge:
+//   within 0.1 m of the floor's boundary); all relative to the mean exact H;
+//   the split of the error into noise and bias, from a second run with another seed:
+//   noise^2 = mean((H1 - H2)^2) / 2, bias^2 = max(0, RMSE^2 - noise^2).
+// Writes DIR/accuracy.csv, DIR/accuracy.svg (error against seconds, log-log, with each estimator's best error per
+// second) and DIR/cheapest.md (the cheapest run reaching each error target).
+//
+// Usage: accuracy [--out DIR] [--quick] [--threads T]. --quick runs a handful of small configurations (a smoke
+// test); the full sweep takes about 10 minutes on 2 cores.
+#include <fmt/format.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "baker/bake.h"
+#include "baker/atomic_file.h"
+#include "tests/lambert.h"
+#include "tests/test_scenes.h"
+#include "tools/cli_options.h"
+
+namespace {
+
+// The scene: box-sized, so that photon densities match a Cornell box. A 0.13 m light of radiance 50 at 0.55 m
+// over a 0.56 m black floor cut into 40 x 40 cells.
+constexpr float kLightSide = 0.13f, kRadiance = 50.0f, kHeight = 0.55f, kFloorSide = 0.56f;
+constexpr int kFloorCells = 40;
+constexpr double kEdgeBand = 0.1 * kFloorSide;  // vertices this close to the boundary count as edge vertices
+
+struct Config {
+  pb::EstimatorSettings estimator;
+  bool autoBandwidth = false;
+  uint64_t photons = 0;
+  std::string Label() const {
+    std::string s = pb::EstimatorName(estimator.kind);
+    if (estimator.kind == pb::EstimatorKind::kKernel) s += "/" + pb::KernelName(estimator.kernel);
+    s += estimator.kind == pb::EstimatorKind::kNearest ? fmt::format(" k={}", estimator.neighbours)
+         : autoBandwidth                               ? std::string(" h=auto")
+                                                       : fmt::format(" h={}", estimator.bandwidth);
+    if (!estimator.edgeCorrection) s += " no-correction";
+    return s;
+  }
+};
+
+struct ErrorSplit {
+  double rmse = 0, rmseInterior = 0, rmseEdge = 0, bias = 0, maxError = 0, noise = 0, systematic = 0;
+};
+
+// What a child process measures and sends back through a pipe, as plain bytes.
+struct Measured {
+  double seconds = 0, traceSeconds = 0, estimateSeconds = 0;
+  ErrorSplit error;
+};
+
+struct Run : Measured {
+  Config config;
+  double peakMiB = 0;
+};
+
+double ExactIrradiance(double x, double z) {
+  const double l = kLightSide / 2;
+  return pb::test::LambertPolygonIrradiance({x, 0, z}, {0, 1, 0},
+                                            {{-l, kHeight, -l}, {l, kHeight, -l}, {l, kHeight, l}, {-l, kHeight, l}},
+                                            kRadiance);
+}
+
+// Floor vertices' H (luminance) from one bake, and the stage times.
+struct Sample {
+  std::vector<double> h, exact;
+  std::vector<bool> edge;
+  double seconds = 0, trace = 0, estimate = 0;
+};
+
+Sample BakeOnce(const std::string& scene, const Config& c, uint64_t seed, unsigned threads) {
+  pb::BakeOptions o;
+  o.scenePath = scene;
+  o.estimator = c.estimator;
+  o.autoBandwidth = c.autoBandwidth;
+  o.photons = c.photons;
+  o.seed = seed;
+  o.threads = threads;
+  const pb::BakeResult r = pb::BakeMesh(o, pb::Log(true));
+  Sample s;
+  for (const auto& [stage, seconds] : r.report.stageSeconds) {
+    s.seconds += seconds;
+    if (stage == "trace") s.trace = seconds;
+    if (stage == "estimate" || stage == "bandwidth") s.estimate += seconds;
+  }
+  const pb::SplitMesh& mesh = r.mesh.mesh;
+  for (size_t v = 0; v < mesh.VertexCount(); ++v) {
+    const pb::Point3 p = mesh.positions[v];
+    if (std::abs(p.y) > 1e-6f) continue;  // the light
+    s.h.push_back(pb::Luminance(r.mesh.irradiance[v]));
+    s.exact.push_back(ExactIrradiance(p.x, p.z));
+    s.edge.push_back(kFloorSide / 2 - std::max(std::abs(p.x), std::abs(p.z)) < kEdgeBand);
+  }
+  return s;
+}
+
+ErrorSplit Errors(const Sample& a, const Sample& b) {
+  double meanExact = 0;
+  for (double e : a.exact) meanExact += e;
+  meanExact /= double(a.exact.size());
+  double all = 0, interior = 0, edge = 0, bias = 0, worst = 0, noise = 0;
+  size_t nInterior = 0, nEdge = 0;
+  for (size_t i = 0; i < a.h.size(); ++i) {
+    const double d = a.h[i] - a.exact[i], d2 = d * d;
+    all += d2;
+    (a.edge[i] ? edge : interior) += d2;
+    ++(a.edge[i] ? nEdge : nInterior);
+    bias += d;
+    worst = std::max(worst, std::abs(d));
+    noise += (a.h[i] - b.h[i]) * (a.h[i] - b.h[i]) / 2;
+  }
+  const double n = double(a.h.size());
+  ErrorSplit e;
+  e.rmse = std::sqrt(all / n) / meanExact;
+  e.rmseInterior = std::sqrt(interior / double(std::max<size_t>(nInterior, 1))) / meanExact;
+  e.rmseEdge = std::sqrt(edge / double(std::max<size_t>(nEdge, 1))) / meanExact;
+  e.bias = bias / n / meanExact;
+  e.maxError = worst / meanExact;
+  e.noise = std::sqrt(noise / n) / meanExact;
+  e.systematic = std::sqrt(std::max(0.0, e.rmse * e.rmse - e.noise * e.noise));
+  return e;
+}
+
+// Runs one configuration in a child process (two seeds), so that its peak memory is its own.
+Run Measure(const std::string& scene, const Config& c, unsigned threads) {
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
+  const pid_t child = fork();
+  if (child == 0) {
+    close(fds[0]);
+    const Sample a = BakeOnce(scene, c, 1, threads), b = BakeOnce(scene, c, 2, threads);
+    const Measured m{a.seconds, a.trace, a.estimate, Errors(a, b)};
+    _exit(write(fds[1], &m, sizeof m) == ssize_t(sizeof m) ? 0 : 1);
+  }
+  close(fds[1]);
+  Run run;
+  run.config = c;
+  Measured& m = run;
+  const bool ok = read(fds[0], &m, sizeof m) == ssize_t(sizeof m);
+  close(fds[0]);
+  int status = 0;
+  rusage usage{};
+  wait4(child, &status, 0, &usage);
+  if (!ok || !WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error("run failed: " + c.Label());
+  run.peakMiB = double(usage.ru_maxrss) / 1024.0;  // kilobytes on Linux
+  return run;
+}
+
+std::vector<Config> Sweep(bool quick) {
+  using pb::EstimatorKind;
+  using pb::Kernel;
+  std::vector<Config> configs;
+  const std::vector<uint64_t> counts = quick ? std::vector<uint64_t>{10'000, 100'000}
+                                             : std::vector<uint64_t>{10'000, 100'000, 1'000'000, 10'000'000};
+  for (uint64_t n : counts) {
+    const auto add = [&](EstimatorKind kind, Kernel kernel, float h, uint32_t k, bool correction, bool automatic) {
+      configs.push_back({{kind, kernel, h, k, correction}, automatic, n});
+    };
+    add(EstimatorKind::kKernel, Kernel::kEpanechnikov, 0.05f, 50, true, true);
+    if (quick) continue;
+    for (Kernel kernel : pb::kAllKernels) add(EstimatorKind::kKernel, kernel, 0.05f, 50, true, false);
+    for (float h : {0.02f, 0.1f}) add(EstimatorKind::kKernel, Kernel::kEpanechnikov, h, 50, true, false);
+    add(EstimatorKind::kKernel, Kernel::kEpanechnikov, 0.05f, 50, false, false);
+    for (float h : {0.02f, 0.05f, 0.1f}) add(EstimatorKind::kHistogram, Kernel::kEpanechnikov, h, 50, true, false);
+    add(EstimatorKind::kHistogram, Kernel::kEpanechnikov, 0.05f, 50, true, true);
+    for (uint32_t k : {20u, 50u, 200u}) add(EstimatorKind::kNearest, Kernel::kEpanechnikov, 0.05f, k, true, false);
+    add(EstimatorKind::kNearest, Kernel::kEpanechnikov, 0.05f, 50, false, false);
+  }
+  return configs;
+}
+
+void WriteCsv(const std::string& path, const std::vector<Run>& runs) {
+  pb::WriteFileAtomically(path, [&](std::ostream& out) {
+    out << "estimator,kernel,h_m,auto_h,k,edge_correction,photons,seconds,trace_s,estimate_s,peak_mib,rmse_rel,"
+           "rmse_interior_rel,rmse_edge_rel,mean_bias_rel,max_error_rel,noise_rel,bias_rel\n";
+    for (const Run& r : runs) {
+      const pb::EstimatorSettings& e = r.config.estimator;
+      out << fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.1f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f}\n",
+                         pb::EstimatorName(e.kind), pb::KernelName(e.kernel), e.bandwidth, r.config.autoBandwidth,
+                         e.neighbours, e.edgeCorrection, r.config.photons, r.seconds, r.traceSeconds,
+                         r.estimateSeconds, r.peakMiB, r.error.rmse, r.error.rmseInterior, r.error.rmseEdge,
+                         r.error.bias, r.error.maxError, r.error.noise, r.error.systematic);
+    }
+  });
+}
+
+// Log-log SVG of relative RMSE against seconds: every run as a dot, and each estimator's lower envelope (the
+// best error reachable in a given time) as a line.
+void WriteSvg(const std::string& path, const std::vector<Run>& runs) {
+  constexpr double kW = 720, kH = 480, kLeft = 70, kBottom = 50, kTop = 20, kRight = 160;
+  double t0 = 1e9, t1 = 0, e0 = 1e9, e1 = 0;
+  for (const Run& r : runs) {
+    t0 = std::min(t0, r.seconds), t1 = std::max(t1, r.seconds);
+    e0 = std::min(e0, r.error.rmse), e1 = std::max(e1, r.error.rmse);
+  }
+  const double lt0 = std::floor(std::log10(t0)), lt1 = std::ceil(std::log10(t1));
+  const double le0 = std::floor(std::log10(e0)), le1 = std::ceil(std::log10(e1));
+  const auto X = [&](double t) { return kLeft + (std::log10(t) - lt0) / (lt1 - lt0) * (kW - kLeft - kRight); };
+  const auto Y = [&](double e) { return kH - kBottom - (std::log10(e) - le0) / (le1 - le0) * (kH - kBottom - kTop); };
+  const std::map<pb::EstimatorKind, std::string> colour = {
+      {pb::EstimatorKind::kKernel, "#1f77b4"}, {pb::EstimatorKind::kHistogram, "#d62728"},
+      {pb::EstimatorKind::kNearest, "#2ca02c"}};
+  std::string svg = fmt::format("<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' font-family='sans-serif' "
+                                "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n", kW, kH);
+  for (double l = lt0; l <= lt1; ++l)
+    svg += fmt::format("<line x1='{0}' x2='{0}' y1='{1}' y2='{2}' stroke='#ddd'/><text x='{0}' y='{3}' "
+                       "text-anchor='middle'>{4:g} s</text>\n", X(std::pow(10, l)), kTop, kH - kBottom,
+                       kH - kBottom + 16, std::pow(10, l));
+  for (double l = le0; l <= le1; ++l)
+    svg += fmt::format("<line x1='{0}' x2='{1}' y1='{2}' y2='{2}' stroke='#ddd'/><text x='{3}' y='{2}' "
+                       "text-anchor='end'>{4:g}%</text>\n", kLeft, kW - kRight, Y(std::pow(10, l)), kLeft - 6,
+                       100 * std::pow(10, l));
+  svg += fmt::format("<text x='{}' y='{}' text-anchor='middle'>wall time of one bake (2 cores)</text>\n",
+                     (kLeft + kW - kRight) / 2, kH - 10);
+  svg += fmt::format("<text x='14' y='{}' transform='rotate(-90 14 {})' text-anchor='middle'>relative RMSE of H</text>\n",
+                     kH / 2, kH / 2);
+  int legend = 0;
+  for (const auto& [kind, c] : colour) {
+    std::vector<const Run*> mine;
+    for (const Run& r : runs)
+      if (r.config.estimator.kind == kind) mine.push_back(&r);
+    if (mine.empty()) continue;
+    std::sort(mine.begin(), mine.end(), [](const Run* a, const Run* b) { return a->seconds < b->seconds; });
+    std::string envelope;
+    double best = 1e300;
+    for (const Run* r : mine) {
+      svg += fmt::format("<circle cx='{:.1f}' cy='{:.1f}' r='3' fill='{}' fill-opacity='0.45'/>\n", X(r->seconds),
+                         Y(r->error.rmse), c);
+      if (r->error.rmse < best) {
+        best = r->error.rmse;
+        envelope += fmt::format("{:.1f},{:.1f} ", X(r->seconds), Y(best));
+      }
+    }
+    svg += fmt::format("<polyline points='{}' fill='none' stroke='{}' stroke-width='2'/>\n", envelope, c);
+    svg += fmt::format("<rect x='{}' y='{}' width='12' height='12' fill='{}'/><text x='{}' y='{}'>{}</text>\n",
+                       kW - kRight + 12, kTop + 20 * legend, c, kW - kRight + 30, kTop + 20 * legend + 11,
+                       pb::EstimatorName(kind));
+    ++legend;
+  }
+  svg += "</svg>\n";
+  pb::WriteFileAtomically(path, [&](std::ostream& out) { out << svg; });
+}
+
+// The cheapest run reaching each error target.
+void WriteCheapest(const std::string& path, const std::vector<Run>& runs) {
+  std::string md = "| target RMSE | cheapest run | photons | seconds | RMSE | peak MiB |\n|---|---|---|---|---|---|\n";
+  for (double target : {0.10, 0.05, 0.02, 0.01}) {
+    const Run* cheapest = nullptr;
+    for (const Run& r : runs)
+      if (r.error.rmse <= target && (!cheapest || r.seconds < cheapest->seconds)) cheapest = &r;
+    md += cheapest ? fmt::format("| {:.0f}% | {} | {} | {:.3f} | {:.2f}% | {:.0f} |\n", 100 * target,
+                                 cheapest->config.Label(), cheapest->config.photons, cheapest->seconds,
+                                 100 * cheapest->error.rmse, cheapest->peakMiB)
+                   : fmt::format("| {:.0f}% | none in the sweep | | | | |\n", 100 * target);
+  }
+  pb::WriteFileAtomically(path, [&](std::ostream& out) { out << md; });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"accuracy: error of H against time, on a closed-form scene (photonbake)"};
+  std::string out = "out/accuracy";
+  bool quick = false;
+  unsigned threads = 0;
+  app.add_option("--out", out, "folder for accuracy.csv, accuracy.svg and cheapest.md")->capture_default_str();
+  app.add_flag("--quick", quick, "a handful of small runs, as a smoke test");
+  app.add_option("--threads", threads, "worker threads per bake; 0 = all cores")->capture_default_str();
+  return pb::tools::RunTool(app, argc, argv, [&] {
+    std::filesystem::create_directories(out);
+    const std::string scene = pb::test::WriteSquareLightOverFloor(out, kLightSide, kRadiance, kHeight, kFloorSide,
+                                                                  kFloorCells);
+    std::vector<Run> runs;
+    const std::vector<Config> configs = Sweep(quick);
+    for (size_t i = 0; i < configs.size(); ++i) {
+      runs.push_back(Measure(scene, configs[i], threads));
+      const Run& r = runs.back();
+      fmt::print(stderr, "[{}/{}] {:<32} {:>9} photons  {:7.3f} s  RMSE {:6.2f}% (noise {:.2f}%, bias {:.2f}%)  {:.0f} MiB\n",
+                 i + 1, configs.size(), r.config.Label(), r.config.photons, r.seconds, 100 * r.error.rmse,
+                 100 * r.error.noise, 100 * r.error.systematic, r.peakMiB);
+    }
+    WriteCsv(out + "/accuracy.csv", runs);
+    WriteSvg(out + "/accuracy.svg", runs);
+    WriteCheapest(out + "/cheapest.md", runs);
+    fmt::print(stderr, "wrote {0}/accuracy.csv, {0}/accuracy.svg and {0}/cheapest.md\n", out);
+  });
+}
