@@ -173,7 +173,7 @@ std::vector<Config> Sweep(bool quick) {
     add(EstimatorKind::kKernel, Kernel::kEpanechnikov, 0.05f, 50, true, true);
     if (quick) continue;
     for (Kernel kernel : pb::kAllKernels) add(EstimatorKind::kKernel, kernel, 0.05f, 50, true, false);
-    for (float h : {0.02f, 0.1f}) add(EstimatorKind::kKernel, Kernel::kEpanechnikov, h, 50, true, false);
+    for (float h : {0.02f, 0.03f, 0.1f}) add(EstimatorKind::kKernel, Kernel::kEpanechnikov, h, 50, true, false);
     add(EstimatorKind::kKernel, Kernel::kEpanechnikov, 0.05f, 50, false, false);
     for (float h : {0.02f, 0.05f, 0.1f}) add(EstimatorKind::kHistogram, Kernel::kEpanechnikov, h, 50, true, false);
     add(EstimatorKind::kHistogram, Kernel::kEpanechnikov, 0.05f, 50, true, true);
