@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "baker/0_plan_transport.h"
+#include "baker/huge_pages.h"
 #include "baker/progress.h"
 #include "mesh/color.h"
 #include "mesh/geometry.h"
@@ -48,6 +49,9 @@ struct PhotonHit {
 };
 static_assert(sizeof(PhotonHit) == 28, "the compact photon record of issue 3");
 
+// The hits of one block of photons, in photon order, in huge-page memory (baker/huge_pages.h).
+using HitBlock = std::vector<PhotonHit, HugePageAllocator<PhotonHit>>;
+
 struct TraceSettings {
   uint64_t photons = 0;
   uint64_t seed = 1;
@@ -76,7 +80,7 @@ struct TraceStats {
 // The hits of all photons, kept in the per-block arrays they were traced into (no merged copy: merging
 // 10^7 hits cost a zero-filled allocation and a page fault per 4 KiB). Block order = photon order.
 struct PhotonHits {
-  std::vector<std::vector<PhotonHit>> blocks;
+  std::vector<HitBlock> blocks;
   TraceStats stats;
 
   template <typename F>
