@@ -214,3 +214,61 @@ TEST(Stability, DegenerateGeometryMeansTheSameLight) {
 
 }  // namespace
 }  // namespace pb
+
+#include "tests/chi2.h"
+#include "tests/lambert.h"
+
+namespace pb {
+namespace {
+
+TEST(Stability, ALightCuttingThroughTheFloorLightsItAsItsUpperPartWould) {
+  // A vertical light x = 0, z in [-0.2, 0.2], y in [-0.2, 0.3], facing +x, crosses a black floor y = 0. Photons
+  // from its lower part must stay below the floor and those from the upper part light the floor's front exactly
+  // as the upper part alone would (Lambert's polygon formula): no photon may slip through the floor where the
+  // two meet, and none may start on the wrong side of it. Chi-square over 32 floor cells at 1M photons.
+  const std::string dir = test::TempDirectory("cutting-light");
+  const float radiance = 10;
+  test::WriteText(dir + "/c.mtl", "newmtl floor\nKd 0 0 0\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
+  test::WriteText(dir + "/c.obj", "mtllib c.mtl\nusemtl floor\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\nf 1 2 3 4\n"
+                                  "usemtl lamp\nv 0 -0.2 -0.2\nv 0 0.3 -0.2\nv 0 0.3 0.2\nv 0 -0.2 0.2\nf 5 6 7 8\n");
+  const Scene scene = LoadObj(dir + "/c.obj").scene;
+  const SurfaceSet surfaces = BuildSurfaces(scene);
+  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
+  const RayScene rays(scene);
+  constexpr uint64_t kPhotons = 1'000'000;
+  const PhotonHits hits =
+      TracePhotons(scene, lights, rays, PlanTransport(scene, surfaces, lights, {}), {kPhotons, 9, 10000}, Log(true));
+  constexpr int kNx = 4, kNz = 8;
+  constexpr double kCell = 0.25;
+  std::vector<double> observed(kNx * kNz, 0.0), expected(kNx * kNz, 0.0);
+  uint64_t wrongSide = 0;
+  hits.ForEach([&](const PhotonHit& h) {
+    if (scene.MaterialOf(h.Triangle()).IsEmissive()) return;
+    const Point3 p = scene.PointAt(h.Triangle(), h.b1, h.b2);
+    if (!h.OnFront()) return;  // light from the lower part, under the floor
+    if (p.x < 0) {
+      ++wrongSide;  // the floor behind the light sees only its unlit back
+      return;
+    }
+    ++observed[size_t(std::min(kNx - 1, int(p.x / kCell)) * kNz + std::min(kNz - 1, int((p.z + 1) / kCell)))];
+  });
+  EXPECT_EQ(wrongSide, 0u);
+  const std::vector<test::V3> upper = {{0, 0, -0.2}, {0, 0.3, -0.2}, {0, 0.3, 0.2}, {0, 0, 0.2}};
+  const double phi = M_PI * radiance * 0.4 * 0.5;  // the whole light's flux
+  constexpr int kSub = 16;
+  for (int i = 0; i < kNx; ++i)
+    for (int k = 0; k < kNz; ++k) {
+      double flux = 0;
+      for (int a = 0; a < kSub; ++a)
+        for (int b = 0; b < kSub; ++b) {
+          const double x = (i + (a + 0.5) / kSub) * kCell, z = -1 + (k + (b + 0.5) / kSub) * kCell;
+          flux += std::abs(test::LambertPolygonIrradiance({x, 0, z}, {0, 1, 0}, upper, radiance));
+        }
+      expected[size_t(i * kNz + k)] = flux * kCell * kCell / (kSub * kSub) * double(kPhotons) / phi;
+    }
+  const test::Chi2Result r = test::Chi2Test(observed, expected);
+  EXPECT_GT(r.pValue, 1e-3) << "chi2 " << r.statistic << " dof " << r.degreesOfFreedom << "\n" << r.histograms;
+}
+
+}  // namespace
+}  // namespace pb
