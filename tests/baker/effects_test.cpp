@@ -17,6 +17,7 @@
 #include "mesh/errors.h"
 #include "mesh/obj_loader.h"
 #include "tests/chi2.h"
+#include "tests/floor_cells.h"
 #include "tests/test_scenes.h"
 
 namespace pb {
@@ -154,34 +155,28 @@ TEST(Effects, MirrorImageMatchesTheClosedForm) {
 
   // Photon counts in 0.25 m cells of the floor against N * integral(H) / Phi over each cell. Every photon
   // carries Phi / N (Ks / max(Ks) = 1), so counts are Poisson: chi-square over the cells.
-  constexpr int kNx = 6, kNz = 8;
-  constexpr double kCell = 0.25;
+  const test::FloorCells cells{6, 8, 0.25, 0.0, -1.0};
   const uint32_t floorMaterial = s.scene.triangles[0].material;
-  std::vector<double> observed(kNx * kNz, 0.0), expected(kNx * kNz, 0.0);
+  std::vector<double> observed(cells.Count(), 0.0);
   hits.ForEach([&](const PhotonHit& h) {
     if (s.scene.triangles[h.Triangle()].material != floorMaterial || !h.OnFront()) return;
     const Point3 p = s.scene.PointAt(h.Triangle(), h.b1, h.b2);
-    const int i = std::min(kNx - 1, int(p.x / kCell)), k = std::min(kNz - 1, int((p.z + 1.0) / kCell));
-    ++observed[size_t(i * kNz + k)];
+    ++observed[cells.Of(p.x, p.z)];
   });
   const double area = 0.02 * 0.02, intensity = radiance * area, phi = M_PI * radiance * area;
-  constexpr int kSub = 24;  // midpoint rule per cell; H is smooth within each (the direct cut-off is at x = 0.5)
-  for (int i = 0; i < kNx; ++i)
-    for (int k = 0; k < kNz; ++k) {
-      double flux = 0;
-      for (int a = 0; a < kSub; ++a)
-        for (int b = 0; b < kSub; ++b) {
-          const double x = (i + (a + 0.5) / kSub) * kCell, z = -1.0 + (k + (b + 0.5) / kSub) * kCell;
-          flux += PointSourceIrradiance(x, z, 0.5, -1, intensity) + 0.9 * PointSourceIrradiance(x, z, -0.5, 1, intensity);
-        }
-      expected[size_t(i * kNz + k)] = flux * (kCell * kCell / (kSub * kSub)) * double(kPhotons) / phi;
-    }
+  // H is smooth within each cell: the direct light's cut-off at x = 0.5 is a cell edge.
+  const std::vector<double> expected = cells.ExpectedCounts(
+      [&](double x, double z) {
+        return PointSourceIrradiance(x, z, 0.5, -1, intensity) + 0.9 * PointSourceIrradiance(x, z, -0.5, 1, intensity);
+      },
+      double(kPhotons) / phi, 24);
   double chi2 = 0;
   for (size_t c = 0; c < observed.size(); ++c) chi2 += (observed[c] - expected[c]) * (observed[c] - expected[c]) / expected[c];
   const double p = test::RegularizedGammaQ(observed.size() / 2.0, chi2 / 2.0);
   EXPECT_GT(p, 1e-3) << "chi2 " << chi2 << " over " << observed.size() << " cells";
   // Without the mirror's contribution the far cells would hold 10% of what they do: the test can fail.
-  EXPECT_GT(observed[size_t((kNx - 1) * kNz + kNz / 2)], 0.9 * expected[size_t((kNx - 1) * kNz + kNz / 2)]);
+  const size_t far = cells.Of(1.4, 0.0);
+  EXPECT_GT(observed[far], 0.9 * expected[far]);
 }
 
 TEST(Effects, ForbiddenReflectionIsTalliedNotLost) {

@@ -216,6 +216,7 @@ TEST(Stability, DegenerateGeometryMeansTheSameLight) {
 }  // namespace pb
 
 #include "tests/chi2.h"
+#include "tests/floor_cells.h"
 #include "tests/lambert.h"
 
 namespace pb {
@@ -238,9 +239,8 @@ TEST(Stability, ALightCuttingThroughTheFloorLightsItAsItsUpperPartWould) {
   constexpr uint64_t kPhotons = 1'000'000;
   const PhotonHits hits =
       TracePhotons(scene, lights, rays, PlanTransport(scene, surfaces, lights, {}), {kPhotons, 9, 10000}, Log(true));
-  constexpr int kNx = 4, kNz = 8;
-  constexpr double kCell = 0.25;
-  std::vector<double> observed(kNx * kNz, 0.0), expected(kNx * kNz, 0.0);
+  const test::FloorCells cells{4, 8, 0.25, 0.0, -1.0};
+  std::vector<double> observed(cells.Count(), 0.0);
   uint64_t wrongSide = 0;
   hits.ForEach([&](const PhotonHit& h) {
     if (scene.MaterialOf(h.Triangle()).IsEmissive()) return;
@@ -250,22 +250,14 @@ TEST(Stability, ALightCuttingThroughTheFloorLightsItAsItsUpperPartWould) {
       ++wrongSide;  // the floor behind the light sees only its unlit back
       return;
     }
-    ++observed[size_t(std::min(kNx - 1, int(p.x / kCell)) * kNz + std::min(kNz - 1, int((p.z + 1) / kCell)))];
+    ++observed[cells.Of(p.x, p.z)];
   });
   EXPECT_EQ(wrongSide, 0u);
   const std::vector<test::V3> upper = {{0, 0, -0.2}, {0, 0.3, -0.2}, {0, 0.3, 0.2}, {0, 0, 0.2}};
   const double phi = M_PI * radiance * 0.4 * 0.5;  // the whole light's flux
-  constexpr int kSub = 16;
-  for (int i = 0; i < kNx; ++i)
-    for (int k = 0; k < kNz; ++k) {
-      double flux = 0;
-      for (int a = 0; a < kSub; ++a)
-        for (int b = 0; b < kSub; ++b) {
-          const double x = (i + (a + 0.5) / kSub) * kCell, z = -1 + (k + (b + 0.5) / kSub) * kCell;
-          flux += std::abs(test::LambertPolygonIrradiance({x, 0, z}, {0, 1, 0}, upper, radiance));
-        }
-      expected[size_t(i * kNz + k)] = flux * kCell * kCell / (kSub * kSub) * double(kPhotons) / phi;
-    }
+  const std::vector<double> expected = cells.ExpectedCounts(
+      [&](double x, double z) { return std::abs(test::LambertPolygonIrradiance({x, 0, z}, {0, 1, 0}, upper, radiance)); },
+      double(kPhotons) / phi);
   const test::Chi2Result r = test::Chi2Test(observed, expected);
   EXPECT_GT(r.pValue, 1e-3) << "chi2 " << r.statistic << " dof " << r.degreesOfFreedom << "\n" << r.histograms;
 }
