@@ -15,11 +15,11 @@ std::vector<Triangle2> ChartTriangles(const SurfaceSet& surfaces, const Surface&
   return triangles;
 }
 
-// One estimator per surface, built in parallel, each from its own photons only.
-std::vector<std::unique_ptr<DensityEstimator>> BuildEstimators(const SurfaceRegions& regions, const SurfaceBins& bins,
-                                                               EstimatorSettings settings,
-                                                               const std::vector<float>& bandwidths) {
-  std::vector<std::unique_ptr<DensityEstimator>> estimators(bins.SurfaceCount());
+}  // namespace
+
+SurfaceEstimators BuildEstimators(const SurfaceRegions& regions, const SurfaceBins& bins,
+                                  const EstimatorSettings& settings, const std::vector<float>& bandwidths) {
+  SurfaceEstimators estimators(bins.SurfaceCount());
   tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
     EstimatorSettings own = settings;
     own.bandwidth = bandwidths[s];
@@ -27,8 +27,6 @@ std::vector<std::unique_ptr<DensityEstimator>> BuildEstimators(const SurfaceRegi
   });
   return estimators;
 }
-
-}  // namespace
 
 SurfaceRegions BuildRegions(const SurfaceSet& surfaces) {
   SurfaceRegions regions(surfaces.surfaces.size());
@@ -48,10 +46,8 @@ std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const Surfac
   return h;
 }
 
-BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceRegions& regions,
-                             SplitMesh mesh, const SurfaceBins& bins, const EstimatorSettings& settings,
-                             const std::vector<float>& bandwidths, const Log& log) {
-  const auto estimators = BuildEstimators(regions, bins, settings, bandwidths);
+BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators,
+                             SplitMesh mesh, const Log& log) {
   BakedMesh baked;
   const size_t n = mesh.VertexCount();
   baked.irradiance.resize(n);

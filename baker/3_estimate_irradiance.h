@@ -25,8 +25,12 @@ SurfaceRegions BuildRegions(const SurfaceSet& surfaces);
 std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
                                      const EstimatorSettings& settings, bool automatic);
 
-BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceRegions& regions,
-                             SplitMesh mesh, const SurfaceBins& bins, const EstimatorSettings& settings,
-                             const std::vector<float>& bandwidths, const Log& log);
+// One estimator per surface (its own photons, its own h), built in parallel. They refer to `regions`.
+using SurfaceEstimators = std::vector<std::unique_ptr<DensityEstimator>>;
+SurfaceEstimators BuildEstimators(const SurfaceRegions& regions, const SurfaceBins& bins,
+                                  const EstimatorSettings& settings, const std::vector<float>& bandwidths);
+
+BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators,
+                             SplitMesh mesh, const Log& log);
 
 }  // namespace pb

@@ -95,9 +95,10 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
   const std::vector<float> bandwidths =
       clock.Time("bandwidth", [&] { return SurfaceBandwidths(regions, bins, o.estimator, o.autoBandwidth); });
   ReportWarnings(report, BandwidthWarnings(scene, surfaces, bins, bandwidths, o.estimator.kind), log);
-  BakedMesh baked = clock.Time("estimate", [&] {
-    return EstimateIrradiance(scene, surfaces, regions, SplitBySurface(scene, surfaces), bins, o.estimator, bandwidths, log);
-  });
+  const SurfaceEstimators estimators =
+      clock.Time("estimators", [&] { return BuildEstimators(regions, bins, o.estimator, bandwidths); });
+  BakedMesh baked =
+      clock.Time("estimate", [&] { return EstimateIrradiance(scene, surfaces, estimators, SplitBySurface(scene, surfaces), log); });
 
   report.triangles = scene.triangles.size();
   report.degenerateTrianglesSkipped = scene.degenerateTrianglesSkipped;

@@ -95,7 +95,7 @@ Sample BakeOnce(const std::string& scene, const Config& c, uint64_t seed, unsign
   for (const auto& [stage, seconds] : r.report.stageSeconds) {
     s.seconds += seconds;
     if (stage == "trace") s.trace = seconds;
-    if (stage == "estimate" || stage == "bandwidth") s.estimate += seconds;
+    if (stage == "estimate" || stage == "estimators" || stage == "bandwidth") s.estimate += seconds;
   }
   const pb::SplitMesh& mesh = r.mesh.mesh;
   for (size_t v = 0; v < mesh.VertexCount(); ++v) {

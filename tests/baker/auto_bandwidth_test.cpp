@@ -30,7 +30,8 @@ TEST(AutoBandwidth, LandsWithinAFactorOfTwoOfTheScannedOptimum) {
   const EstimatorSettings settings;
 
   const auto relativeRmse = [&](const std::vector<float>& h) {
-    const BakedMesh baked = EstimateIrradiance(scene, surfaces, regions, SplitBySurface(scene, surfaces), bins, settings, h, quiet);
+    const BakedMesh baked = EstimateIrradiance(scene, surfaces, BuildEstimators(regions, bins, settings, h),
+                                               SplitBySurface(scene, surfaces), quiet);
     double sum = 0;
     int n = 0;
     for (size_t v = 0; v < baked.mesh.VertexCount(); ++v) {
