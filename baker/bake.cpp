@@ -9,6 +9,7 @@
 #include "baker/1_trace_photons.h"
 #include "baker/2_bin_photons.h"
 #include "baker/3_estimate_irradiance.h"
+#include "baker/5_write_maps.h"
 #include "baker/5_write_ply.h"
 #include "baker/atomic_file.h"
 #include "baker/stage_clock.h"
@@ -33,6 +34,7 @@ void ValidateOptions(const BakeOptions& o) {
 void ValidateOutputs(const BakeOptions& o) {
   RequireWritableLocation(o.outputPath);
   if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
+  if (!o.mapsDirectory.empty()) RequireWritableLocation(o.mapsDirectory + "/surface_0.exr");
 }
 
 void RequireLight(const Scene& scene, const std::vector<AreaLight>& lights) {
@@ -99,6 +101,10 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
       clock.Time("estimators", [&] { return BuildEstimators(regions, bins, o.estimator, bandwidths); });
   BakedMesh baked =
       clock.Time("estimate", [&] { return EstimateIrradiance(scene, surfaces, estimators, SplitBySurface(scene, surfaces), log); });
+  if (!o.mapsDirectory.empty())
+    report.maps = clock.Time("maps", [&] {
+      return WriteIrradianceMaps(o.mapsDirectory, o.texel, scene, surfaces, regions, estimators, log);
+    });
 
   report.triangles = scene.triangles.size();
   report.degenerateTrianglesSkipped = scene.degenerateTrianglesSkipped;

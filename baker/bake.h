@@ -11,8 +11,9 @@ namespace pb {
 // The whole bake: BakeMesh, then the PLY and the JSON report.
 BakeReport Bake(const BakeOptions& options, const Log& log);
 
-// Everything before writing: the report (all but the display exposure and the write time) and the baked mesh.
-// options.outputPath and reportPath are not used. For tools that measure the estimate (tools/accuracy.cpp).
+// Everything before writing the PLY: the report (all but the display exposure and the write time) and the baked
+// mesh. options.outputPath and reportPath are not used; irradiance maps are written when
+// options.mapsDirectory is set. For tools that measure the estimate (tools/accuracy.cpp).
 struct BakeResult {
   BakeReport report;
   BakedMesh mesh;

@@ -46,10 +46,11 @@ void PngFlush(png_structp) {}
 }  // namespace
 
 void WriteExr(const std::string& path, const Image& image,
-              const std::vector<std::pair<std::string, std::string>>& attributes) {
+              const std::vector<std::pair<std::string, std::string>>& attributes, const std::vector<float>* alpha) {
   WriteFileAtomically(path, [&](std::ostream& out) {
     Imf::Header header(image.width, image.height);
     for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    if (alpha) header.channels().insert("A", Imf::Channel(Imf::FLOAT));
     header.insert("quantity", Imf::StringAttribute("radiance"));
     header.insert("units", Imf::StringAttribute("W/(m^2 sr), linear Rec.709 RGB"));
     for (const auto& [key, value] : attributes) header.insert(key, Imf::StringAttribute(value));
@@ -57,6 +58,9 @@ void WriteExr(const std::string& path, const Image& image,
     frame.insert("R", FloatSlice(image, 0));
     frame.insert("G", FloatSlice(image, 1));
     frame.insert("B", FloatSlice(image, 2));
+    if (alpha)
+      frame.insert("A", Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(alpha->data())),
+                                   sizeof(float), sizeof(float) * size_t(image.width)));
     ExrStream stream(out, path);
     Imf::OutputFile file(stream, header);
     file.setFrameBuffer(frame);

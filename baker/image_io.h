@@ -21,9 +21,11 @@ struct Image {
   const Rgb& At(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
-// Extra string attributes go into the EXR header beside "quantity" and "units".
+// Extra string attributes go into the EXR header beside "quantity" and "units" (radiance unless the attributes
+// name another). With `alpha` (one value per pixel) the image also gets an A channel.
 void WriteExr(const std::string& path, const Image& image,
-              const std::vector<std::pair<std::string, std::string>>& attributes = {});
+              const std::vector<std::pair<std::string, std::string>>& attributes = {},
+              const std::vector<float>* alpha = nullptr);
 // For tests and tools; InputError on failure. With `attributes`, also returns the header's string attributes.
 Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes = nullptr);
 void WritePng(const std::string& path, const Image& image, float exposure);

@@ -28,6 +28,8 @@ struct BakeOptions {
   std::optional<float> exposure;  // display exposure multiplier on radiance; unset = automatic.
   uint32_t maxBounces = 10'000;   // safety cap on path length; photons cut there are counted.
   bool quiet = false;             // no progress or summary on stderr.
+  std::string mapsDirectory;      // --maps: one irradiance map (EXR) per surface here; empty for none.
+  float texel = 0.02f;            // --texel: map texel side [m]; range (0, inf), typical 0.005-0.05.
 };
 
 }  // namespace pb

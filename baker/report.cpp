@@ -116,6 +116,9 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   for (Effect e : kAllEffects) s += fmt::format("  effect    {}: {}\n", EffectName(e), r.plan.Describe(e));
   s += fmt::format("  output    {}: {} vertices, {} triangles, display exposure {:.4g}\n", r.options.outputPath,
                    r.vertices, r.faces, r.exposure);
+  if (!r.maps.paths.empty())
+    s += fmt::format("  maps      {} irradiance maps (EXR, W/m^2), {} texels of {} m, in {}\n", r.maps.paths.size(),
+                     r.maps.texels, r.options.texel, r.options.mapsDirectory);
   log.Info(s);
 }
 
@@ -147,6 +150,7 @@ void WriteReportJson(const std::string& path, const BakeReport& r) {
   j["effects"]["significant_diffuse_bounces"] = r.plan.significantBounces;
   j["output"] = {{"path", r.options.outputPath}, {"vertices", r.vertices}, {"faces", r.faces},
                  {"display_exposure", r.exposure}};
+  j["maps"] = {{"paths", r.maps.paths}, {"texels", r.maps.texels}, {"texel_m", r.options.texel}};
   j["warnings"] = r.warnings;
   const std::string text = j.dump(2) + "\n";
   WriteFileAtomically(path, [&](std::ostream& out) { out << text; });

@@ -8,6 +8,7 @@
 
 #include "baker/1_trace_photons.h"
 #include "baker/2_bin_photons.h"
+#include "baker/5_write_maps.h"
 #include "baker/baked_mesh.h"
 #include "baker/options.h"
 #include "mesh/lights.h"
@@ -47,6 +48,7 @@ struct BakeReport {
   TransportPlan plan;  // the effects simulated and skipped, with reasons
   std::vector<std::string> warnings;
   float exposure = 1;
+  MapsWritten maps;  // --maps: the EXR files written and their texel count
 
   double TotalSeconds() const;
 };

@@ -75,6 +75,9 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
           },
           "EFFECTS", "effects"))
       ->capture_default_str();
+  app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
+                                            "this folder (surface_N.exr; README, 'Irradiance maps')");
+  app.add_option("--texel", o.texel, "texel side of --maps [m]; range > 0, typical 0.005-0.05")->capture_default_str();
   app.add_option("--report", o.reportPath, "write the summary figures as JSON to this file");
   app.add_option("--exposure", o.exposure, "display exposure on radiance for the PLY's uchar colours; range > 0; "
                                            "default automatic (log-average luminance to 0.18)");

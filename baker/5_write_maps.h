@@ -1,0 +1,34 @@
+// Stage 5b: irradiance maps. Each surface's H(u,v) [W/m^2] sampled at the centres of a regular grid of square
+// texels of side `texel` [m] over its chart, and written as one OpenEXR image per surface: the paper's "sample
+// H(u,v) at a finite set of locations and interpolate" form.
+//
+// Image layout: texel (i, j) (column i, row j, row 0 first) has its centre at chart point
+// (u0 + (i + 1/2) texel, v0 + (j + 1/2) texel), with (u0, v0) the corner of the chart's bounding box. R, G, B hold
+// H there (0 where the centre is off the surface); A holds the fraction of the texel's area that lies on the
+// surface. On curved charts H is multiplied by the local area ratio of the triangle under the texel centre, as at
+// vertices. The header names the quantity and units, the surface (index, object, material), the texel size and
+// the chart: origin and u, v axes in world coordinates [m], and (u0, v0).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "baker/3_estimate_irradiance.h"
+#include "baker/progress.h"
+#include "mesh/scene.h"
+#include "mesh/surfaces.h"
+
+namespace pb {
+
+struct MapsWritten {
+  std::vector<std::string> paths;
+  size_t texels = 0;
+};
+
+// One file per surface, "DIR/surface_<index>.exr". InputError if DIR is not a writable folder or a chart would
+// need more than 8192 texels on a side.
+MapsWritten WriteIrradianceMaps(const std::string& directory, float texel, const Scene& scene,
+                                const SurfaceSet& surfaces, const SurfaceRegions& regions,
+                                const SurfaceEstimators& estimators, const Log& log);
+
+}  // namespace pb
