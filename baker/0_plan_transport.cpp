@@ -26,7 +26,8 @@ MaterialCensus CountMaterials(const Scene& scene) {
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     if (!used[i]) continue;
     const Material& m = scene.materials[i];
-    c.largestAlbedo = std::max(c.largestAlbedo, m.albedo.Max());
+    const Rgb textureMaximum = m.albedoTexture >= 0 ? scene.textures[size_t(m.albedoTexture)].maximum : Rgb{1, 1, 1};
+    c.largestAlbedo = std::max(c.largestAlbedo, (m.albedo * textureMaximum).Max());
     c.mirrors += m.kind == MaterialClass::kMirror && !m.specular.IsBlack();
     c.glasses += m.kind == MaterialClass::kGlass;
     c.transmissive += m.kind == MaterialClass::kGlass && !m.transmittance.IsBlack();

@@ -52,12 +52,13 @@ class PhotonTracer {
         ++block.stats.causticHits;
       }
       block.hits.emplace_back(power, -direction, hit->triangle, onFront, hit->b1, hit->b2);
-      if constexpr (!kInterreflect && !kSpecular) return StopAtFirstSurface(material.albedo, power, block.stats);
+      const Rgb albedo = scene_.AlbedoAt(hit->triangle, hit->b1, hit->b2);
+      if constexpr (!kInterreflect && !kSpecular) return StopAtFirstSurface(albedo, power, block.stats);
       const float uEvent = rng.Uniform();
       const Point2 uDirection = rng.Uniform2();
-      const ScatterSample s = kSpecular ? SampleScatter(material, -direction, front, TransportMode::kImportance,
+      const ScatterSample s = kSpecular ? SampleScatter(material, albedo, -direction, front, TransportMode::kImportance,
                                                         uEvent, uDirection)
-                                        : ScatterDiffuse(material.albedo, side, uEvent, uDirection);
+                                        : ScatterDiffuse(albedo, side, uEvent, uDirection);
       block.stats.powerAbsorbed.Add(power * s.expectedAbsorbed);
       if (s.Absorbed()) {
         ++block.stats.absorbed;

@@ -59,7 +59,7 @@ BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, con
       const uint32_t s = mesh.surface[v];
       const Material& material = scene.materials[surfaces.surfaces[s].material];
       baked.irradiance[v] = estimators[s]->Estimate(mesh.uv[v]) * mesh.uvAreaRatio[v];
-      baked.albedo[v] = material.albedo;
+      baked.albedo[v] = scene.AlbedoAtTexcoord(material, mesh.texcoord[v]);
       baked.emitted[v] = material.emission;
     }
     progress.Advance(r.size());

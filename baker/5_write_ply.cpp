@@ -16,13 +16,14 @@ static_assert(std::endian::native == std::endian::little, "binary PLY is written
 std::string Header(const BakedMesh& baked, bool ascii, float exposure) {
   std::string h = "ply\n";
   h += ascii ? "format ascii 1.0\n" : "format binary_little_endian 1.0\n";
-  h += "comment photonbake: irradiance [W/m^2], radiance [W/(m^2 sr)] = Le + Kd*H/pi, quality = luminance of H\n";
+  h += "comment photonbake: irradiance H [W/m^2], reflectance R (Kd x map_Kd), radiance [W/(m^2 sr)] = Le + R*H/pi, "
+       "quality = luminance of H\n";
   h += fmt::format("comment red/green/blue: sRGB of Reinhard(exposure * radiance), exposure {:.6g}\n", exposure);
   h += fmt::format("element vertex {}\n", baked.mesh.VertexCount());
   for (const char* p : {"x", "y", "z", "nx", "ny", "nz"}) h += fmt::format("property float {}\n", p);
   for (const char* p : {"red", "green", "blue"}) h += fmt::format("property uchar {}\n", p);
   for (const char* p : {"irradiance_r", "irradiance_g", "irradiance_b", "radiance_r", "radiance_g", "radiance_b",
-                        "quality"})
+                        "quality", "reflectance_r", "reflectance_g", "reflectance_b"})
     h += fmt::format("property float {}\n", p);
   h += fmt::format("element face {}\n", baked.mesh.faces.size());
   h += "property list uchar int vertex_indices\nend_header\n";
@@ -33,15 +34,16 @@ std::string Header(const BakedMesh& baked, bool ascii, float exposure) {
 struct VertexRecord {
   float position[3], normal[3];
   std::array<uint8_t, 3> colour;
-  float irradiance[3], radiance[3], quality;
+  float irradiance[3], radiance[3], quality, reflectance[3];
 };
 
 VertexRecord RecordOf(const BakedMesh& baked, size_t v, float exposure) {
   const Point3 p = baked.mesh.positions[v];
   const std::array<double, 3>& o = baked.mesh.origin;  // back to world coordinates, added in double
   const Normal3 n = baked.mesh.normals[v];
-  const Rgb H = baked.irradiance[v], L = baked.Radiance(v);
-  return {{float(o[0] + p.x), float(o[1] + p.y), float(o[2] + p.z)}, {n.x, n.y, n.z}, ToneMap(L, exposure), {H.r, H.g, H.b}, {L.r, L.g, L.b}, Luminance(H)};
+  const Rgb H = baked.irradiance[v], L = baked.Radiance(v), R = baked.albedo[v];
+  return {{float(o[0] + p.x), float(o[1] + p.y), float(o[2] + p.z)}, {n.x, n.y, n.z}, ToneMap(L, exposure), {H.r, H.g, H.b}, {L.r, L.g, L.b}, Luminance(H),
+          {R.r, R.g, R.b}};
 }
 
 template <typename T>
@@ -56,17 +58,19 @@ void AppendBinary(std::string& out, const VertexRecord& r) {
   for (float f : r.irradiance) Put(out, f);
   for (float f : r.radiance) Put(out, f);
   Put(out, r.quality);
+  for (float f : r.reflectance) Put(out, f);
 }
 
 void AppendAscii(std::string& out, const VertexRecord& r) {
-  out += fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}\n", r.position[0], r.position[1], r.position[2],
-                     r.normal[0], r.normal[1], r.normal[2], r.colour[0], r.colour[1], r.colour[2], r.irradiance[0],
-                     r.irradiance[1], r.irradiance[2], r.radiance[0], r.radiance[1], r.radiance[2], r.quality);
+  out += fmt::format("{} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {} {}\n", r.position[0], r.position[1],
+                     r.position[2], r.normal[0], r.normal[1], r.normal[2], r.colour[0], r.colour[1], r.colour[2],
+                     r.irradiance[0], r.irradiance[1], r.irradiance[2], r.radiance[0], r.radiance[1], r.radiance[2],
+                     r.quality, r.reflectance[0], r.reflectance[1], r.reflectance[2]);
 }
 
 std::string Body(const BakedMesh& baked, bool ascii, float exposure) {
   std::string out;
-  out.reserve(baked.mesh.VertexCount() * 49 + baked.mesh.faces.size() * 13);
+  out.reserve(baked.mesh.VertexCount() * 61 + baked.mesh.faces.size() * 13);
   for (size_t v = 0; v < baked.mesh.VertexCount(); ++v) {
     const VertexRecord r = RecordOf(baked, v, exposure);
     ascii ? AppendAscii(out, r) : AppendBinary(out, r);

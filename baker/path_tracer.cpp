@@ -67,14 +67,16 @@ Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& s
     const float uEvent = rng.Uniform();
     const Point2 uDirection = rng.Uniform2();
     bool transmitted = false;
+    const Rgb albedo = scene_.AlbedoAt(hit->triangle, hit->b1, hit->b2);
     if (settings_.sampling == DirectionSampling::kPhotons && material.kind == MaterialClass::kDiffuse) {
-      const float survival = material.albedo.Max();
+      const float survival = albedo.Max();
       if (uEvent >= survival) break;
-      const Direction d = SampleByPhotons(p, side, material.albedo, uDirection, scratch, stats);
+      const Direction d = SampleByPhotons(p, side, albedo, uDirection, scratch, stats);
       throughput = throughput * d.weight / survival;
       direction = d.wi;
     } else {
-      const ScatterSample s = SampleScatter(material, -direction, front, TransportMode::kRadiance, uEvent, uDirection);
+      const ScatterSample s =
+          SampleScatter(material, albedo, -direction, front, TransportMode::kRadiance, uEvent, uDirection);
       if (s.Absorbed()) break;
       throughput = throughput * s.weight;
       direction = s.wi;

@@ -3,18 +3,18 @@
 namespace pb {
 namespace {
 
-ScatterSample ScatterMirror(const Material& m, Vector3 wo, Normal3 side, float uEvent, Point2 uDirection) {
-  float pDiffuse = m.albedo.Max(), pMirror = m.specular.Max();
+ScatterSample ScatterMirror(const Material& m, Rgb albedo, Vector3 wo, Normal3 side, float uEvent, Point2 uDirection) {
+  float pDiffuse = albedo.Max(), pMirror = m.specular.Max();
   if (const float total = pDiffuse + pMirror; total > 1.0f) {
     pDiffuse /= total;
     pMirror /= total;
   }
   ScatterSample s;
-  s.expectedAbsorbed = Rgb{1, 1, 1} - m.albedo - m.specular;
+  s.expectedAbsorbed = Rgb{1, 1, 1} - albedo - m.specular;
   if (uEvent < pDiffuse) {
     s.event = ScatterEvent::kDiffuse;
-    s.wi = SampleLambertian(m.albedo, side, uDirection).wi;
-    s.weight = m.albedo / pDiffuse;
+    s.wi = SampleLambertian(albedo, side, uDirection).wi;
+    s.weight = albedo / pDiffuse;
   } else if (uEvent < pDiffuse + pMirror) {
     s.event = ScatterEvent::kMirror;
     s.wi = Reflect(wo, side);
@@ -48,16 +48,16 @@ ScatterSample ScatterGlass(const Material& m, Vector3 wo, Normal3 side, bool ent
 
 }  // namespace
 
-ScatterSample SampleScatter(const Material& material, Vector3 wo, Normal3 front, TransportMode mode, float uEvent,
-                            Point2 uDirection) {
+ScatterSample SampleScatter(const Material& material, Rgb albedo, Vector3 wo, Normal3 front, TransportMode mode,
+                            float uEvent, Point2 uDirection) {
   const bool onFront = Dot(wo, front) > 0;
   const Normal3 side = onFront ? front : -front;
   switch (material.kind) {
-    case MaterialClass::kMirror: return ScatterMirror(material, wo, side, uEvent, uDirection);
+    case MaterialClass::kMirror: return ScatterMirror(material, albedo, wo, side, uEvent, uDirection);
     case MaterialClass::kGlass: return ScatterGlass(material, wo, side, onFront, mode, uEvent);
     case MaterialClass::kDiffuse: break;
   }
-  return ScatterDiffuse(material.albedo, side, uEvent, uDirection);
+  return ScatterDiffuse(albedo, side, uEvent, uDirection);
 }
 
 }  // namespace pb

@@ -46,8 +46,9 @@ inline ScatterSample ScatterDiffuse(Rgb albedo, Normal3 side, float uEvent, Poin
   return s;
 }
 
-// Any material class. wo: unit, pointing back along the arriving path; front: the triangle's front normal.
-ScatterSample SampleScatter(const Material& material, Vector3 wo, Normal3 front, TransportMode mode, float uEvent,
-                            Point2 uDirection);
+// Any material class. albedo: the diffuse reflectance at the point (Kd, or Kd x its texture: Scene::AlbedoAt);
+// wo: unit, pointing back along the arriving path; front: the triangle's front normal.
+ScatterSample SampleScatter(const Material& material, Rgb albedo, Vector3 wo, Normal3 front, TransportMode mode,
+                            float uEvent, Point2 uDirection);
 
 }  // namespace pb

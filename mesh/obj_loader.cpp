@@ -1,5 +1,6 @@
 #include "mesh/obj_loader.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -8,6 +9,7 @@
 #include <unordered_map>
 
 #include "mesh/errors.h"
+#include "mesh/texture.h"
 
 namespace pb {
 namespace {
@@ -91,6 +93,8 @@ Rgb ReadRgb(const Line& line) {
 struct MtlEntry {
   Material material;
   Line start;  // the 'newmtl' line, for messages
+  bool hasKd = false;
+  Rgb textureMaximum{1, 1, 1};  // of its map_Kd, for the reflectance cap
   int illum = 2;
   std::optional<Rgb> ks, tf;
   std::optional<float> ni, d;
@@ -104,8 +108,8 @@ bool InUnitInterval(Rgb c) { return c.r >= 0 && c.g >= 0 && c.b >= 0 && c.r <= 1
 constexpr float kMaxReflectance = 0.99f;
 
 // Scales Kd and Ks down together so that no channel of Kd + Ks exceeds kMaxReflectance, with a warning.
-void CapReflectance(Material& m, const Line& where, std::vector<std::string>& warnings) {
-  const float total = (m.albedo + m.specular).Max();
+void CapReflectance(Material& m, Rgb textureMaximum, const Line& where, std::vector<std::string>& warnings) {
+  const float total = (m.albedo * textureMaximum + m.specular).Max();
   if (total <= kMaxReflectance) return;
   warnings.push_back(where.Warning("material '" + m.name + "': reflectance " + std::to_string(total).substr(0, 5) +
                                    " capped at 0.99, since a surface that absorbs nothing never ends a path in a "
@@ -146,13 +150,29 @@ Material ResolveMaterial(MtlEntry e, std::vector<std::string>& warnings) {
     if (!m.albedo.IsBlack()) warnings.push_back(where.Warning(named + "Kd is not used by glass"));
     m.albedo = {};
   }
-  CapReflectance(m, where, warnings);
+  if (m.albedoTexture >= 0 && !e.hasKd) m.albedo = {1, 1, 1};  // map_Kd alone: the texture is the albedo
+  CapReflectance(m, e.textureMaximum, where, warnings);
   return m;
 }
 
 // Parses an MTL file into `materials`, keyed by name in `byName`.
+// map_Kd FILE: loads the texture (relative to the MTL file) into `textures`; options such as -s are refused.
+void ReadAlbedoTexture(const Line& line, const std::string& mtlPath, MtlEntry& entry, std::vector<Texture>& textures) {
+  line.ExpectArguments(1, 64);
+  if (line.tokens[1][0] == '-') line.Fail("map_Kd options (" + line.tokens[1] + ") are not supported; give a file only");
+  const std::string file = Directory(mtlPath) + line.Rest();
+  try {
+    textures.push_back(LoadPngTexture(file));
+  } catch (const InputError& e) {
+    line.Fail(e.message() + " ('" + file + "')");
+  }
+  entry.material.albedoTexture = int(textures.size()) - 1;
+  entry.textureMaximum = textures.back().maximum;
+}
+
 void LoadMtl(const std::string& path, const Line& mtllibLine, std::vector<Material>& materials,
-             std::unordered_map<std::string, uint32_t>& byName, std::vector<std::string>& warnings) {
+             std::unordered_map<std::string, uint32_t>& byName, std::vector<Texture>& textures,
+             std::vector<std::string>& warnings) {
   LineReader reader(path);
   if (!reader.IsOpen()) mtllibLine.Fail("cannot open material library '" + path + "'");
   std::optional<MtlEntry> current;
@@ -173,6 +193,9 @@ void LoadMtl(const std::string& path, const Line& mtllibLine, std::vector<Materi
     if (!current) line.Fail("'" + k + "' before any 'newmtl'");
     if (k == "Kd") {
       current->material.albedo = ReadRgb(line);
+      current->hasKd = true;
+    } else if (k == "map_Kd") {
+      ReadAlbedoTexture(line, path, *current, textures);
     } else if (k == "Ke") {
       current->material.emission = ReadRgb(line);
     } else if (k == "Ks") {
@@ -201,16 +224,25 @@ void LoadMtl(const std::string& path, const Line& mtllibLine, std::vector<Materi
   finish();
 }
 
-// Resolves one OBJ face corner "v", "v/t", "v//n" or "v/t/n" to a 0-based position index.
-uint32_t PositionIndex(const Line& line, const std::string& corner, size_t positionCount) {
-  const std::string first = corner.substr(0, corner.find('/'));
+// Resolves field `field` (0: position, 1: texture coordinate) of one OBJ face corner "v", "v/t", "v//n" or
+// "v/t/n" to a 0-based index among `count`; kNoTexcoord when a texture coordinate is absent.
+uint32_t CornerIndex(const Line& line, const std::string& corner, int field, size_t count) {
+  size_t start = 0;
+  for (int f = 0; f < field; ++f) {
+    start = corner.find('/', start);
+    if (start == std::string::npos) return kNoTexcoord;
+    ++start;
+  }
+  const std::string text = corner.substr(start, corner.find('/', start) - start);
+  if (field > 0 && text.empty()) return kNoTexcoord;
   long index = 0;
-  const auto [end, ec] = std::from_chars(first.data(), first.data() + first.size(), index);
-  if (ec != std::errc() || end != first.data() + first.size() || index == 0)
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), index);
+  if (ec != std::errc() || end != text.data() + text.size() || index == 0)
     line.Fail("malformed face index '" + corner + "'");
-  const long resolved = index > 0 ? index - 1 : long(positionCount) + index;
-  if (resolved < 0 || resolved >= long(positionCount))
-    line.Fail("face index " + first + " is out of range (" + std::to_string(positionCount) + " vertices so far)");
+  const long resolved = index > 0 ? index - 1 : long(count) + index;
+  const char* what = field == 0 ? "vertices" : "texture coordinates";
+  if (resolved < 0 || resolved >= long(count))
+    line.Fail("face index " + text + " is out of range (" + std::to_string(count) + " " + what + " so far)");
   return uint32_t(resolved);
 }
 
@@ -252,9 +284,12 @@ class ObjParser {
       line.ExpectArguments(3, 7);  // x y z [w] or x y z r g b (vertex colours, ignored).
       const double s = options_.scale;
       positions_.push_back({line.Double(1) * s, line.Double(2) * s, line.Double(3) * s});
-    } else if (k == "vn" || k == "vt") {
-      line.ExpectArguments(k == "vn" ? 3 : 1, 3);
+    } else if (k == "vn") {
+      line.ExpectArguments(3, 3);
       for (size_t i = 1; i < line.tokens.size(); ++i) line.Number(i);
+    } else if (k == "vt") {
+      line.ExpectArguments(1, 3);
+      result_.scene.texcoords.push_back({line.Number(1), line.tokens.size() > 2 ? line.Number(2) : 0.0f});
     } else if (k == "f") {
       Face(line);
     } else if (k == "usemtl") {
@@ -264,7 +299,8 @@ class ObjParser {
       currentMaterial_ = int(it->second);
     } else if (k == "mtllib") {
       line.ExpectArguments(1, 64);
-      LoadMtl(Directory(path_) + line.Rest(), line, result_.scene.materials, materialByName_, result_.warnings);
+      LoadMtl(Directory(path_) + line.Rest(), line, result_.scene.materials, materialByName_, result_.scene.textures,
+              result_.warnings);
     } else if (k == "o" || k == "g") {
       currentObject_ = uint32_t(result_.scene.objectNames.size());  // names surfaces in the report.
       result_.scene.objectNames.push_back(line.tokens.size() > 1 ? line.Rest() : std::string());
@@ -281,11 +317,22 @@ class ObjParser {
     line.ExpectArguments(3, 1u << 16);
     if (currentMaterial_ < 0) line.Fail("face before any 'usemtl'; every face needs a material");
     Scene& scene = result_.scene;
-    std::vector<uint32_t> corners;
-    for (size_t i = 1; i < line.tokens.size(); ++i)
-      corners.push_back(PositionIndex(line, line.tokens[i], positions_.size()));
+    // Texture coordinates are read (and checked) only for textured materials; like normals, they are otherwise
+    // unused.
+    const bool textured = scene.materials[size_t(currentMaterial_)].albedoTexture >= 0;
+    std::vector<uint32_t> corners, texcoords;
+    for (size_t i = 1; i < line.tokens.size(); ++i) {
+      corners.push_back(CornerIndex(line, line.tokens[i], 0, positions_.size()));
+      texcoords.push_back(textured ? CornerIndex(line, line.tokens[i], 1, scene.texcoords.size()) : kNoTexcoord);
+    }
+    if (textured && std::count(texcoords.begin(), texcoords.end(), kNoTexcoord) > 0)
+      line.Fail("material '" + scene.materials[size_t(currentMaterial_)].name +
+                "' has a map_Kd texture, so every corner needs a texture coordinate (v/t)");
     for (size_t i = 1; i + 1 < corners.size(); ++i) {  // fan triangulation
-      const Triangle t{{corners[0], corners[i], corners[i + 1]}, uint32_t(currentMaterial_), currentObject_,
+      const Triangle t{{corners[0], corners[i], corners[i + 1]},
+                       {texcoords[0], texcoords[i], texcoords[i + 1]},
+                       uint32_t(currentMaterial_),
+                       currentObject_,
                        uint32_t(line.number)};
       if (IsDegenerate(positions_[t.v[0]], positions_[t.v[1]], positions_[t.v[2]])) {
         ++scene.degenerateTrianglesSkipped;

@@ -18,6 +18,7 @@
 
 #include "mesh/color.h"
 #include "mesh/geometry.h"
+#include "mesh/texture.h"
 
 namespace pb {
 
@@ -31,12 +32,16 @@ struct Material {
   Rgb specular;        // Ks: ideal mirror reflectance; mirror class only, else 0.
   Rgb transmittance;   // Tf: fraction of refracted flux that passes; glass class only, else 0.
   float ior = 1.0f;    // Ni: refractive index inside the glass, relative to the outside (air = 1).
+  int albedoTexture = -1;  // map_Kd: index into Scene::textures, or -1. The albedo is then Kd x texture.
   bool IsEmissive() const { return !emission.IsBlack(); }
   bool IsSpecular() const { return kind != MaterialClass::kDiffuse; }
 };
 
+inline constexpr uint32_t kNoTexcoord = ~0u;
+
 struct Triangle {
   std::array<uint32_t, 3> v{};  // indices into Scene::positions, counter-clockwise seen from the front.
+  std::array<uint32_t, 3> vt{kNoTexcoord, kNoTexcoord, kNoTexcoord};  // indices into Scene::texcoords
   uint32_t material = 0;        // index into Scene::materials.
   uint32_t object = 0;          // index into Scene::objectNames.
   uint32_t sourceLine = 0;      // line of the OBJ 'f' statement it came from, for messages.
@@ -51,6 +56,8 @@ struct Scene {
   std::vector<Point3> positions;  // local [m]
   std::vector<Triangle> triangles;
   std::vector<Material> materials;
+  std::vector<Point2> texcoords;  // OBJ 'vt' (s, t)
+  std::vector<Texture> textures;  // map_Kd images
   std::vector<std::string> objectNames;     // from 'o' (or 'g') statements; "" before the first.
   uint32_t degenerateTrianglesSkipped = 0;  // zero-area faces dropped at load time.
   uint32_t duplicateTrianglesSkipped = 0;   // exact repeats (same corners, same side) dropped at load time.
@@ -69,6 +76,20 @@ struct Scene {
     return p0 + (Corner(triangle, 1) - p0) * b1 + (Corner(triangle, 2) - p0) * b2;
   }
   const Material& MaterialOf(uint32_t triangle) const { return materials[triangles[triangle].material]; }
+  // Texture coordinates of corner k (meaningful when the triangle's material is textured).
+  Point2 Texcoord(uint32_t triangle, int k) const { return texcoords[triangles[triangle].vt[k]]; }
+  // Diffuse reflectance at barycentrics (b1, b2): Kd, times the map_Kd texture where there is one.
+  Rgb AlbedoAt(uint32_t triangle, float b1, float b2) const {
+    const Material& m = MaterialOf(triangle);
+    if (m.albedoTexture < 0) return m.albedo;
+    const Point2 t0 = Texcoord(triangle, 0), t1 = Texcoord(triangle, 1), t2 = Texcoord(triangle, 2);
+    return AlbedoAtTexcoord(m, {t0.u + (t1.u - t0.u) * b1 + (t2.u - t0.u) * b2,
+                                t0.v + (t1.v - t0.v) * b1 + (t2.v - t0.v) * b2});
+  }
+  // Diffuse reflectance of `m` at texture coordinates st (Kd when it has no texture).
+  Rgb AlbedoAtTexcoord(const Material& m, Point2 st) const {
+    return m.albedoTexture < 0 ? m.albedo : m.albedo * textures[size_t(m.albedoTexture)].Sample(st);
+  }
   bool Recentred() const { return origin[0] != 0 || origin[1] != 0 || origin[2] != 0; }
 };
 

@@ -34,16 +34,20 @@ SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces) {
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
     const size_t first = mesh.positions.size();
-    std::unordered_map<uint32_t, uint32_t> splitIndexOf;  // scene position index -> this surface's copy
+    // (scene position, texture coordinate) -> this surface's copy: a textured surface is also split at texture
+    // seams, where one position has two texture coordinates (and so two albedos).
+    std::unordered_map<uint64_t, uint32_t> splitIndexOf;
+    const bool textured = scene.materials[surface.material].albedoTexture >= 0;
     for (uint32_t t : surface.triangles) {
       std::array<uint32_t, 3> face{};
       for (int k = 0; k < 3; ++k) {
-        const uint32_t original = scene.triangles[t].v[k];
-        auto [it, isNew] = splitIndexOf.emplace(original, uint32_t(mesh.positions.size()));
+        const uint32_t original = scene.triangles[t].v[k], vt = textured ? scene.triangles[t].vt[k] : 0;
+        auto [it, isNew] = splitIndexOf.emplace(uint64_t(original) << 32 | vt, uint32_t(mesh.positions.size()));
         if (isNew) {
           mesh.positions.push_back(scene.positions[original]);
           mesh.normals.push_back(surface.chart.frame.n);
           mesh.uv.push_back(surfaces.cornerUv[t][k]);
+          mesh.texcoord.push_back(textured ? scene.Texcoord(t, k) : Point2{});
           mesh.surface.push_back(s);
           mesh.uvAreaRatio.push_back(1.0f);
         }

@@ -21,6 +21,7 @@ struct SplitMesh {
   std::vector<Point3> positions;          // local [m]
   std::vector<Normal3> normals;
   std::vector<Point2> uv;             // in the chart of `surface[i]` [m]
+  std::vector<Point2> texcoord;       // OBJ texture coordinates (s, t) on textured surfaces, else (0, 0)
   std::vector<uint32_t> surface;      // owning surface of each vertex
   std::vector<float> uvAreaRatio;     // dimensionless, 1 on planar surfaces
   std::vector<std::array<uint32_t, 3>> faces;  // counter-clockwise seen from the front

@@ -1,6 +1,7 @@
 #include "tests/test_scenes.h"
 
 #include <fmt/format.h>
+#include <png.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -123,6 +124,15 @@ std::string WriteCurvedEnclosure(const std::string& directory, CurvedShape shape
   AppendMesh(obj, count, Icosphere(1), lightRadius, false);
   WriteText(directory + "/curved.obj", obj);
   return directory + "/curved.obj";
+}
+
+void WritePngRgb8(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = png_uint_32(width);
+  image.height = png_uint_32(height);
+  image.format = PNG_FORMAT_RGB;
+  png_image_write_to_file(&image, path.c_str(), 0, rgb.data(), 0, nullptr);
 }
 
 std::string TempDirectory(const std::string& name) {

@@ -7,6 +7,9 @@
 
 namespace pb::test {
 
+// Writes an 8-bit sRGB PNG of width x height pixels, `rgb` row-major, top row first, 3 bytes per pixel.
+void WritePngRgb8(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb);
+
 // A fresh, empty directory under the system temp dir, unique to this process and `name`.
 std::string TempDirectory(const std::string& name);
 

@@ -118,7 +118,7 @@ void GlassSplitTest(float ior, bool fromOutside, Rgb transmittance, uint64_t see
         return std::array<double, 3>{f, (1 - f) * t, (1 - f) * (1 - t)};
       },
       [&](float cosI, Rng& rng) {
-        const ScatterSample s = SampleScatter(glass, FromCosine(cosI, fromOutside), kFront, TransportMode::kImportance,
+        const ScatterSample s = SampleScatter(glass, glass.albedo, FromCosine(cosI, fromOutside), kFront, TransportMode::kImportance,
                                               rng.Uniform(), rng.Uniform2());
         return s.event == ScatterEvent::kFresnelReflection ? 0 : s.event == ScatterEvent::kRefraction ? 1 : 2;
       },
@@ -137,7 +137,7 @@ TEST(ScatterChi2, MirrorSplitsByKdAndKs) {
   mirror.specular = {0.5f, 0.6f, 0.4f};
   ExpectSplitMatches<3>([](double, double) { return std::array<double, 3>{0.3, 0.6, 0.1}; },
                         [&](float cosI, Rng& rng) {
-                          const ScatterSample s = SampleScatter(mirror, FromCosine(cosI, true), kFront,
+                          const ScatterSample s = SampleScatter(mirror, mirror.albedo, FromCosine(cosI, true), kFront,
                                                                 TransportMode::kImportance, rng.Uniform(), rng.Uniform2());
                           if (s.event == ScatterEvent::kMirror) {
                             EXPECT_NEAR(s.weight.g, 1.0f, 1e-6);  // Ks / max(Ks)
@@ -152,15 +152,15 @@ TEST(Scatter, RefractionScalesRadianceByEtaSquaredButNotFlux) {
   const Material glass = Glass(1.5f, {0.8f, 0.8f, 0.8f});
   const Vector3 outside = FromCosine(0.9f, true);
   const float u = 0.5f;  // past F (about 0.04) and below F + (1 - F) 0.8: refracts
-  const ScatterSample flux = SampleScatter(glass, outside, kFront, TransportMode::kImportance, u, {});
-  const ScatterSample in = SampleScatter(glass, outside, kFront, TransportMode::kRadiance, u, {});
+  const ScatterSample flux = SampleScatter(glass, glass.albedo, outside, kFront, TransportMode::kImportance, u, {});
+  const ScatterSample in = SampleScatter(glass, glass.albedo, outside, kFront, TransportMode::kRadiance, u, {});
   ASSERT_EQ(flux.event, ScatterEvent::kRefraction);
   ASSERT_EQ(in.event, ScatterEvent::kRefraction);
   EXPECT_TRUE(in.transmitted);
   EXPECT_NEAR(flux.weight.r, 1.0f, 1e-6) << "Tf / max(Tf): flux crosses unscaled";
   EXPECT_NEAR(in.weight.r, 1.0f / (1.5f * 1.5f), 1e-6) << "radiance from inside, seen outside, drops by eta^2";
   // The reverse crossing, a path inside arriving back along the refracted ray, gains eta^2: the round trip is neutral.
-  const ScatterSample out = SampleScatter(glass, in.wi, kFront, TransportMode::kRadiance, u, {});
+  const ScatterSample out = SampleScatter(glass, glass.albedo, in.wi, kFront, TransportMode::kRadiance, u, {});
   ASSERT_EQ(out.event, ScatterEvent::kRefraction);
   EXPECT_NEAR(in.weight.r * out.weight.r, 1.0f, 1e-5);
   EXPECT_NEAR(Dot(out.wi, outside), 1.0f, 1e-5) << "refraction is reversible";
@@ -171,7 +171,7 @@ TEST(Scatter, DiffuseClassIsExactlyTheDiffuseEvent) {
   matte.albedo = {0.7f, 0.5f, 0.2f};
   for (uint64_t i = 0; i < 1000; ++i) {
     Rng a(3, i), b(3, i);
-    const ScatterSample general = SampleScatter(matte, FromCosine(0.6f, false), kFront, TransportMode::kImportance,
+    const ScatterSample general = SampleScatter(matte, matte.albedo, FromCosine(0.6f, false), kFront, TransportMode::kImportance,
                                                 a.Uniform(), a.Uniform2());
     const ScatterSample diffuse = ScatterDiffuse(matte.albedo, -kFront, b.Uniform(), b.Uniform2());
     ASSERT_EQ(general.event, diffuse.event);

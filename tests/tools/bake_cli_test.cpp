@@ -127,7 +127,8 @@ TEST(BakeCli, BoxBakesToAReadablePlyWithTheContractProperties) {
   EXPECT_EQ(ply.format, "binary_little_endian");
   const std::vector<std::string> expected = {"x", "y", "z", "nx", "ny", "nz", "red", "green", "blue",
                                              "irradiance_r", "irradiance_g", "irradiance_b", "radiance_r",
-                                             "radiance_g", "radiance_b", "quality"};
+                                             "radiance_g", "radiance_b", "quality", "reflectance_r",
+                                             "reflectance_g", "reflectance_b"};
   EXPECT_EQ(ply.vertexProperties, expected);
   EXPECT_GT(ply.faces.size(), 1000u);
   for (const auto& [name, values] : ply.vertex)
@@ -135,6 +136,7 @@ TEST(BakeCli, BoxBakesToAReadablePlyWithTheContractProperties) {
   // Radiance = Le + Kd H / pi: check on floor vertices (white, Kd 0.73, y = 0, facing up).
   for (size_t v = 0; v < ply.VertexCount(); ++v) {
     if (ply.vertex.at("y")[v] != 0.0 || ply.vertex.at("ny")[v] < 0.99) continue;
+    ASSERT_NEAR(ply.vertex.at("reflectance_g")[v], 0.73, 1e-6);
     ASSERT_NEAR(ply.vertex.at("radiance_g")[v], 0.73 * ply.vertex.at("irradiance_g")[v] / 3.14159265358979, 1e-6);
   }
   const std::string json = test::ReadBytes(dir + "/box.json");

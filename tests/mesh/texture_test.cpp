@@ -1,0 +1,147 @@
+// Textured albedo (map_Kd): PNG texels are decoded from sRGB to linear reflectance and sampled bilinearly with
+// the OBJ convention (t = 0 at the bottom row); faces of a textured material need texture coordinates; the
+// photon tracer and the PLY use Kd x texture, so a uniformly textured closed box keeps its closed form
+// sum of hit flux = Phi / (1 - rho), and vertices at texel centres carry exactly their texel's reflectance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "baker/1_trace_photons.h"
+#include "baker/bake.h"
+#include "mesh/errors.h"
+#include "mesh/obj_loader.h"
+#include "mesh/texture.h"
+#include "tests/ply_reader.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+double SrgbToLinear(int byte) {
+  const double c = byte / 255.0;
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+TEST(Texture, DecodesSrgbAndSamplesBilinearlyFromTheBottomRow) {
+  const std::string dir = test::TempDirectory("texture");
+  // 2 x 2: top row red (200, 0, 0) and green (0, 100, 0); bottom row blue (0, 0, 50) and grey (128, 128, 128).
+  test::WritePngRgb8(dir + "/t.png", 2, 2, {200, 0, 0, 0, 100, 0, 0, 0, 50, 128, 128, 128});
+  const Texture t = LoadPngTexture(dir + "/t.png");
+  ASSERT_EQ(t.width, 2);
+  const float tolerance = 1e-6f;  // the exact sRGB curve, in float
+  EXPECT_NEAR(t.Sample({0.25f, 0.75f}).r, SrgbToLinear(200), tolerance) << "top-left texel centre";
+  EXPECT_NEAR(t.Sample({0.75f, 0.75f}).g, SrgbToLinear(100), tolerance) << "top-right";
+  EXPECT_NEAR(t.Sample({0.25f, 0.25f}).b, SrgbToLinear(50), tolerance) << "bottom-left: t = 0 is the bottom";
+  EXPECT_NEAR(t.Sample({0.75f, 0.25f}).r, SrgbToLinear(128), tolerance);
+  EXPECT_NEAR(t.Sample({0.5f, 0.75f}).r, 0.5 * SrgbToLinear(200), tolerance) << "halfway between red and green";
+  EXPECT_NEAR(t.Sample({1.25f, -0.25f}).r, t.Sample({0.25f, 0.75f}).r, 1e-6) << "repeat wrapping";
+  EXPECT_NEAR(t.maximum.r, SrgbToLinear(200), tolerance);
+  EXPECT_THROW(LoadPngTexture(dir + "/missing.png"), InputError);
+}
+
+// A floor quad whose corners sit at the four texel centres of a 2 x 2 texture; returns the OBJ path.
+std::string WriteTexturedFloor(const std::string& dir, const std::string& faces) {
+  test::WritePngRgb8(dir + "/t.png", 2, 2, {200, 0, 0, 0, 100, 0, 0, 0, 50, 128, 128, 128});
+  test::WriteText(dir + "/f.mtl", "newmtl tex\nKd 0.9 0.9 0.9\nmap_Kd t.png\nnewmtl lamp\nKd 0 0 0\nKe 5 5 5\n");
+  test::WriteText(dir + "/f.obj",
+                  "mtllib f.mtl\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\n"
+                  "vt 0.25 0.25\nvt 0.75 0.25\nvt 0.75 0.75\nvt 0.25 0.75\nusemtl tex\n" + faces +
+                  "usemtl lamp\nv 0.4 1 0.4\nv 0.6 1 0.4\nv 0.6 1 0.6\nv 0.4 1 0.6\nf 5 6 7 8\n");
+  return dir + "/f.obj";
+}
+
+TEST(Texture, VerticesCarryKdTimesTheirTexel) {
+  const std::string dir = test::TempDirectory("texture-floor");
+  BakeOptions o;
+  o.scenePath = WriteTexturedFloor(dir, "f 1/1 4/4 3/3 2/2\n");
+  o.outputPath = dir + "/out.ply";
+  o.photons = 10000;
+  Bake(o, Log(true));
+  const test::PlyData ply = test::ReadPly(o.outputPath);
+  int checked = 0;
+  for (size_t v = 0; v < ply.VertexCount(); ++v) {
+    if (ply.vertex.at("y")[v] != 0.0) continue;
+    const double x = ply.vertex.at("x")[v], z = ply.vertex.at("z")[v];
+    // (x, z) = (0, 0) has vt (0.25, 0.25): the bottom-left texel, blue; (1, 1) has (0.75, 0.75): top-right, green.
+    if (x == 0 && z == 0) {
+      EXPECT_NEAR(ply.vertex.at("reflectance_b")[v], 0.9 * SrgbToLinear(50), 1e-6);
+      ++checked;
+    }
+    if (x == 1 && z == 1) {
+      EXPECT_NEAR(ply.vertex.at("reflectance_g")[v], 0.9 * SrgbToLinear(100), 1e-6);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 2);
+}
+
+TEST(Texture, FacesOfATexturedMaterialNeedTextureCoordinates) {
+  const std::string dir = test::TempDirectory("texture-novt");
+  try {
+    LoadObj(WriteTexturedFloor(dir, "f 1 4 3 2\n"));
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 11);
+    EXPECT_NE(std::string(e.what()).find("needs a texture coordinate"), std::string::npos) << e.what();
+  }
+  test::WriteText(dir + "/bad.mtl", "newmtl tex\nmap_Kd -s 2 2 t.png\n");
+  test::WriteText(dir + "/bad.obj", "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl tex\nf 1 2 3\n");
+  EXPECT_THROW(LoadObj(dir + "/bad.obj"), InputError);
+  test::WriteText(dir + "/gone.mtl", "newmtl tex\nmap_Kd nothere.png\n");
+  test::WriteText(dir + "/gone.obj", "mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl tex\nf 1 2 3\n");
+  try {
+    LoadObj(dir + "/gone.obj");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2) << e.what();
+    EXPECT_NE(std::string(e.what()).find("nothere.png"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Texture, AUniformlyTexturedClosedBoxKeepsItsClosedForm) {
+  // Walls with map_Kd of one grey texel (sRGB 188, linear 0.5029) and no Kd: rho is the texel's value, and the
+  // hit flux sums to Phi / (1 - rho) with relative sd sqrt(rho / N) = 0.16% at N = 200k.
+  const std::string dir = test::TempDirectory("texture-box");
+  test::WritePngRgb8(dir + "/grey.png", 1, 1, {188, 188, 188});
+  const std::string box = test::WriteClosedBox(dir, 1.0f, 0.5f, 0.2f, 10.0f);
+  std::string mtl = test::ReadBytes(dir + "/box.mtl");
+  mtl.replace(mtl.find("newmtl wall\nKd 0.5 0.5 0.5\n"), 26, "newmtl wall\nmap_Kd grey.png\n");
+  test::WriteText(dir + "/box.mtl", mtl);
+  // Every wall corner gets texture coordinate 1 (any will do for a one-texel texture); the light's faces follow
+  // "usemtl light" and keep theirs.
+  std::istringstream in(test::ReadBytes(box));
+  std::string faced = "vt 0.5 0.5\n";
+  bool walls = true;
+  for (std::string line; std::getline(in, line);) {
+    walls = walls && line != "usemtl light";
+    if (walls && line.rfind("f ", 0) == 0) {
+      std::istringstream corners(line.substr(2));
+      std::ostringstream rewritten;
+      rewritten << "f";
+      for (std::string corner; corners >> corner;) rewritten << ' ' << corner << "/1";
+      line = rewritten.str();
+    }
+    faced += line + "\n";
+  }
+  test::WriteText(box, faced);
+  const LoadedScene loaded = LoadObj(box);
+  const Scene& scene = loaded.scene;
+  const SurfaceSet surfaces = BuildSurfaces(scene);
+  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
+  const RayScene rays(scene);
+  constexpr uint64_t kPhotons = 200000;
+  const PhotonHits hits =
+      TracePhotons(scene, lights, rays, PlanTransport(scene, surfaces, lights, {}), {kPhotons, 2, 10000}, Log(true));
+  // The light has Kd 0.5 too, so every diffuse surface reflects rho; the texel decodes to about 0.503.
+  const double rho = scene.textures.at(0).maximum.g;
+  ASSERT_NEAR(rho, SrgbToLinear(188), 1e-6);
+  double flux = 0;
+  hits.ForEach([&](const PhotonHit& h) { flux += h.power.g; });
+  // The light's own Kd is 0.5, not rho: the closed form then holds to about |rho - 0.5| x (light's share of hits),
+  // well inside the noise bound below.
+  EXPECT_NEAR(flux * (1 - rho) / hits.stats.powerEmitted.g, 1.0, 5 * std::sqrt(rho / kPhotons) + 0.01);
+}
+
+}  // namespace
+}  // namespace pb
