@@ -19,6 +19,7 @@
 #include "tests/chi2.h"
 #include "tests/floor_cells.h"
 #include "tests/test_scenes.h"
+#include "tests/traced_scene.h"
 
 namespace pb {
 namespace {
@@ -38,16 +39,7 @@ BakeReport QuietBake(const std::string& scene, const std::string& output, uint64
   return Bake(o, Log(true));
 }
 
-struct Loaded {
-  Scene scene;
-  SurfaceSet surfaces;
-  std::vector<AreaLight> lights;
-  explicit Loaded(const std::string& path)
-      : scene(LoadObj(path).scene), surfaces(BuildSurfaces(scene)), lights(CollectLights(scene, surfaces)) {}
-  TransportPlan Plan(const std::string& effects = "auto") const {
-    return PlanTransport(scene, surfaces, lights, ParseEffectOverrides(effects));
-  }
-};
+using Loaded = test::TracedScene;
 
 TEST(EffectOverrides, ParsesListsAndRefusesBadNames) {
   const EffectOverrides o = ParseEffectOverrides("+caustics,-refraction,reflection");
@@ -79,8 +71,7 @@ TEST(TransportPlan, BlackReceiversStopAtTheFirstHit) {
   const TransportPlan plan = s.Plan();
   EXPECT_FALSE(plan.On(Effect::kInterreflection));
   EXPECT_NE(plan.Describe(Effect::kInterreflection).find("every surface is black"), std::string::npos);
-  const RayScene rays(s.scene);
-  const PhotonHits hits = TracePhotons(s.scene, s.lights, rays, plan, {20000, 3, 10000}, Log(true));
+  const PhotonHits hits = TracePhotons(s.scene, s.lights, s.rays, plan, {20000, 3, 10000}, Log(true));
   EXPECT_EQ(hits.stats.diffuseBounces, 0u);
   EXPECT_EQ(hits.stats.hits + hits.stats.escaped, hits.stats.emitted) << "one hit or an escape per photon";
   EXPECT_EQ(hits.stats.absorbed, hits.stats.hits);
@@ -147,9 +138,8 @@ TEST(Effects, MirrorImageMatchesTheClosedForm) {
   const TransportPlan plan = s.Plan();
   ASSERT_TRUE(plan.On(Effect::kReflection));
   ASSERT_TRUE(plan.On(Effect::kCaustics));
-  const RayScene rays(s.scene);
   constexpr uint64_t kPhotons = 1'000'000;
-  const PhotonHits hits = TracePhotons(s.scene, s.lights, rays, plan, {kPhotons, 21, 10000}, Log(true));
+  const PhotonHits hits = TracePhotons(s.scene, s.lights, s.rays, plan, {kPhotons, 21, 10000}, Log(true));
   EXPECT_GT(hits.stats.mirrorReflections, kPhotons / 4);
   EXPECT_GT(hits.stats.causticHits, 0u);
 
@@ -202,9 +192,8 @@ TEST(Effects, ClosedBoxWithGlassSphereConservesEnergy) {
   const Loaded s(test::WriteClosedBox(dir, 1.0f, rho, 0.2f, 10.0f, 0.25f));
   const TransportPlan plan = s.Plan();
   ASSERT_TRUE(plan.On(Effect::kRefraction));
-  const RayScene rays(s.scene);
   constexpr uint64_t kPhotons = 1'000'000;
-  const PhotonHits hits = TracePhotons(s.scene, s.lights, rays, plan, {kPhotons, 8, 10000}, Log(true));
+  const PhotonHits hits = TracePhotons(s.scene, s.lights, s.rays, plan, {kPhotons, 8, 10000}, Log(true));
   const TraceStats& t = hits.stats;
   EXPECT_GT(t.refractions, kPhotons / 20);
   EXPECT_GT(t.fresnelReflections, 0u);

@@ -9,6 +9,7 @@
 #include "mesh/errors.h"
 #include "mesh/obj_loader.h"
 #include "tests/test_scenes.h"
+#include "tests/traced_scene.h"
 
 namespace pb {
 namespace {
@@ -19,27 +20,28 @@ std::string Attribute(const std::vector<std::pair<std::string, std::string>>& at
   return "<missing>";
 }
 
-TEST(IrradianceMaps, RoundTripMatchesTheEstimatorAtTexelCentres) {
-  const std::string dir = test::TempDirectory("maps");
+// A bake of the 4 m square-light floor into `dir`, with maps of texel `texel` [m].
+BakeOptions MapBake(const std::string& dir, float texel, uint64_t photons) {
   BakeOptions o;
   o.scenePath = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 8);
   o.outputPath = dir + "/out.ply";
-  o.photons = 100000;
+  o.photons = photons;
   o.seed = 3;
   o.mapsDirectory = dir;
-  o.texel = 0.1f;
+  o.texel = texel;
+  return o;
+}
+
+TEST(IrradianceMaps, RoundTripMatchesTheEstimatorAtTexelCentres) {
+  const BakeOptions o = MapBake(test::TempDirectory("maps"), 0.1f, 100000);
   const BakeReport report = Bake(o, Log(true));
   ASSERT_EQ(report.maps.paths.size(), report.surfaces.size());
 
   // The same estimators, rebuilt from the same photons.
-  const Scene scene = LoadObj(o.scenePath).scene;
-  const SurfaceSet surfaces = BuildSurfaces(scene);
-  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
-  const RayScene rays(scene);
-  const PhotonHits hits = TracePhotons(scene, lights, rays, PlanTransport(scene, surfaces, lights, {}),
-                                       {o.photons, o.seed, o.maxBounces}, Log(true));
-  const SurfaceBins bins = BinPhotons(surfaces, hits);
-  const SurfaceRegions regions = BuildRegions(surfaces);
+  const test::TracedScene traced(o.scenePath);
+  const PhotonHits hits = traced.Trace(o.photons, o.seed, o.maxBounces);
+  const SurfaceBins bins = BinPhotons(traced.surfaces, hits);
+  const SurfaceRegions regions = BuildRegions(traced.surfaces);
   const SurfaceEstimators estimators =
       BuildEstimators(regions, bins, o.estimator, SurfaceBandwidths(regions, bins, o.estimator, false));
 
@@ -66,14 +68,8 @@ TEST(IrradianceMaps, RoundTripMatchesTheEstimatorAtTexelCentres) {
 }
 
 TEST(IrradianceMaps, RefusesTexelsTooSmallForTheSurface) {
-  const std::string dir = test::TempDirectory("maps-small");
-  BakeOptions o;
-  o.scenePath = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 8);
-  o.outputPath = dir + "/out.ply";
-  o.photons = 1000;
-  o.mapsDirectory = dir;
-  o.texel = 1e-4f;  // 40,000 texels on a side
-  EXPECT_THROW(Bake(o, Log(true)), InputError);
+  // 1e-4 m texels: 40,000 on a side.
+  EXPECT_THROW(Bake(MapBake(test::TempDirectory("maps-small"), 1e-4f, 1000), Log(true)), InputError);
 }
 
 }  // namespace

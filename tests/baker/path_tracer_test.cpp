@@ -17,17 +17,13 @@
 #include "mesh/surfaces.h"
 #include "tests/chi2.h"
 #include "tests/test_scenes.h"
+#include "tests/traced_scene.h"
 
 namespace pb {
 namespace {
 
-struct Fixture {
-  Scene scene;
-  SurfaceSet surfaces;
-  std::vector<AreaLight> lights;
-  RayScene rays;
-  explicit Fixture(const std::string& path)
-      : scene(LoadObj(path).scene), surfaces(BuildSurfaces(scene)), lights(CollectLights(scene, surfaces)), rays(scene) {}
+struct Fixture : test::TracedScene {
+  using TracedScene::TracedScene;
   PhotonMap Photons(uint64_t n, const std::vector<AreaLight>& from) const {
     const TransportPlan plan = PlanTransport(scene, surfaces, from, {});
     return BuildPhotonMap(scene, TracePhotons(scene, from, rays, plan, {n, 99, 10000}, Log(true)));

@@ -14,6 +14,7 @@
 #include "baker/bake.h"
 #include "mesh/obj_loader.h"
 #include "tests/ply_reader.h"
+#include "tests/traced_scene.h"
 #include "tests/test_scenes.h"
 
 namespace pb {
@@ -103,15 +104,11 @@ TEST(Stability, WhiteFurnaceIsCappedAndMatchesItsClosedForm) {
   const LoadedScene loaded = LoadObj(test::WriteClosedBox(dir, 1.0f, 1.0f, 0.2f, 10.0f));
   ASSERT_FALSE(loaded.warnings.empty());
   EXPECT_NE(loaded.warnings[0].find("capped at 0.99"), std::string::npos) << loaded.warnings[0];
-  const Scene& scene = loaded.scene;
-  const SurfaceSet surfaces = BuildSurfaces(scene);
-  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
-  const TransportPlan plan = PlanTransport(scene, surfaces, lights, {});
-  const RayScene rays(scene);
+  const test::TracedScene traced(loaded.scene);
   // Every hit keeps the photon's flux (grey albedo, survival = albedo), and the number of hits per photon is
   // geometric with mean 1 / (1 - rho): the hit flux sums to Phi / (1 - rho), relative sd sqrt(rho / N) = 0.7%.
   constexpr uint64_t kPhotons = 20000;
-  const PhotonHits hits = TracePhotons(scene, lights, rays, plan, {kPhotons, 4, 100000}, Log(true));
+  const PhotonHits hits = traced.Trace(kPhotons, 4, 100000);
   const double rho = 0.99;
   double flux = 0;
   hits.ForEach([&](const PhotonHit& h) { flux += h.power.g; });
@@ -126,14 +123,9 @@ TEST(Stability, ALightFlushWithTheCeilingNeitherLeaksNorShadowsItself) {
   // through the corners.
   // As in the white furnace, the hit flux is Phi / (1 - rho): relative sd sqrt(rho / N) = 0.16% at N = 200k.
   const std::string dir = test::TempDirectory("flush-light");
-  const LoadedScene loaded = LoadObj(test::WriteClosedBox(dir, 1.0f, 0.5f, 0.2f, 10.0f, 0, 1.5f, 0.0f));
-  const Scene& scene = loaded.scene;
-  const SurfaceSet surfaces = BuildSurfaces(scene);
-  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
-  const RayScene rays(scene);
+  const test::TracedScene traced(test::WriteClosedBox(dir, 1.0f, 0.5f, 0.2f, 10.0f, 0, 1.5f, 0.0f));
   constexpr uint64_t kPhotons = 200000;
-  const PhotonHits hits =
-      TracePhotons(scene, lights, rays, PlanTransport(scene, surfaces, lights, {}), {kPhotons, 6, 10000}, Log(true));
+  const PhotonHits hits = traced.Trace(kPhotons, 6);
   double flux = 0;
   hits.ForEach([&](const PhotonHit& h) { flux += h.power.g; });
   EXPECT_NEAR(flux * 0.5 / hits.stats.powerEmitted.g, 1.0, 5 * std::sqrt(0.5 / kPhotons));
@@ -232,13 +224,10 @@ TEST(Stability, ALightCuttingThroughTheFloorLightsItAsItsUpperPartWould) {
   test::WriteText(dir + "/c.mtl", "newmtl floor\nKd 0 0 0\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
   test::WriteText(dir + "/c.obj", "mtllib c.mtl\nusemtl floor\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\nf 1 2 3 4\n"
                                   "usemtl lamp\nv 0 -0.2 -0.2\nv 0 0.3 -0.2\nv 0 0.3 0.2\nv 0 -0.2 0.2\nf 5 6 7 8\n");
-  const Scene scene = LoadObj(dir + "/c.obj").scene;
-  const SurfaceSet surfaces = BuildSurfaces(scene);
-  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
-  const RayScene rays(scene);
+  const test::TracedScene traced(dir + "/c.obj");
+  const Scene& scene = traced.scene;
   constexpr uint64_t kPhotons = 1'000'000;
-  const PhotonHits hits =
-      TracePhotons(scene, lights, rays, PlanTransport(scene, surfaces, lights, {}), {kPhotons, 9, 10000}, Log(true));
+  const PhotonHits hits = traced.Trace(kPhotons, 9);
   const test::FloorCells cells{4, 8, 0.25, 0.0, -1.0};
   std::vector<double> observed(cells.Count(), 0.0);
   uint64_t wrongSide = 0;

@@ -14,6 +14,7 @@
 #include "mesh/texture.h"
 #include "tests/ply_reader.h"
 #include "tests/test_scenes.h"
+#include "tests/traced_scene.h"
 
 namespace pb {
 namespace {
@@ -125,16 +126,11 @@ TEST(Texture, AUniformlyTexturedClosedBoxKeepsItsClosedForm) {
     faced += line + "\n";
   }
   test::WriteText(box, faced);
-  const LoadedScene loaded = LoadObj(box);
-  const Scene& scene = loaded.scene;
-  const SurfaceSet surfaces = BuildSurfaces(scene);
-  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
-  const RayScene rays(scene);
+  const test::TracedScene traced(box);
   constexpr uint64_t kPhotons = 200000;
-  const PhotonHits hits =
-      TracePhotons(scene, lights, rays, PlanTransport(scene, surfaces, lights, {}), {kPhotons, 2, 10000}, Log(true));
+  const PhotonHits hits = traced.Trace(kPhotons, 2);
   // The light has Kd 0.5 too, so every diffuse surface reflects rho; the texel decodes to about 0.503.
-  const double rho = scene.textures.at(0).maximum.g;
+  const double rho = traced.scene.textures.at(0).maximum.g;
   ASSERT_NEAR(rho, SrgbToLinear(188), 1e-6);
   double flux = 0;
   hits.ForEach([&](const PhotonHit& h) { flux += h.power.g; });
