@@ -48,12 +48,6 @@ bool ReachesAnyReceiver(const Scene& scene, const SurfaceSet& surfaces, const Ar
   return false;
 }
 
-float SceneExtent(const Scene& scene) {
-  float largest = 0;
-  for (const Point3& p : scene.positions) largest = std::max(largest, MaxAbsComponent(p));
-  return largest;
-}
-
 EffectDecision Decide(bool needed, std::string whyOn, std::string whyOff) {
   return needed ? EffectDecision{true, false, std::move(whyOn)} : EffectDecision{false, false, std::move(whyOff)};
 }
@@ -79,7 +73,7 @@ void ApplyOverrides(TransportPlan& plan, const EffectOverrides& overrides) {
 
 void PlanLights(TransportPlan& plan, const Scene& scene, const SurfaceSet& surfaces,
                 const std::vector<AreaLight>& lights) {
-  const float tolerance = 1e-5f * SceneExtent(scene);
+  const float tolerance = 1e-5f * scene.LargestCoordinate();
   int reaching = 0;
   for (const AreaLight& light : lights) {
     const bool reaches = ReachesAnyReceiver(scene, surfaces, light, tolerance);

@@ -52,7 +52,7 @@ class PhotonTracer {
         ++block.stats.causticHits;
       }
       block.hits.emplace_back(power, -direction, hit->triangle, onFront, hit->b1, hit->b2);
-      const Rgb albedo = scene_.AlbedoAt(hit->triangle, hit->b1, hit->b2);
+      const Rgb albedo = scene_.AlbedoAt(material, hit->triangle, hit->b1, hit->b2);
       if constexpr (!kInterreflect && !kSpecular) return StopAtFirstSurface(albedo, power, block.stats);
       const float uEvent = rng.Uniform();
       const Point2 uDirection = rng.Uniform2();

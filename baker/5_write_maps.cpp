@@ -53,7 +53,7 @@ void WriteSurfaceMap(const std::string& path, float texel, const Scene& scene, c
       image.At(i, j) = estimator.Estimate(uv) * AreaRatioAt(scene, surfaces, surface, uv);
     }
   const SurfaceChart& chart = surface.chart;
-  const Point3 o = chart.origin;
+  const std::array<double, 3> o = scene.ToWorld(chart.origin);
   const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
   WriteExr(path, image,
            {{"quantity", "irradiance"},
@@ -64,7 +64,7 @@ void WriteSurfaceMap(const std::string& path, float texel, const Scene& scene, c
             {"chart", surface.planar ? "planar projection" : "least-squares conformal map"},
             {"texel_size_m", fmt::format("{:.9g}", texel)},
             {"uv_corner_m", fmt::format("{:.9g} {:.9g}", b.lo.u, b.lo.v)},
-            {"chart_origin_m", Vec(scene.origin[0] + o.x, scene.origin[1] + o.y, scene.origin[2] + o.z)},
+            {"chart_origin_m", Vec(o[0], o[1], o[2])},
             {"chart_u_axis", Vec(chart.frame.s.x, chart.frame.s.y, chart.frame.s.z)},
             {"chart_v_axis", Vec(chart.frame.t.x, chart.frame.t.y, chart.frame.t.z)}},
            &coverage);

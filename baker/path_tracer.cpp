@@ -67,7 +67,7 @@ Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& s
     const float uEvent = rng.Uniform();
     const Point2 uDirection = rng.Uniform2();
     bool transmitted = false;
-    const Rgb albedo = scene_.AlbedoAt(hit->triangle, hit->b1, hit->b2);
+    const Rgb albedo = scene_.AlbedoAt(material, hit->triangle, hit->b1, hit->b2);
     if (settings_.sampling == DirectionSampling::kPhotons && material.kind == MaterialClass::kDiffuse) {
       const float survival = albedo.Max();
       if (uEvent >= survival) break;

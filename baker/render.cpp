@@ -81,11 +81,8 @@ Image StripOf(const std::vector<const Image*>& images) {
 
 // The camera file is in world coordinates; the scene may be re-centred (mesh/scene.h).
 Camera InLocalCoordinates(Camera c, const Scene& scene) {
-  const auto shift = [&](Point3 p) {
-    return Point3{float(p.x - scene.origin[0]), float(p.y - scene.origin[1]), float(p.z - scene.origin[2])};
-  };
-  c.position = shift(c.position);
-  c.lookAt = shift(c.lookAt);
+  c.position = scene.ToLocal(c.position.x, c.position.y, c.position.z);
+  c.lookAt = scene.ToLocal(c.lookAt.x, c.lookAt.y, c.lookAt.z);
   return c;
 }
 

@@ -102,20 +102,27 @@ Point2 ImportanceMap::SampleInversionSquare(Point2 u, uint32_t& region) const {
   return {(float(row) + Inside(a)) / float(rows_), (float(col) + Inside(u.v)) / float(cols_)};
 }
 
+ImportanceMap::Split ImportanceMap::SplitOf(const Node& n) const {
+  const bool rows = n.r1 - n.r0 >= n.c1 - n.c0;  // halve the longer side
+  const int mid = rows ? (n.r0 + n.r1) / 2 : (n.c0 + n.c1) / 2;
+  const double first = rows ? RectangleSum(n.r0, mid, n.c0, n.c1) : RectangleSum(n.r0, n.r1, n.c0, mid);
+  return {rows, mid, first / RectangleSum(n.r0, n.r1, n.c0, n.c1)};
+}
+
+void ImportanceMap::Node::Keep(const Split& s, bool second) {
+  int& lo = s.rows ? r0 : c0;
+  int& hi = s.rows ? r1 : c1;
+  (second ? lo : hi) = s.mid;
+}
+
 Point2 ImportanceMap::SampleMipmapSquare(Point2 u, uint32_t& region) const {
-  int r0 = 0, r1 = rows_, c0 = 0, c1 = cols_;
-  while (r1 - r0 > 1 || c1 - c0 > 1) {
-    const double whole = RectangleSum(r0, r1, c0, c1);
-    if (r1 - r0 >= c1 - c0) {
-      const int mid = (r0 + r1) / 2;
-      (Descend(u.u, RectangleSum(r0, mid, c0, c1) / whole) ? r0 : r1) = mid;
-    } else {
-      const int mid = (c0 + c1) / 2;
-      (Descend(u.v, RectangleSum(r0, r1, c0, mid) / whole) ? c0 : c1) = mid;
-    }
+  Node n{0, rows_, 0, cols_};
+  while (!n.IsCell()) {
+    const Split s = SplitOf(n);
+    n.Keep(s, Descend(s.rows ? u.u : u.v, s.first));
   }
-  region = uint32_t(r0 * cols_ + c0);
-  return {(float(r0) + Inside(u.u)) / float(rows_), (float(c0) + Inside(u.v)) / float(cols_)};
+  region = uint32_t(n.r0 * cols_ + n.c0);
+  return {(float(n.r0) + Inside(u.u)) / float(rows_), (float(n.c0) + Inside(u.v)) / float(cols_)};
 }
 
 ImportanceSample ImportanceMap::Sample(Point2 u, ImportanceWarp warp) const {
@@ -137,23 +144,16 @@ Point2 ImportanceMap::InvertInversionSquare(uint32_t region, Point2 local) const
 }
 
 Point2 ImportanceMap::InvertMipmapSquare(int row, int col, Point2 local) const {
-  int r0 = 0, r1 = rows_, c0 = 0, c1 = cols_;
+  Node n{0, rows_, 0, cols_};
   double ox = 0, sx = 1, oy = 0, sy = 1;  // u = o + s * (the coordinate inside the current node)
-  while (r1 - r0 > 1 || c1 - c0 > 1) {
-    const double whole = RectangleSum(r0, r1, c0, c1);
-    const bool splitRows = r1 - r0 >= c1 - c0;
-    const int mid = splitRows ? (r0 + r1) / 2 : (c0 + c1) / 2;
-    const double q = splitRows ? RectangleSum(r0, mid, c0, c1) / whole : RectangleSum(r0, r1, c0, mid) / whole;
-    double& o = splitRows ? ox : oy;
-    double& s = splitRows ? sx : sy;
-    if ((splitRows ? row : col) < mid) {
-      s *= q;
-      (splitRows ? r1 : c1) = mid;
-    } else {
-      o += s * q;
-      s *= 1 - q;
-      (splitRows ? r0 : c0) = mid;
-    }
+  while (!n.IsCell()) {
+    const Split split = SplitOf(n);
+    const bool second = (split.rows ? row : col) >= split.mid;
+    double& o = split.rows ? ox : oy;
+    double& s = split.rows ? sx : sy;
+    if (second) o += s * split.first;
+    s *= second ? 1 - split.first : split.first;
+    n.Keep(split, second);
   }
   return {Unit(ox + sx * local.u), Unit(oy + sy * local.v)};
 }

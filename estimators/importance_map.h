@@ -65,6 +65,18 @@ class ImportanceMap {
   Point2 ToSquare(Vector3 localDirection) const;  // (s, t)
   Vector3 FromSquare(Point2 st) const;
   double RectangleSum(int r0, int r1, int c0, int c1) const;  // rows [r0, r1), cols [c0, c1)
+  // Hierarchical warping: a node of the grid, halved along its longer side into two children.
+  struct Split {
+    bool rows;     // the rows are halved (else the columns)
+    int mid;       // first row (or column) of the second half
+    double first;  // the first half's share of the node's probability
+  };
+  struct Node {
+    int r0, r1, c0, c1;  // rows [r0, r1), cols [c0, c1)
+    bool IsCell() const { return r1 - r0 == 1 && c1 - c0 == 1; }
+    void Keep(const Split& s, bool second);  // narrows to one half
+  };
+  Split SplitOf(const Node& n) const;
   Point2 SampleInversionSquare(Point2 u, uint32_t& region) const;
   Point2 SampleMipmapSquare(Point2 u, uint32_t& region) const;
   Point2 InvertInversionSquare(uint32_t region, Point2 local) const;

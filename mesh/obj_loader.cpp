@@ -382,7 +382,7 @@ class ObjParser {
     if (distance > size) scene.origin = centre;
     scene.positions.reserve(positions_.size());
     for (const Position& p : positions_) {
-      const Point3 local{float(p[0] - scene.origin[0]), float(p[1] - scene.origin[1]), float(p[2] - scene.origin[2])};
+      const Point3 local = scene.ToLocal(p[0], p[1], p[2]);
       if (!std::isfinite(local.x) || !std::isfinite(local.y) || !std::isfinite(local.z))
         throw InputError(path_, 0, "the scene spans more than a float can hold (about 3e38 m)");
       scene.positions.push_back(local);

@@ -47,9 +47,7 @@ RayScene::RayScene(const Scene& scene) {
   rtcReleaseGeometry(mesh);                // the scene holds the reference now.
   rtcCommitScene(scene_);                  // builds the BVH.
 
-  float largest = 0;
-  for (const Point3& p : scene.positions) largest = std::max(largest, MaxAbsComponent(p));
-  spawnOffset_ = kRelativeSpawnOffset * std::max(largest, 1e-30f);
+  spawnOffset_ = kRelativeSpawnOffset * std::max(scene.LargestCoordinate(), 1e-30f);
 }
 
 RayScene::~RayScene() {

@@ -79,8 +79,9 @@ struct Scene {
   // Texture coordinates of corner k (meaningful when the triangle's material is textured).
   Point2 Texcoord(uint32_t triangle, int k) const { return texcoords[triangles[triangle].vt[k]]; }
   // Diffuse reflectance at barycentrics (b1, b2): Kd, times the map_Kd texture where there is one.
-  Rgb AlbedoAt(uint32_t triangle, float b1, float b2) const {
-    const Material& m = MaterialOf(triangle);
+  Rgb AlbedoAt(uint32_t triangle, float b1, float b2) const { return AlbedoAt(MaterialOf(triangle), triangle, b1, b2); }
+  // The same, for callers that already hold the triangle's material (the photon and path loops).
+  Rgb AlbedoAt(const Material& m, uint32_t triangle, float b1, float b2) const {
     if (m.albedoTexture < 0) return m.albedo;
     const Point2 t0 = Texcoord(triangle, 0), t1 = Texcoord(triangle, 1), t2 = Texcoord(triangle, 2);
     return AlbedoAtTexcoord(m, {t0.u + (t1.u - t0.u) * b1 + (t2.u - t0.u) * b2,
@@ -91,6 +92,16 @@ struct Scene {
     return m.albedoTexture < 0 ? m.albedo : m.albedo * textures[size_t(m.albedoTexture)].Sample(st);
   }
   bool Recentred() const { return origin[0] != 0 || origin[1] != 0 || origin[2] != 0; }
+  Point3 ToLocal(double x, double y, double z) const {
+    return {float(x - origin[0]), float(y - origin[1]), float(z - origin[2])};
+  }
+  std::array<double, 3> ToWorld(Point3 p) const { return {origin[0] + p.x, origin[1] + p.y, origin[2] + p.z}; }
+  // The largest |coordinate| of any vertex, locally [m]: the scale of float rounding in this scene.
+  float LargestCoordinate() const {
+    float largest = 0;
+    for (const Point3& p : positions) largest = std::max(largest, MaxAbsComponent(p));
+    return largest;
+  }
 };
 
 }  // namespace pb
