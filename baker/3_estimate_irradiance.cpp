@@ -46,6 +46,12 @@ std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const Surfac
   return h;
 }
 
+PointLight LightAt(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators, uint32_t s,
+                   Point2 uv, Point2 texcoord, float areaRatio) {
+  const Material& material = scene.materials[surfaces.surfaces[s].material];
+  return {estimators[s]->Estimate(uv) * areaRatio, scene.AlbedoAtTexcoord(material, texcoord), material.emission};
+}
+
 BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators,
                              SplitMesh mesh, const Log& log) {
   BakedMesh baked;
@@ -56,11 +62,11 @@ BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, con
   Progress progress(log, "estimate irradiance", n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t v = r.begin(); v != r.end(); ++v) {
-      const uint32_t s = mesh.surface[v];
-      const Material& material = scene.materials[surfaces.surfaces[s].material];
-      baked.irradiance[v] = estimators[s]->Estimate(mesh.uv[v]) * mesh.uvAreaRatio[v];
-      baked.albedo[v] = scene.AlbedoAtTexcoord(material, mesh.texcoord[v]);
-      baked.emitted[v] = material.emission;
+      const PointLight light =
+          LightAt(scene, surfaces, estimators, mesh.surface[v], mesh.uv[v], mesh.texcoord[v], mesh.uvAreaRatio[v]);
+      baked.irradiance[v] = light.irradiance;
+      baked.albedo[v] = light.albedo;
+      baked.emitted[v] = light.emitted;
     }
     progress.Advance(r.size());
   });

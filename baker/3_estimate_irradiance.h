@@ -30,6 +30,16 @@ using SurfaceEstimators = std::vector<std::unique_ptr<DensityEstimator>>;
 SurfaceEstimators BuildEstimators(const SurfaceRegions& regions, const SurfaceBins& bins,
                                   const EstimatorSettings& settings, const std::vector<float>& bandwidths);
 
+// The light at one point of surface s: H from the surface's estimator at chart position uv, times the chart's
+// area ratio there; R from the material (and its texture at texcoord); Le from the material.
+struct PointLight {
+  Rgb irradiance, albedo, emitted;
+  Rgb Radiance() const { return OutgoingRadiance(emitted, albedo, irradiance); }
+};
+PointLight LightAt(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators, uint32_t s,
+                   Point2 uv, Point2 texcoord, float areaRatio);
+
+// Every vertex of `mesh`, by LightAt.
 BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators,
                              SplitMesh mesh, const Log& log);
 

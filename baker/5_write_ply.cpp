@@ -88,15 +88,15 @@ std::string Body(const BakedMesh& baked, bool ascii, float exposure) {
 
 }  // namespace
 
+float DisplayExposure(const BakedMesh& baked, std::optional<float> user) {
+  if (user) return *user;
+  std::vector<Rgb> radiance(baked.mesh.VertexCount());
+  for (size_t v = 0; v < radiance.size(); ++v) radiance[v] = baked.Radiance(v);
+  return AutoExposure(radiance);
+}
+
 float WritePly(const std::string& path, const BakedMesh& baked, const PlyOptions& options) {
-  float exposure = 1.0f;
-  if (options.exposure) {
-    exposure = *options.exposure;
-  } else {
-    std::vector<Rgb> radiance(baked.mesh.VertexCount());
-    for (size_t v = 0; v < radiance.size(); ++v) radiance[v] = baked.Radiance(v);
-    exposure = AutoExposure(radiance);
-  }
+  const float exposure = DisplayExposure(baked, options.exposure);
   const std::string header = Header(baked, options.ascii, exposure);
   const std::string body = Body(baked, options.ascii, exposure);
   WriteFileAtomically(path, [&](std::ostream& out) {

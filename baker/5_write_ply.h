@@ -17,6 +17,9 @@ struct PlyOptions {
   std::optional<float> exposure;  // display exposure; unset = AutoExposure
 };
 
+// The display exposure: the user's, or AutoExposure of the vertices' radiance.
+float DisplayExposure(const BakedMesh& baked, std::optional<float> user);
+
 // Returns the exposure used. Written atomically (baker/atomic_file.h).
 float WritePly(const std::string& path, const BakedMesh& baked, const PlyOptions& options);
 

@@ -9,6 +9,7 @@
 #include "baker/1_trace_photons.h"
 #include "baker/2_bin_photons.h"
 #include "baker/3_estimate_irradiance.h"
+#include "baker/4_refine_mesh.h"
 #include "baker/5_write_maps.h"
 #include "baker/5_write_ply.h"
 #include "baker/atomic_file.h"
@@ -29,6 +30,9 @@ void ValidateOptions(const BakeOptions& o) {
   if (o.photons == 0) throw InputError("--photons", 0, "must be at least 1");
   if (!(o.scale > 0) || !std::isfinite(o.scale)) throw InputError("--scale", 0, "must be a finite number > 0");
   if (o.exposure && !(*o.exposure > 0)) throw InputError("--exposure", 0, "must be > 0");
+  if (!(o.refine.tolerance > 0 && o.refine.tolerance < 1)) throw InputError("--tolerance", 0, "must lie in (0, 1)");
+  if (o.refine.subdivide < 0 || o.refine.subdivide > 8) throw InputError("--subdivide", 0, "must lie in [0, 8]");
+  if (o.refine.maxVertices < 3) throw InputError("--max-vertices", 0, "must be at least 3");
 }
 
 void ValidateOutputs(const BakeOptions& o) {
@@ -101,6 +105,11 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
       clock.Time("estimators", [&] { return BuildEstimators(regions, bins, o.estimator, bandwidths); });
   BakedMesh baked =
       clock.Time("estimate", [&] { return EstimateIrradiance(scene, surfaces, estimators, SplitBySurface(scene, surfaces), log); });
+  report.exposure = DisplayExposure(baked, o.exposure);
+  if (o.refine.Enabled())
+    baked = clock.Time("refine", [&] {
+      return RefineMesh({scene, surfaces, estimators, bandwidths, baked.mesh, report.exposure}, o.refine, report.refine, log);
+    });
   if (!o.mapsDirectory.empty())
     report.maps = clock.Time("maps", [&] {
       return WriteIrradianceMaps(o.mapsDirectory, o.texel, scene, surfaces, regions, estimators, log);
@@ -125,7 +134,7 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   BakeResult result = BakeMesh(o, log);
   BakeReport& report = result.report;
   StageClock clock(report.stageSeconds);
-  report.exposure = clock.Time("write", [&] { return WritePly(o.outputPath, result.mesh, {o.asciiPly, o.exposure}); });
+  clock.Time("write", [&] { return WritePly(o.outputPath, result.mesh, {o.asciiPly, report.exposure}); });
   if (!o.reportPath.empty()) WriteReportJson(o.reportPath, report);
   return report;
 }

@@ -1,5 +1,5 @@
 // The bake pipeline (DESIGN.md, "Data flow"): load scene -> trace photons -> bin per surface -> estimate H at
-// vertices -> write PLY (and the JSON report). Throws InputError for bad input before any output is written.
+// vertices -> (refine the mesh) -> write PLY (and the JSON report). Throws InputError for bad input before any output is written.
 #pragma once
 
 #include "baker/options.h"
@@ -11,7 +11,7 @@ namespace pb {
 // The whole bake: BakeMesh, then the PLY and the JSON report.
 BakeReport Bake(const BakeOptions& options, const Log& log);
 
-// Everything before writing the PLY: the report (all but the display exposure and the write time) and the baked
+// Everything before writing the PLY: the report (all but the write time) and the baked
 // mesh. options.outputPath and reportPath are not used; irradiance maps are written when
 // options.mapsDirectory is set. For tools that measure the estimate (tools/accuracy.cpp).
 struct BakeResult {

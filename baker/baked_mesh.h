@@ -10,13 +10,16 @@
 
 namespace pb {
 
+// L = Le + R H / pi [W/(m^2 sr)].
+inline Rgb OutgoingRadiance(Rgb emitted, Rgb albedo, Rgb irradiance) { return emitted + albedo * irradiance * kInvPi; }
+
 struct BakedMesh {
   SplitMesh mesh;
   std::vector<Rgb> irradiance;  // H [W/m^2]
   std::vector<Rgb> albedo;      // R
   std::vector<Rgb> emitted;     // Le [W/(m^2 sr)], non-zero on lights' front sides
 
-  Rgb Radiance(size_t vertex) const { return emitted[vertex] + albedo[vertex] * irradiance[vertex] * kInvPi; }
+  Rgb Radiance(size_t vertex) const { return OutgoingRadiance(emitted[vertex], albedo[vertex], irradiance[vertex]); }
 };
 
 }  // namespace pb

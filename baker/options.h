@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "baker/4_refine_mesh.h"
 #include "estimators/density_estimator.h"
 
 namespace pb {
@@ -30,6 +31,7 @@ struct BakeOptions {
   bool quiet = false;             // no progress or summary on stderr.
   std::string mapsDirectory;      // --maps: one irradiance map (EXR) per surface here; empty for none.
   float texel = 0.02f;            // --texel: map texel side [m]; range (0, inf), typical 0.005-0.05.
+  RefineSettings refine;          // --refine, --tolerance, --max-vertices, --subdivide (baker/4_refine_mesh.h)
 };
 
 }  // namespace pb

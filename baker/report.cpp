@@ -19,7 +19,14 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
           {"edge_correction", o.estimator.edgeCorrection},
           {"h_m", o.autoBandwidth ? nlohmann::json("auto") : nlohmann::json(o.estimator.bandwidth)},          {"photons", o.photons},   {"seed", o.seed},
           {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly},
-          {"effects", o.effectsText}};
+          {"effects", o.effectsText}, {"refine", o.refine.adaptive}, {"tolerance", o.refine.tolerance},
+          {"max_vertices", o.refine.maxVertices}, {"subdivide", o.refine.subdivide}};
+}
+
+double StageSeconds(const BakeReport& r, const std::string& stage) {
+  for (const auto& [name, seconds] : r.stageSeconds)
+    if (name == stage) return seconds;
+  return 0;
 }
 
 nlohmann::json TraceJson(const TraceStats& t) {
@@ -56,6 +63,24 @@ std::string SurfaceTable(const BakeReport& r) {
   }
   if (surfaces.size() > kRows) s += fmt::format("  ... {} more surfaces in --report\n", surfaces.size() - kRows);
   return s;
+}
+
+std::string RefineLine(const BakeReport& r) {
+  const RefineReport& m = r.refine;
+  return fmt::format("  refine    {} -> {} vertices ({} collapses, {} cuts; {} refused by the budget, {} by the "
+                     "minimum edge), displayed-luminance error max {:.4f} mean {:.4f} (tolerance {:.4g}), {:.3f} s\n",
+                     m.verticesBefore, m.verticesAfter, m.collapses, m.splits, m.refusedByBudget,
+                     m.refusedByEdgeLength, m.maxError, m.meanError, r.options.refine.tolerance, StageSeconds(r, "refine"));
+}
+
+nlohmann::json RefineJson(const BakeReport& r) {
+  const RefineReport& m = r.refine;
+  return {{"vertices_before", m.verticesBefore}, {"vertices_after", m.verticesAfter}, {"faces_before", m.facesBefore},
+          {"faces_after", m.facesAfter}, {"collapses", m.collapses}, {"splits", m.splits},
+          {"refused_by_budget", m.refusedByBudget}, {"refused_by_minimum_edge", m.refusedByEdgeLength},
+          {"detached_faces", m.detachedFaces}, {"max_error", m.maxError}, {"mean_error", m.meanError},
+          {"error_unit", "displayed luminance, fraction of the display range"},
+          {"tolerance", r.options.refine.tolerance}, {"seconds", StageSeconds(r, "refine")}};
 }
 
 }  // namespace
@@ -116,6 +141,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   for (Effect e : kAllEffects) s += fmt::format("  effect    {}: {}\n", EffectName(e), r.plan.Describe(e));
   s += fmt::format("  output    {}: {} vertices, {} triangles, display exposure {:.4g}\n", r.options.outputPath,
                    r.vertices, r.faces, r.exposure);
+  if (r.refine.ran) s += RefineLine(r);
   if (!r.maps.paths.empty())
     s += fmt::format("  maps      {} irradiance maps (EXR, W/m^2), {} texels of {} m, in {}\n", r.maps.paths.size(),
                      r.maps.texels, r.options.texel, r.options.mapsDirectory);
@@ -150,6 +176,7 @@ void WriteReportJson(const std::string& path, const BakeReport& r) {
   j["effects"]["significant_diffuse_bounces"] = r.plan.significantBounces;
   j["output"] = {{"path", r.options.outputPath}, {"vertices", r.vertices}, {"faces", r.faces},
                  {"display_exposure", r.exposure}};
+  if (r.refine.ran) j["refine"] = RefineJson(r);
   j["maps"] = {{"paths", r.maps.paths}, {"texels", r.maps.texels}, {"texel_m", r.options.texel}};
   j["warnings"] = r.warnings;
   const std::string text = j.dump(2) + "\n";

@@ -8,6 +8,7 @@
 
 #include "baker/1_trace_photons.h"
 #include "baker/2_bin_photons.h"
+#include "baker/4_refine_mesh.h"
 #include "baker/5_write_maps.h"
 #include "baker/baked_mesh.h"
 #include "baker/options.h"
@@ -49,6 +50,7 @@ struct BakeReport {
   std::vector<std::string> warnings;
   float exposure = 1;
   MapsWritten maps;  // --maps: the EXR files written and their texel count
+  RefineReport refine;  // --refine / --subdivide: vertices before and after, interpolation error
 
   double TotalSeconds() const;
 };

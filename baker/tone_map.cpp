@@ -10,8 +10,10 @@ float EncodeSrgb(float linear) {
   return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
 }
 
+float Display(float x) { return EncodeSrgb(x / (1.0f + x)); }
+
 uint8_t ToByte(float x) {
-  const float display = EncodeSrgb(x / (1.0f + x));
+  const float display = Display(x);
   return uint8_t(std::clamp(std::lround(display * 255.0f), 0l, 255l));
 }
 
@@ -31,6 +33,10 @@ float AutoExposure(std::span<const Rgb> radiance) {
 std::array<uint8_t, 3> ToneMap(Rgb radiance, float exposure) {
   const Rgb x = radiance * exposure;
   return {ToByte(std::max(0.0f, x.r)), ToByte(std::max(0.0f, x.g)), ToByte(std::max(0.0f, x.b))};
+}
+
+float DisplayedLuminance(Rgb radiance, float exposure) {
+  return Display(std::max(0.0f, Luminance(radiance) * exposure));
 }
 
 }  // namespace pb

@@ -78,6 +78,18 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
                                             "this folder (surface_N.exr; README, 'Irradiance maps')");
   app.add_option("--texel", o.texel, "texel side of --maps [m]; range > 0, typical 0.005-0.05")->capture_default_str();
+  app.add_flag("--refine", o.refine.adaptive,
+               "adapt the mesh to the light: remove vertices where it is flat, add them where it changes (README, "
+               "'Meshes that follow the light'); the geometry is unchanged");
+  app.add_option("--tolerance", o.refine.tolerance,
+                 "--refine's largest interpolation error in displayed luminance, as a fraction of the display range; "
+                 "range (0, 1), typical 0.01-0.05")
+      ->capture_default_str();
+  app.add_option("--max-vertices", o.refine.maxVertices, "--refine's budget of output vertices; typical 1e4-1e6")
+      ->capture_default_str();
+  app.add_option("--subdivide", o.refine.subdivide,
+                 "split every triangle into 4^N first (uniform, OpenSubdiv); range 0-8, 0 = off")
+      ->capture_default_str();
   app.add_option("--report", o.reportPath, "write the summary figures as JSON to this file");
   app.add_option("--exposure", o.exposure, "display exposure on radiance for the PLY's uchar colours; range > 0; "
                                            "default automatic (log-average luminance to 0.18)");

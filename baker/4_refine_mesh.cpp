@@ -1,0 +1,276 @@
+#include "baker/4_refine_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include <tbb/parallel_for.h>
+
+#include <fmt/format.h>
+
+#include "baker/tone_map.h"
+#include "mesh/decimate.h"
+#include "mesh/half_edge_mesh.h"
+#include "mesh/interpolation_error.h"
+#include "mesh/refine.h"
+#include "mesh/subdivide.h"
+
+namespace pb {
+namespace {
+
+using Vec3d = OpenMesh::Vec3d;
+using FaceHandle = HalfEdgeMesh::FaceHandle;
+using VertexHandle = HalfEdgeMesh::VertexHandle;
+
+// Lattice points per edge at most; a face longer than this many spacings is judged more coarsely, and is cut
+// anyway once its error shows.
+constexpr int kMaxDivisions = 32;
+
+// Node spacing of the irradiance grid, as a fraction of the surface's h; and a cap on all grids' nodes.
+constexpr double kGridFraction = 0.25;
+constexpr double kMaxGridNodes = 4e6;
+
+// H of one surface on a regular grid in its chart, read between nodes by bilinear interpolation. Decimation
+// weighs each collapse by the error of the faces it would make, and weighs large faces again and again as their
+// neighbours change: reading H there from the grid costs a fraction of the estimator's price. Nodes h/4 apart
+// follow the estimate's own detail (scale h) closely, and refinement, which judges faces against the
+// estimator itself, mends what the grid misses.
+class IrradianceGrid {
+ public:
+  IrradianceGrid(const DensityEstimator& estimator, const Bounds2& bounds, double spacing)
+      : lo_(bounds.lo), spacing_(spacing), nu_(int(std::ceil((bounds.hi.u - bounds.lo.u) / spacing)) + 2),
+        nv_(int(std::ceil((bounds.hi.v - bounds.lo.v) / spacing)) + 2), nodes_(size_t(nu_) * nv_) {
+    tbb::parallel_for(0, nv_, [&](int j) {
+      for (int i = 0; i < nu_; ++i)
+        nodes_[size_t(j) * nu_ + i] = estimator.Estimate({float(lo_.u + i * spacing_), float(lo_.v + j * spacing_)});
+    });
+  }
+
+  Rgb At(Point2 uv) const {
+    const double x = std::clamp((uv.u - lo_.u) / spacing_, 0.0, nu_ - 1.000001);
+    const double y = std::clamp((uv.v - lo_.v) / spacing_, 0.0, nv_ - 1.000001);
+    const int i = int(x), j = int(y);
+    const float fx = float(x - i), fy = float(y - j);
+    return (Node(i, j) * (1 - fx) + Node(i + 1, j) * fx) * (1 - fy) + (Node(i, j + 1) * (1 - fx) + Node(i + 1, j + 1) * fx) * fy;
+  }
+
+ private:
+  Rgb Node(int i, int j) const { return nodes_[size_t(j) * nu_ + i]; }
+
+  Point2 lo_;
+  double spacing_;
+  int nu_, nv_;
+  std::vector<Rgb> nodes_;
+};
+
+std::vector<IrradianceGrid> IrradianceGrids(const RefineInputs& in) {
+  std::vector<Bounds2> bounds(in.surfaces.surfaces.size());
+  double nodes = 0;
+  for (size_t s = 0; s < bounds.size(); ++s) {
+    for (uint32_t t : in.surfaces.surfaces[s].triangles)
+      for (Point2 c : in.surfaces.cornerUv[t]) bounds[s].Extend(c);
+    const double spacing = kGridFraction * in.bandwidths[s];
+    nodes += (double(bounds[s].hi.u - bounds[s].lo.u) / spacing + 2) * (double(bounds[s].hi.v - bounds[s].lo.v) / spacing + 2);
+  }
+  const double coarsen = std::max(1.0, std::sqrt(nodes / kMaxGridNodes));
+  std::vector<IrradianceGrid> grids;
+  for (size_t s = 0; s < bounds.size(); ++s)
+    grids.emplace_back(*in.estimators[s], bounds[s], coarsen * kGridFraction * in.bandwidths[s]);
+  return grids;
+}
+
+// The displayed grey level of the estimated radiance at any point of a refined mesh: exact at vertices (cached
+// per surface, and per base triangle on textured surfaces, whose corners may sit on a texture seam), and from
+// the irradiance grid between them.
+class DisplayedLight {
+ public:
+  explicit DisplayedLight(const RefineInputs& in)
+      : in_(in), sampler_(in.scene, in.surfaces, in.base), grids_(IrradianceGrids(in)) {
+    for (const Surface& s : in.surfaces.surfaces) textured_.push_back(in.scene.materials[s.material].albedoTexture >= 0);
+  }
+
+  // Exact: H from the estimator.
+  double At(uint32_t surface, uint32_t base, const Vec3d& p) const {
+    const SurfacePoint a = sampler_.At(surface, base, p);
+    return Display(LightAt(in_.scene, in_.surfaces, in_.estimators, surface, a.uv, a.texcoord, a.areaRatio));
+  }
+
+  // H from the grid.
+  double Approximately(uint32_t surface, uint32_t base, const Vec3d& p) const {
+    const SurfacePoint a = sampler_.At(surface, base, p);
+    const Material& material = in_.scene.materials[in_.surfaces.surfaces[surface].material];
+    return Display({grids_[surface].At(a.uv) * a.areaRatio, in_.scene.AlbedoAtTexcoord(material, a.texcoord),
+                    material.emission});
+  }
+
+  double AtCorner(const HalfEdgeMesh& mesh, FaceHandle f, VertexHandle v) {
+    const uint32_t s = mesh.Surface(f);
+    const uint64_t key = uint64_t(v.idx()) << 32 | (textured_[s] ? (mesh.BaseTriangle(f) | 1u << 31) : s);
+    auto [it, isNew] = cache_.emplace(key, 0.0);
+    if (isNew) it->second = At(s, mesh.BaseTriangle(f), mesh.point(v));
+    return it->second;
+  }
+
+  // The error of face f, or of f with its corner `moved` placed at vertex `to` (a collapse being weighed),
+  // judged against the grid.
+  InterpolationError ApproximateFaceError(const HalfEdgeMesh& mesh, FaceHandle f, VertexHandle moved,
+                                          VertexHandle to) {
+    std::array<VertexHandle, 3> corners = mesh.CornerVertices(f);
+    for (VertexHandle& c : corners)
+      if (c == moved) c = to;
+    const std::array<Vec3d, 3> p{mesh.point(corners[0]), mesh.point(corners[1]), mesh.point(corners[2])};
+    const std::array<double, 3> values{AtCorner(mesh, f, corners[0]), AtCorner(mesh, f, corners[1]),
+                                       AtCorner(mesh, f, corners[2])};
+    const uint32_t s = mesh.Surface(f), base = mesh.BaseTriangle(f);
+    return LatticeError(p, values, Divisions(s, p), [&](const Vec3d& q) { return Approximately(s, base, q); });
+  }
+
+  // The error of face f against the estimator itself.
+  InterpolationError FaceError(const HalfEdgeMesh& mesh, FaceHandle f) {
+    const auto corners = mesh.CornerVertices(f);
+    const std::array<double, 3> values{AtCorner(mesh, f, corners[0]), AtCorner(mesh, f, corners[1]),
+                                       AtCorner(mesh, f, corners[2])};
+    return ExactFaceError(mesh, f, values);
+  }
+
+  // The same with no cache, for the final figures, from any thread.
+  InterpolationError ExactFaceError(const HalfEdgeMesh& mesh, FaceHandle f) const {
+    const auto p = mesh.Corners(f);
+    const uint32_t s = mesh.Surface(f), base = mesh.BaseTriangle(f);
+    return ExactFaceError(mesh, f, {At(s, base, p[0]), At(s, base, p[1]), At(s, base, p[2])});
+  }
+
+  void Forget() { cache_.clear(); }  // vertex indices change when the mesh is garbage-collected
+  const std::vector<bool>& Textured() const { return textured_; }
+
+ private:
+  InterpolationError ExactFaceError(const HalfEdgeMesh& mesh, FaceHandle f, const std::array<double, 3>& values) const {
+    const auto p = mesh.Corners(f);
+    const uint32_t s = mesh.Surface(f), base = mesh.BaseTriangle(f);
+    return LatticeError(p, values, Divisions(s, p), [&](const Vec3d& q) { return At(s, base, q); });
+  }
+
+  double Display(const PointLight& light) const { return DisplayedLuminance(light.Radiance(), in_.exposure); }
+  int Divisions(uint32_t s, const std::array<Vec3d, 3>& p) const {
+    return LatticeDivisions(p, 0.5 * in_.bandwidths[s], kMaxDivisions);
+  }
+
+  const RefineInputs& in_;
+  SurfacePointSampler sampler_;
+  std::vector<IrradianceGrid> grids_;
+  std::vector<bool> textured_;
+  std::unordered_map<uint64_t, double> cache_;
+};
+
+// Refinement's priority module: the worst faces first, until every face is within the tolerance.
+class DisplayErrorModule : public RefineModule {
+ public:
+  DisplayErrorModule(DisplayedLight& light, double tolerance) : light_(light), tolerance_(tolerance) {}
+  std::string_view Name() const override { return "displayed luminance error"; }
+  double Priority(const HalfEdgeMesh& mesh, FaceHandle f) override {
+    const double error = light_.FaceError(mesh, f).max;
+    return error > tolerance_ ? error : kNoSplit;
+  }
+
+ private:
+  DisplayedLight& light_;
+  double tolerance_;
+};
+
+// Decimation's priority module: a collapse is legal while every face it changes stays within the tolerance;
+// the smallest error goes first.
+template <typename MeshT>
+class ModDisplayErrorT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModDisplayErrorT, MeshT, DisplayError);
+  explicit ModDisplayErrorT(MeshT& mesh) : Base(mesh, false) {}
+  void Set(DisplayedLight* light, double tolerance) { light_ = light, tolerance_ = tolerance; }
+  float collapse_priority(const CollapseInfo& ci) override {
+    double worst = 0;
+    for (FaceHandle f : ci.mesh.vf_range(ci.v0)) {
+      if (f == ci.fl || f == ci.fr) continue;  // removed by the collapse
+      worst = std::max(worst, light_->ApproximateFaceError(ci.mesh, f, ci.v0, ci.v1).max);
+      if (worst > tolerance_) return Base::ILLEGAL_COLLAPSE;
+    }
+    return float(worst);
+  }
+
+ private:
+  DisplayedLight* light_ = nullptr;
+  double tolerance_ = 0;
+};
+
+std::vector<bool> LockedSurfaces(const Scene& scene, const SurfaceSet& surfaces) {
+  std::vector<bool> locked;
+  for (const Surface& s : surfaces.surfaces) locked.push_back(!s.planar || scene.materials[s.material].albedoTexture >= 0);
+  return locked;
+}
+
+size_t Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, double tolerance) {
+  LockSurfaces(mesh, LockedSurfaces(in.scene, in.surfaces));
+  OpenMesh::Decimater::DecimaterT<HalfEdgeMesh> decimater(mesh);
+  ModExactGeometryT<HalfEdgeMesh>::Handle geometry;
+  ModDisplayErrorT<HalfEdgeMesh>::Handle error;
+  decimater.add(geometry);
+  decimater.add(error);
+  decimater.module(error).Set(&light, tolerance);
+  decimater.initialize();
+  const size_t collapses = decimater.decimate();
+  mesh.garbage_collection();
+  light.Forget();
+  return collapses;
+}
+
+void Refine(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, const RefineSettings& settings,
+            size_t displayVertices, RefineReport& report) {
+  std::vector<double> minimumEdge;
+  for (float h : in.bandwidths) minimumEdge.push_back(settings.minimumEdgeFraction * h);
+  DisplayErrorModule error(light, settings.tolerance);
+  MinimumEdgeLength edgeLength(std::move(minimumEdge));
+  VertexBudget budget(settings.maxVertices, displayVertices, light.Textured());
+  RefineModule* constraints[] = {&budget, &edgeLength};
+  const RefineStats stats = RefineAdaptive(mesh, error, constraints);
+  report.splits = stats.splits;
+  for (const auto& [name, count] : stats.refusedBy) {
+    if (name == budget.Name()) report.refusedByBudget = count;
+    if (name == edgeLength.Name()) report.refusedByEdgeLength = count;
+  }
+}
+
+// Against the estimator itself, in parallel over faces; summed in face order, so the figures do not depend on
+// the thread count.
+void MeasureError(const HalfEdgeMesh& mesh, const DisplayedLight& light, RefineReport& report) {
+  std::vector<InterpolationError> errors(mesh.n_faces());
+  tbb::parallel_for(size_t(0), mesh.n_faces(), [&](size_t f) { errors[f] = light.ExactFaceError(mesh, FaceHandle(int(f))); });
+  InterpolationError total;
+  for (const InterpolationError& e : errors) total.Add(e);
+  report.maxError = total.max;
+  report.meanError = total.points ? total.sum / double(total.points) : 0;
+}
+
+}  // namespace
+
+BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, RefineReport& report, const Log& log) {
+  report.ran = true;
+  report.verticesBefore = in.base.VertexCount();
+  report.facesBefore = in.base.faces.size();
+  HalfEdgeMesh mesh = SubdivideUniform(BuildHalfEdgeMesh(in.scene, in.surfaces), settings.subdivide);
+  report.detachedFaces = mesh.detachedFaces;
+  DisplayedLight light(in);
+  if (settings.adaptive) {
+    report.collapses = Coarsen(mesh, light, in, settings.tolerance);
+    const size_t coarse = ToSplitMesh(mesh, in.scene, in.surfaces, in.base).VertexCount();
+    Refine(mesh, light, in, settings, coarse, report);
+  }
+  MeasureError(mesh, light, report);
+  BakedMesh baked = EstimateIrradiance(in.scene, in.surfaces, in.estimators,
+                                       ToSplitMesh(mesh, in.scene, in.surfaces, in.base), log);
+  report.verticesAfter = baked.mesh.VertexCount();
+  report.facesAfter = baked.mesh.faces.size();
+  if (report.refusedByBudget)
+    log.Warning(fmt::format("refinement stopped at the vertex budget ({} vertices) with faces still above the "
+                            "tolerance; raise --max-vertices or --tolerance", settings.maxVertices));
+  return baked;
+}
+
+}  // namespace pb

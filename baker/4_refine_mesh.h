@@ -1,0 +1,63 @@
+// Stage 4: a display mesh that follows the light. Starting from the scene's triangles (welded into one
+// half-edge mesh, mesh/half_edge_mesh.h), it
+//   1. optionally subdivides uniformly, `subdivide` levels (mesh/subdivide.h, OpenSubdiv);
+//   2. coarsens where the light is flat: halfedge collapses that keep the geometry exact (mesh/decimate.h,
+//      OpenMesh's Decimater; Walter et al. 1997) and keep the interpolation error within the tolerance;
+//   3. refines where the light changes: longest-edge bisection (mesh/refine.h; Shirley et al. 1995) of the
+//      faces whose interpolation error exceeds the tolerance, down to a minimum edge length, within a vertex
+//      budget;
+// and evaluates H, R and Le at every vertex of the result from the estimators (stage 3), never by
+// interpolation. No photon is traced again: the estimators hold the photons of the base surfaces.
+//
+// The error is measured in what a viewer sees: the displayed grey level in [0, 1] of the vertex radiance
+// (baker/tone_map.h, DisplayedLuminance, at the PLY's exposure), linearly interpolated across a face, against the
+// same grey level of the radiance estimated directly at the point. A tolerance of 0.02 is 2% of the display
+// range, about 5 of 255 levels. Faces are judged at the points of a barycentric lattice (mesh/interpolation_error.h)
+// whose spacing is at most half the surface's bandwidth h: the estimate has no detail finer than h.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "baker/3_estimate_irradiance.h"
+#include "baker/baked_mesh.h"
+#include "baker/progress.h"
+#include "mesh/scene.h"
+#include "mesh/surfaces.h"
+
+namespace pb {
+
+struct RefineSettings {
+  bool adaptive = false;        // --refine: steps 2 and 3
+  float tolerance = 0.02f;      // --tolerance: largest displayed-luminance error; range (0, 1), typical 0.01-0.05
+  size_t maxVertices = 200'000; // --max-vertices: budget of the written mesh's vertices; typical 1e4-1e6
+  int subdivide = 0;            // --subdivide: uniform levels first; range [0, 8], each ~4x the vertices
+  // Edges are not cut below this fraction of their surface's h [m]: the estimate is smooth at scale h.
+  float minimumEdgeFraction = 0.125f;
+  bool Enabled() const { return adaptive || subdivide > 0; }
+};
+
+struct RefineReport {
+  bool ran = false;
+  size_t verticesBefore = 0, verticesAfter = 0;  // of the written (split) mesh
+  size_t facesBefore = 0, facesAfter = 0;
+  size_t collapses = 0, splits = 0;
+  size_t refusedByBudget = 0, refusedByEdgeLength = 0;  // cuts a constraint refused
+  size_t detachedFaces = 0;   // input faces on non-manifold edges, refined on their own
+  double maxError = 0, meanError = 0;  // displayed luminance, over the final mesh's lattice points
+};
+
+// What refinement reads: the scene, its surfaces, their estimators and bandwidths, and the base bake (for the
+// input's corner normals and area ratios).
+struct RefineInputs {
+  const Scene& scene;
+  const SurfaceSet& surfaces;
+  const SurfaceEstimators& estimators;
+  const std::vector<float>& bandwidths;  // h per surface [m]
+  const SplitMesh& base;                 // SplitBySurface(scene, surfaces)
+  float exposure;                        // the PLY's display exposure
+};
+
+BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, RefineReport& report, const Log& log);
+
+}  // namespace pb
