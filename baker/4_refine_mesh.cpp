@@ -206,19 +206,34 @@ std::vector<bool> LockedSurfaces(const Scene& scene, const SurfaceSet& surfaces)
   return locked;
 }
 
-size_t Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, double tolerance) {
+size_t DisplayVertices(const HalfEdgeMesh& mesh, const RefineInputs& in) {
+  return ToSplitMesh(mesh, in.scene, in.surfaces, in.base).VertexCount();
+}
+
+// Collapses while every changed face stays within the tolerance, the smallest error first; then, if the mesh
+// still has more display vertices than the budget, goes on past the tolerance (still the smallest error first)
+// until it fits or no collapse keeps the geometry.
+void Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, const RefineSettings& settings,
+             RefineReport& report) {
   LockSurfaces(mesh, LockedSurfaces(in.scene, in.surfaces));
   OpenMesh::Decimater::DecimaterT<HalfEdgeMesh> decimater(mesh);
   ModExactGeometryT<HalfEdgeMesh>::Handle geometry;
   ModDisplayErrorT<HalfEdgeMesh>::Handle error;
   decimater.add(geometry);
   decimater.add(error);
-  decimater.module(error).Set(&light, tolerance);
+  decimater.module(error).Set(&light, settings.tolerance);
   decimater.initialize();
-  const size_t collapses = decimater.decimate();
+  report.collapses = decimater.decimate();
+  decimater.module(error).Set(&light, INFINITY);
+  for (size_t count = DisplayVertices(mesh, in); count > settings.maxVertices;) {
+    const size_t forced = decimater.decimate(count - settings.maxVertices);
+    if (forced == 0) break;
+    report.collapses += forced;
+    report.collapsesPastTolerance += forced;
+    count = DisplayVertices(mesh, in);
+  }
   mesh.garbage_collection();
   light.Forget();
-  return collapses;
 }
 
 void Refine(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, const RefineSettings& settings,
@@ -258,18 +273,21 @@ BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, Ref
   report.detachedFaces = mesh.detachedFaces;
   DisplayedLight light(in);
   if (settings.adaptive) {
-    report.collapses = Coarsen(mesh, light, in, settings.tolerance);
-    const size_t coarse = ToSplitMesh(mesh, in.scene, in.surfaces, in.base).VertexCount();
-    Refine(mesh, light, in, settings, coarse, report);
+    Coarsen(mesh, light, in, settings, report);
+    Refine(mesh, light, in, settings, DisplayVertices(mesh, in), report);
   }
   MeasureError(mesh, light, report);
   BakedMesh baked = EstimateIrradiance(in.scene, in.surfaces, in.estimators,
                                        ToSplitMesh(mesh, in.scene, in.surfaces, in.base), log);
   report.verticesAfter = baked.mesh.VertexCount();
   report.facesAfter = baked.mesh.faces.size();
-  if (report.refusedByBudget)
-    log.Warning(fmt::format("refinement stopped at the vertex budget ({} vertices) with faces still above the "
-                            "tolerance; raise --max-vertices or --tolerance", settings.maxVertices));
+  if (report.refusedByBudget || report.collapsesPastTolerance)
+    log.Warning(fmt::format("the vertex budget ({} vertices) left faces above the tolerance ({} collapses past it, "
+                            "{} cuts refused); raise --max-vertices or --tolerance", settings.maxVertices,
+                            report.collapsesPastTolerance, report.refusedByBudget));
+  if (report.verticesAfter > settings.maxVertices)
+    log.Warning(fmt::format("the mesh keeps {} vertices, over the budget of {}: no further collapse leaves the "
+                            "geometry unchanged", report.verticesAfter, settings.maxVertices));
   return baked;
 }
 

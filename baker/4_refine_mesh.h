@@ -2,7 +2,8 @@
 // half-edge mesh, mesh/half_edge_mesh.h), it
 //   1. optionally subdivides uniformly, `subdivide` levels (mesh/subdivide.h, OpenSubdiv);
 //   2. coarsens where the light is flat: halfedge collapses that keep the geometry exact (mesh/decimate.h,
-//      OpenMesh's Decimater; Walter et al. 1997) and keep the interpolation error within the tolerance;
+//      OpenMesh's Decimater; Walter et al. 1997) and keep the interpolation error within the tolerance (and
+//      further, the smallest error first, if the mesh is still over the vertex budget);
 //   3. refines where the light changes: longest-edge bisection (mesh/refine.h; Shirley et al. 1995) of the
 //      faces whose interpolation error exceeds the tolerance, down to a minimum edge length, within a vertex
 //      budget;
@@ -42,6 +43,7 @@ struct RefineReport {
   size_t verticesBefore = 0, verticesAfter = 0;  // of the written (split) mesh
   size_t facesBefore = 0, facesAfter = 0;
   size_t collapses = 0, splits = 0;
+  size_t collapsesPastTolerance = 0;  // made to fit the budget after the tolerance allowed no more
   size_t refusedByBudget = 0, refusedByEdgeLength = 0;  // cuts a constraint refused
   size_t detachedFaces = 0;   // input faces on non-manifold edges, refined on their own
   double maxError = 0, meanError = 0;  // displayed luminance, over the final mesh's lattice points

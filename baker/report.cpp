@@ -77,7 +77,7 @@ nlohmann::json RefineJson(const BakeReport& r) {
   const RefineReport& m = r.refine;
   return {{"vertices_before", m.verticesBefore}, {"vertices_after", m.verticesAfter}, {"faces_before", m.facesBefore},
           {"faces_after", m.facesAfter}, {"collapses", m.collapses}, {"splits", m.splits},
-          {"refused_by_budget", m.refusedByBudget}, {"refused_by_minimum_edge", m.refusedByEdgeLength},
+          {"refused_by_budget", m.refusedByBudget}, {"collapses_past_tolerance", m.collapsesPastTolerance}, {"refused_by_minimum_edge", m.refusedByEdgeLength},
           {"detached_faces", m.detachedFaces}, {"max_error", m.maxError}, {"mean_error", m.meanError},
           {"error_unit", "displayed luminance, fraction of the display range"},
           {"tolerance", r.options.refine.tolerance}, {"seconds", StageSeconds(r, "refine")}};

@@ -162,6 +162,24 @@ std::string WriteSquareLightOverFloor(const std::string& directory, float lightS
   return directory + "/scene.obj";
 }
 
+std::string WriteShadowScene(const std::string& directory, float albedo, float lightSide, float radiance,
+                             float occluderSide, int floorCells) {
+  WriteText(directory + "/shadow.mtl", fmt::format("newmtl floor\nKd {0} {0} {0}\nnewmtl black\nKd 0 0 0\n"
+                                                   "newmtl light\nKd 0 0 0\nKe {1} {1} {1}\n", albedo, radiance));
+  ObjWriter obj;
+  obj.text = "mtllib shadow.mtl\nusemtl floor\n";
+  const float fa[3] = {-1, 0, 1}, fb[3] = {1, 0, 1}, fd[3] = {-1, 0, -1};  // faces +y
+  obj.Quad(fa, fb, fd, floorCells);
+  if (occluderSide > 0) obj.text += "usemtl black\n";
+  const float o = occluderSide / 2, oa[3] = {-o, 0.5f, o}, ob[3] = {o, 0.5f, o}, od[3] = {-o, 0.5f, -o};
+  if (occluderSide > 0) obj.Quad(oa, ob, od, 1);
+  obj.text += "usemtl light\n";
+  const float l = lightSide / 2, la[3] = {-l, 1, -l}, lb[3] = {l, 1, -l}, ld[3] = {-l, 1, l};  // faces -y
+  obj.Quad(la, lb, ld, 1);
+  WriteText(directory + "/shadow.obj", obj.text);
+  return directory + "/shadow.obj";
+}
+
 std::string WriteFloorWithLamps(const std::string& directory, float albedo, float radiance,
                                 const std::vector<TestLamp>& lamps) {
   WriteText(directory + "/lamps.mtl", fmt::format("newmtl floor\nKd {0} {0} {0}\nnewmtl lamp\nKd 0 0 0\n"

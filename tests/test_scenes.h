@@ -22,6 +22,14 @@ void WriteText(const std::string& path, const std::string& text);
 std::string WriteSquareLightOverFloor(const std::string& directory, float lightSide, float radiance, float height,
                                       float floorSide, int floorCells);
 
+// A hard shadow: a grey (Kd `albedo`) floor square y = 0, x and z in [-1, 1] (cut into floorCells^2 quads),
+// lit by a small square light (side `lightSide`, radiance `radiance`) facing down at y = 1 above the origin,
+// with a black (Kd 0) square occluder of side `occluderSide` at y = 0.5 between them. The umbra on the floor is
+// the square of side 2 * occluderSide - lightSide, and the penumbra around it is lightSide wide. With
+// occluderSide = 0 there is no occluder. Returns the OBJ path.
+std::string WriteShadowScene(const std::string& directory, float albedo, float lightSide, float radiance,
+                             float occluderSide, int floorCells);
+
 // A grey (Kd `albedo`) floor square y = 0, x and z in [-2, 2], facing up, under rectangular lamps of radiance
 // `radiance` (Kd 0) at height y, spanning [x0, x1] x [z0, z1], each facing down or up. Returns the OBJ path.
 struct TestLamp {

@@ -31,7 +31,8 @@ TEST(BakeCli, HelpDocumentsEveryOptionWithUnits) {
   const BakeRun run = RunBake("--help");
   EXPECT_EQ(run.status, 0);
   for (const char* text : {"--kernel", "--h", "[m]", "--photons", "--seed", "--threads", "--report", "--scale",
-                           "--ascii", "--exposure", "typical", "W/(m^2 sr)"})
+                           "--ascii", "--exposure", "typical", "W/(m^2 sr)", "--refine", "--tolerance",
+                           "--max-vertices", "--subdivide"})
     EXPECT_NE(run.output.find(text), std::string::npos) << text << "\n" << run.output;
 }
 
@@ -74,6 +75,27 @@ TEST(BakeCli, BadOptionsFailBeforeAnyWork) {
   const BakeRun missingOutput = RunBake(scene);
   EXPECT_EQ(missingOutput.status, 2);
   EXPECT_TRUE(NoOutputIn(dir));
+}
+
+TEST(BakeCli, RefineKeepsTheBudgetAndReportsItsWork) {
+  const std::string dir = test::TempDirectory("cli-refine");
+  const std::string common = PB_SOURCE_DIR "/data/box/box.obj --photons 200000 --refine -o " + dir + "/out.ply";
+  const BakeRun run = RunBake(common + " --max-vertices 500 --tolerance 0.01 --report " + dir + "/r.json");
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("refine    1204 -> "), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("the vertex budget (500 vertices) left faces above the tolerance"), std::string::npos);
+  const test::PlyData ply = test::ReadPly(dir + "/out.ply");
+  EXPECT_LE(ply.VertexCount(), 500u);
+  const nlohmann::json refine = nlohmann::json::parse(test::ReadBytes(dir + "/r.json")).at("refine");
+  EXPECT_EQ(refine.at("vertices_before"), 1204);
+  EXPECT_EQ(refine.at("vertices_after"), ply.VertexCount());
+  EXPECT_GT(refine.at("refused_by_budget").get<int>() + refine.at("collapses_past_tolerance").get<int>(), 0);
+  EXPECT_GT(refine.at("max_error").get<double>(), refine.at("mean_error").get<double>());
+  for (const std::string bad : {"--tolerance 0", "--tolerance 1.5", "--subdivide 9", "--max-vertices 2"}) {
+    const BakeRun failed = RunBake(common + " " + bad);
+    EXPECT_EQ(failed.status, 1) << bad;
+    EXPECT_NE(failed.output.find(bad.substr(0, bad.find(' ')) + ": error: must"), std::string::npos) << failed.output;
+  }
 }
 
 TEST(BakeCli, AFailedRunLeavesAnEarlierOutputIntact) {
