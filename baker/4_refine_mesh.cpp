@@ -253,14 +253,32 @@ void Refine(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, c
 }
 
 // Against the estimator itself, in parallel over faces; summed in face order, so the figures do not depend on
-// the thread count.
-void MeasureError(const HalfEdgeMesh& mesh, const DisplayedLight& light, RefineReport& report) {
-  std::vector<InterpolationError> errors(mesh.n_faces());
-  tbb::parallel_for(size_t(0), mesh.n_faces(), [&](size_t f) { errors[f] = light.ExactFaceError(mesh, FaceHandle(int(f))); });
-  InterpolationError total;
-  for (const InterpolationError& e : errors) total.Add(e);
-  report.maxError = total.max;
-  report.meanError = total.points ? total.sum / double(total.points) : 0;
+// the thread count. The mean and the 99th percentile weigh each face by its area, so that small faces, which
+// refinement makes many of, count for the surface they cover.
+void MeasureError(const HalfEdgeMesh& mesh, const DisplayedLight& light, double tolerance, RefineReport& report) {
+  struct FaceFigures {
+    double max, mean, area;
+  };
+  std::vector<FaceFigures> faces(mesh.n_faces());
+  tbb::parallel_for(size_t(0), mesh.n_faces(), [&](size_t i) {
+    const FaceHandle f{int(i)};
+    const InterpolationError e = light.ExactFaceError(mesh, f);
+    faces[i] = {e.max, e.points ? e.sum / double(e.points) : 0.0, mesh.FaceArea(f)};
+  });
+  double area = 0, weighted = 0, above = 0;
+  for (const FaceFigures& f : faces) {
+    report.maxError = std::max(report.maxError, f.max);
+    area += f.area, weighted += f.area * f.mean, above += f.max > tolerance ? f.area : 0;
+  }
+  report.meanError = area > 0 ? weighted / area : 0;
+  report.areaAboveTolerance = area > 0 ? above / area : 0;
+  std::sort(faces.begin(), faces.end(), [](const FaceFigures& a, const FaceFigures& b) { return a.max < b.max; });
+  double covered = 0;
+  for (const FaceFigures& f : faces)
+    if ((covered += f.area) >= 0.99 * area) {
+      report.p99Error = f.max;
+      break;
+    }
 }
 
 }  // namespace
@@ -276,7 +294,7 @@ BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, Ref
     Coarsen(mesh, light, in, settings, report);
     Refine(mesh, light, in, settings, DisplayVertices(mesh, in), report);
   }
-  MeasureError(mesh, light, report);
+  MeasureError(mesh, light, settings.tolerance, report);
   BakedMesh baked = EstimateIrradiance(in.scene, in.surfaces, in.estimators,
                                        ToSplitMesh(mesh, in.scene, in.surfaces, in.base), log);
   report.verticesAfter = baked.mesh.VertexCount();

@@ -46,7 +46,11 @@ struct RefineReport {
   size_t collapsesPastTolerance = 0;  // made to fit the budget after the tolerance allowed no more
   size_t refusedByBudget = 0, refusedByEdgeLength = 0;  // cuts a constraint refused
   size_t detachedFaces = 0;   // input faces on non-manifold edges, refined on their own
-  double maxError = 0, meanError = 0;  // displayed luminance, over the final mesh's lattice points
+  // Displayed-luminance error of the final mesh, against the estimator, at its faces' lattice points: the
+  // largest; the mean over the surface area; the 99th percentile by area (99% of the area lies on faces whose
+  // largest error is at most this); and the fraction of the area on faces above the tolerance (where the minimum
+  // edge length or the budget stopped refinement).
+  double maxError = 0, meanError = 0, p99Error = 0, areaAboveTolerance = 0;
 };
 
 // What refinement reads: the scene, its surfaces, their estimators and bandwidths, and the base bake (for the

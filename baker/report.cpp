@@ -68,9 +68,12 @@ std::string SurfaceTable(const BakeReport& r) {
 std::string RefineLine(const BakeReport& r) {
   const RefineReport& m = r.refine;
   return fmt::format("  refine    {} -> {} vertices ({} collapses, {} cuts; {} refused by the budget, {} by the "
-                     "minimum edge), displayed-luminance error max {:.4f} mean {:.4f} (tolerance {:.4g}), {:.3f} s\n",
+                     "minimum edge), {:.3f} s\n"
+                     "  error     displayed luminance: max {:.4f}, 99% of the area {:.4f}, mean {:.4f}; {:.2f}% of the "
+                     "area above the tolerance {:.4g}\n",
                      m.verticesBefore, m.verticesAfter, m.collapses, m.splits, m.refusedByBudget,
-                     m.refusedByEdgeLength, m.maxError, m.meanError, r.options.refine.tolerance, StageSeconds(r, "refine"));
+                     m.refusedByEdgeLength, StageSeconds(r, "refine"), m.maxError, m.p99Error, m.meanError,
+                     100 * m.areaAboveTolerance, r.options.refine.tolerance);
 }
 
 nlohmann::json RefineJson(const BakeReport& r) {
@@ -79,6 +82,7 @@ nlohmann::json RefineJson(const BakeReport& r) {
           {"faces_after", m.facesAfter}, {"collapses", m.collapses}, {"splits", m.splits},
           {"refused_by_budget", m.refusedByBudget}, {"collapses_past_tolerance", m.collapsesPastTolerance}, {"refused_by_minimum_edge", m.refusedByEdgeLength},
           {"detached_faces", m.detachedFaces}, {"max_error", m.maxError}, {"mean_error", m.meanError},
+          {"p99_error", m.p99Error}, {"area_fraction_above_tolerance", m.areaAboveTolerance},
           {"error_unit", "displayed luminance, fraction of the display range"},
           {"tolerance", r.options.refine.tolerance}, {"seconds", StageSeconds(r, "refine")}};
 }
