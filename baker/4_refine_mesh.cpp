@@ -281,7 +281,39 @@ void MeasureError(const HalfEdgeMesh& mesh, const DisplayedLight& light, double 
     }
 }
 
+double PhotonsPerEstimate(const SurfaceBins& bins, size_t s, double area, float h, const EstimatorSettings& e) {
+  switch (e.kind) {
+    case EstimatorKind::kKernel: return double(bins.FrontHits(s)) * kPi * h * h / area;
+    case EstimatorKind::kHistogram: return double(bins.FrontHits(s)) * h * h / area;
+    case EstimatorKind::kNearest: return e.neighbours;
+  }
+  return 0;
+}
+
 }  // namespace
+
+std::vector<std::string> NoiseWarnings(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins,
+                                       const std::vector<float>& bandwidths, const EstimatorSettings& estimator,
+                                       float exposure, float tolerance) {
+  std::vector<std::string> warnings;
+  for (size_t s = 0; s < surfaces.surfaces.size(); ++s) {
+    const Surface& surface = surfaces.surfaces[s];
+    const double n = PhotonsPerEstimate(bins, s, surface.area, bandwidths[s], estimator);
+    if (n <= 0) continue;
+    RgbSum flux;
+    for (const Rgb& p : bins.Power(s)) flux.Add(p);
+    const Material& material = scene.materials[surface.material];
+    const Rgb mean = OutgoingRadiance(material.emission, material.albedo, flux.ToRgb() / float(surface.area));
+    const Rgb noisy = mean + material.albedo * (flux.ToRgb() / float(surface.area)) * float(kInvPi / std::sqrt(n));
+    const double noise = DisplayedLuminance(noisy, exposure) - DisplayedLuminance(mean, exposure);
+    if (noise <= tolerance) continue;
+    warnings.push_back(fmt::format("{}: warning: surface {} ({}): the estimate's noise, about {:.3f} in grey level "
+                                   "({:.0f} photons per estimate), is above --tolerance {:.3g}: refinement there "
+                                   "follows the noise; raise --photons or --h, or the tolerance",
+                                   scene.path, s, material.name, noise, n, tolerance));
+  }
+  return warnings;
+}
 
 BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, RefineReport& report, const Log& log) {
   report.ran = true;

@@ -18,8 +18,10 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
+#include "baker/2_bin_photons.h"
 #include "baker/3_estimate_irradiance.h"
 #include "baker/baked_mesh.h"
 #include "baker/progress.h"
@@ -65,5 +67,12 @@ struct RefineInputs {
 };
 
 BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, RefineReport& report, const Log& log);
+
+// One warning per lit surface whose estimate is noisier than the tolerance in displayed grey level: refinement
+// there follows the noise. The noise is that of N photons per estimate (N = hits x pi h^2 / A for kernels,
+// hits x h^2 / A for buckets, k for knn): a relative deviation of 1 / sqrt(N) of the surface's mean radiance.
+std::vector<std::string> NoiseWarnings(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins,
+                                       const std::vector<float>& bandwidths, const EstimatorSettings& estimator,
+                                       float exposure, float tolerance);
 
 }  // namespace pb

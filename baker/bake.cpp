@@ -106,6 +106,9 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
   BakedMesh baked =
       clock.Time("estimate", [&] { return EstimateIrradiance(scene, surfaces, estimators, SplitBySurface(scene, surfaces), log); });
   report.exposure = DisplayExposure(baked, o.exposure);
+  if (o.refine.adaptive)
+    ReportWarnings(report, NoiseWarnings(scene, surfaces, bins, bandwidths, o.estimator, report.exposure,
+                                         o.refine.tolerance), log);
   if (o.refine.Enabled())
     baked = clock.Time("refine", [&] {
       return RefineMesh({scene, surfaces, estimators, bandwidths, baked.mesh, report.exposure}, o.refine, report.refine, log);

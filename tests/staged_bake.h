@@ -2,6 +2,7 @@
 // tests that refine the mesh or evaluate the estimator at chosen points.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,7 +25,9 @@ struct StagedBake {
   BakedMesh base;
   float exposure;
 
-  StagedBake(const std::string& objPath, uint64_t photons, const EstimatorSettings& settings, uint64_t seed = 1)
+  // exposure: the display exposure refinement measures in; unset = the PLY's automatic one.
+  StagedBake(const std::string& objPath, uint64_t photons, const EstimatorSettings& settings,
+             std::optional<float> displayExposure = std::nullopt, uint64_t seed = 1)
       : traced(objPath),
         hits(traced.Trace(photons, seed)),
         bins(BinPhotons(traced.surfaces, hits)),
@@ -33,7 +36,7 @@ struct StagedBake {
         estimators(BuildEstimators(regions, bins, settings, bandwidths)),
         base(EstimateIrradiance(traced.scene, traced.surfaces, estimators, SplitBySurface(traced.scene, traced.surfaces),
                                 Log(true))),
-        exposure(DisplayExposure(base, std::nullopt)) {}
+        exposure(DisplayExposure(base, displayExposure)) {}
 
   BakedMesh Refine(const RefineSettings& settings, RefineReport& report) const {
     return RefineMesh({traced.scene, traced.surfaces, estimators, bandwidths, base.mesh, exposure}, settings, report,
