@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <fmt/format.h>
@@ -206,6 +207,17 @@ std::vector<bool> LockedSurfaces(const Scene& scene, const SurfaceSet& surfaces)
   return locked;
 }
 
+// Coarsening's progress: collapses done, of at most one per vertex.
+class CollapseProgress : public OpenMesh::Decimater::Observer {
+ public:
+  CollapseProgress(const Log& log, size_t vertices) : Observer(256), progress_(log, "coarsen mesh", vertices) {}
+  void notify(size_t collapses) override { progress_.Advance(collapses - reported_), reported_ = collapses; }
+
+ private:
+  Progress progress_;
+  size_t reported_ = 0;
+};
+
 size_t DisplayVertices(const HalfEdgeMesh& mesh, const RefineInputs& in) {
   return ToSplitMesh(mesh, in.scene, in.surfaces, in.base).VertexCount();
 }
@@ -214,9 +226,11 @@ size_t DisplayVertices(const HalfEdgeMesh& mesh, const RefineInputs& in) {
 // still has more display vertices than the budget, goes on past the tolerance (still the smallest error first)
 // until it fits or no collapse keeps the geometry.
 void Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, const RefineSettings& settings,
-             RefineReport& report) {
+             RefineReport& report, const Log& log) {
   LockSurfaces(mesh, LockedSurfaces(in.scene, in.surfaces));
   OpenMesh::Decimater::DecimaterT<HalfEdgeMesh> decimater(mesh);
+  CollapseProgress progress(log, mesh.n_vertices());
+  decimater.set_observer(&progress);
   ModExactGeometryT<HalfEdgeMesh>::Handle geometry;
   ModDisplayErrorT<HalfEdgeMesh>::Handle error;
   decimater.add(geometry);
@@ -232,6 +246,7 @@ void Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, 
     report.collapsesPastTolerance += forced;
     count = DisplayVertices(mesh, in);
   }
+  progress.notify(report.collapses);
   mesh.garbage_collection();
   light.Forget();
 }
@@ -255,15 +270,20 @@ void Refine(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, c
 // Against the estimator itself, in parallel over faces; summed in face order, so the figures do not depend on
 // the thread count. The mean and the 99th percentile weigh each face by its area, so that small faces, which
 // refinement makes many of, count for the surface they cover.
-void MeasureError(const HalfEdgeMesh& mesh, const DisplayedLight& light, double tolerance, RefineReport& report) {
+void MeasureError(const HalfEdgeMesh& mesh, const DisplayedLight& light, double tolerance, RefineReport& report,
+                  const Log& log) {
   struct FaceFigures {
     double max, mean, area;
   };
   std::vector<FaceFigures> faces(mesh.n_faces());
-  tbb::parallel_for(size_t(0), mesh.n_faces(), [&](size_t i) {
-    const FaceHandle f{int(i)};
-    const InterpolationError e = light.ExactFaceError(mesh, f);
-    faces[i] = {e.max, e.points ? e.sum / double(e.points) : 0.0, mesh.FaceArea(f)};
+  Progress progress(log, "measure mesh error", faces.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, faces.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const FaceHandle f{int(i)};
+      const InterpolationError e = light.ExactFaceError(mesh, f);
+      faces[i] = {e.max, e.points ? e.sum / double(e.points) : 0.0, mesh.FaceArea(f)};
+    }
+    progress.Advance(r.size());
   });
   double area = 0, weighted = 0, above = 0;
   for (const FaceFigures& f : faces) {
@@ -323,10 +343,10 @@ BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, Ref
   report.detachedFaces = mesh.detachedFaces;
   DisplayedLight light(in);
   if (settings.adaptive) {
-    Coarsen(mesh, light, in, settings, report);
+    Coarsen(mesh, light, in, settings, report, log);
     Refine(mesh, light, in, settings, DisplayVertices(mesh, in), report);
   }
-  MeasureError(mesh, light, settings.tolerance, report);
+  MeasureError(mesh, light, settings.tolerance, report, log);
   BakedMesh baked = EstimateIrradiance(in.scene, in.surfaces, in.estimators,
                                        ToSplitMesh(mesh, in.scene, in.surfaces, in.base), log);
   report.verticesAfter = baked.mesh.VertexCount();
