@@ -163,19 +163,29 @@ class DisplayedLight {
   std::unordered_map<uint64_t, double> cache_;
 };
 
-// Refinement's priority module: the worst faces first, until every face is within the tolerance.
+// Refinement's priority module: the worst faces first, until every face is within the tolerance. It keeps each
+// face's latest error against the estimator, which are the final figures once refinement ends.
 class DisplayErrorModule : public RefineModule {
  public:
-  DisplayErrorModule(DisplayedLight& light, double tolerance) : light_(light), tolerance_(tolerance) {}
+  // `errors`: every face's error now, by face index (ExactErrors).
+  DisplayErrorModule(DisplayedLight& light, double tolerance, std::vector<InterpolationError> errors)
+      : light_(light), tolerance_(tolerance), errors_(std::move(errors)), stale_(errors_.size(), false) {}
   std::string_view Name() const override { return "displayed luminance error"; }
   double Priority(const HalfEdgeMesh& mesh, FaceHandle f) override {
-    const double error = light_.FaceError(mesh, f).max;
-    return error > tolerance_ ? error : kNoSplit;
+    if (stale_[f.idx()]) errors_[f.idx()] = light_.FaceError(mesh, f), stale_[f.idx()] = false;
+    return errors_[f.idx()].max > tolerance_ ? errors_[f.idx()].max : kNoSplit;
   }
+  void OnSplit(const HalfEdgeMesh& mesh, HalfEdgeMesh::VertexHandle v) override {
+    errors_.resize(mesh.n_faces()), stale_.resize(mesh.n_faces());
+    for (FaceHandle f : mesh.vf_range(v)) stale_[f.idx()] = true;
+  }
+  const std::vector<InterpolationError>& Errors() const { return errors_; }
 
  private:
   DisplayedLight& light_;
   double tolerance_;
+  std::vector<InterpolationError> errors_;
+  std::vector<bool> stale_;
 };
 
 // Decimation's priority module: a collapse is legal while every face it changes stays within the tolerance;
@@ -251,11 +261,24 @@ void Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, 
   light.Forget();
 }
 
-void Refine(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, const RefineSettings& settings,
-            size_t displayVertices, RefineReport& report) {
+// Every face's error against the estimator itself, in parallel over faces.
+std::vector<InterpolationError> ExactErrors(const HalfEdgeMesh& mesh, const DisplayedLight& light, const Log& log) {
+  std::vector<InterpolationError> errors(mesh.n_faces());
+  Progress progress(log, "measure mesh error", errors.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, errors.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) errors[i] = light.ExactFaceError(mesh, FaceHandle{int(i)});
+    progress.Advance(r.size());
+  });
+  return errors;
+}
+
+// Returns every face's final error.
+std::vector<InterpolationError> Refine(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in,
+                                       const RefineSettings& settings, size_t displayVertices, RefineReport& report,
+                                       const Log& log) {
   std::vector<double> minimumEdge;
   for (float h : in.bandwidths) minimumEdge.push_back(settings.minimumEdgeFraction * h);
-  DisplayErrorModule error(light, settings.tolerance);
+  DisplayErrorModule error(light, settings.tolerance, ExactErrors(mesh, light, log));
   MinimumEdgeLength edgeLength(std::move(minimumEdge));
   VertexBudget budget(settings.maxVertices, displayVertices, light.Textured());
   RefineModule* constraints[] = {&budget, &edgeLength};
@@ -265,26 +288,22 @@ void Refine(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, c
     if (name == budget.Name()) report.refusedByBudget = count;
     if (name == edgeLength.Name()) report.refusedByEdgeLength = count;
   }
+  return error.Errors();
 }
 
-// Against the estimator itself, in parallel over faces; summed in face order, so the figures do not depend on
-// the thread count. The mean and the 99th percentile weigh each face by its area, so that small faces, which
-// refinement makes many of, count for the surface they cover.
-void MeasureError(const HalfEdgeMesh& mesh, const DisplayedLight& light, double tolerance, RefineReport& report,
-                  const Log& log) {
+// The report's figures from every face's error. The mean and the 99th percentile weigh each face by its area,
+// so that small faces, which refinement makes many of, count for the surface they cover. Summed in face order,
+// so the figures do not depend on the thread count.
+void SummariseErrors(const HalfEdgeMesh& mesh, const std::vector<InterpolationError>& errors, double tolerance,
+                     RefineReport& report) {
   struct FaceFigures {
     double max, mean, area;
   };
-  std::vector<FaceFigures> faces(mesh.n_faces());
-  Progress progress(log, "measure mesh error", faces.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, faces.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const FaceHandle f{int(i)};
-      const InterpolationError e = light.ExactFaceError(mesh, f);
-      faces[i] = {e.max, e.points ? e.sum / double(e.points) : 0.0, mesh.FaceArea(f)};
-    }
-    progress.Advance(r.size());
-  });
+  std::vector<FaceFigures> faces;
+  for (FaceHandle f : mesh.faces()) {
+    const InterpolationError& e = errors[f.idx()];
+    faces.push_back({e.max, e.points ? e.sum / double(e.points) : 0.0, mesh.FaceArea(f)});
+  }
   double area = 0, weighted = 0, above = 0;
   for (const FaceFigures& f : faces) {
     report.maxError = std::max(report.maxError, f.max);
@@ -342,11 +361,14 @@ BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, Ref
   HalfEdgeMesh mesh = SubdivideUniform(BuildHalfEdgeMesh(in.scene, in.surfaces), settings.subdivide);
   report.detachedFaces = mesh.detachedFaces;
   DisplayedLight light(in);
+  std::vector<InterpolationError> errors;
   if (settings.adaptive) {
     Coarsen(mesh, light, in, settings, report, log);
-    Refine(mesh, light, in, settings, DisplayVertices(mesh, in), report);
+    errors = Refine(mesh, light, in, settings, DisplayVertices(mesh, in), report, log);
+  } else {
+    errors = ExactErrors(mesh, light, log);
   }
-  MeasureError(mesh, light, settings.tolerance, report, log);
+  SummariseErrors(mesh, errors, settings.tolerance, report);
   BakedMesh baked = EstimateIrradiance(in.scene, in.surfaces, in.estimators,
                                        ToSplitMesh(mesh, in.scene, in.surfaces, in.base), log);
   report.verticesAfter = baked.mesh.VertexCount();

@@ -29,6 +29,8 @@ class KernelEstimator final : public DensityEstimator {
 
  private:
   int CellIndex(float coordinate, float lo, int count) const;
+  template <typename Profile>
+  Rgb ProfileSum(Point2 x, Profile profile) const;
 
   float h_;
   Kernel kernel_;

@@ -34,16 +34,7 @@ double KernelProfile(Kernel kernel, double t) {
 float KernelDensity(Kernel kernel, float r2, float h) {
   const float t2 = r2 / (h * h);
   if (t2 >= 1.0f) return 0.0f;
-  const float q = 1.0f - t2, scale = kInvPi / (h * h);
-  switch (kernel) {
-    case Kernel::kUniform: return scale;
-    case Kernel::kEpanechnikov: return 2.0f * scale * q;
-    case Kernel::kBiweight: return 3.0f * scale * q * q;
-    case Kernel::kTriweight: return 4.0f * scale * q * q * q;
-    case Kernel::kCone: return 3.0f * scale * (1.0f - std::sqrt(t2));
-    case Kernel::kGaussian: return float(kGaussianNorm) / (h * h) * std::exp(-2.0f * t2);
-  }
-  return 0.0f;
+  return WithSquaredProfile(kernel, [&](auto profile) { return profile(t2) / (h * h); });
 }
 
 double KernelRadialMass(Kernel kernel, double t) {

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -20,6 +21,27 @@ namespace pb {
 enum class Kernel { kUniform, kEpanechnikov, kBiweight, kTriweight, kCone, kGaussian };
 inline constexpr std::array kAllKernels = {Kernel::kUniform, Kernel::kEpanechnikov, Kernel::kBiweight,
                                            Kernel::kTriweight, Kernel::kCone,     Kernel::kGaussian};
+
+// 2 / (pi (1 - e^-2)): the truncated gaussian's normalisation.
+inline const float kGaussianNormF = float(2.0 / (3.14159265358979323846 * (1.0 - std::exp(-2.0))));
+
+// Calls f(k) with the kernel's profile as an inline function of the squared radius, k(t2) = h^2 K_h(r) for
+// t2 = r^2 / h^2 < 1, and returns what f returns. The switch is made once, outside f: loops over many photons
+// (estimators/kernel_estimator.cpp) then pay no dispatch per photon.
+template <typename F>
+auto WithSquaredProfile(Kernel kernel, F&& f) {
+  constexpr float kInvPiF = 0.31830988618379067154f;
+  switch (kernel) {
+    case Kernel::kUniform: return f([](float) { return kInvPiF; });
+    case Kernel::kEpanechnikov: return f([](float t2) { return 2.0f * kInvPiF * (1.0f - t2); });
+    case Kernel::kBiweight: return f([](float t2) { return 3.0f * kInvPiF * (1.0f - t2) * (1.0f - t2); });
+    case Kernel::kTriweight:
+      return f([](float t2) { return 4.0f * kInvPiF * (1.0f - t2) * (1.0f - t2) * (1.0f - t2); });
+    case Kernel::kCone: return f([](float t2) { return 3.0f * kInvPiF * (1.0f - std::sqrt(t2)); });
+    case Kernel::kGaussian: return f([](float t2) { return kGaussianNormF * std::exp(-2.0f * t2); });
+  }
+  return f([](float) { return 0.0f; });
+}
 
 // K_h(r) for r^2 = r2 [m^2] and bandwidth h [m]; zero for r >= h.
 float KernelDensity(Kernel kernel, float r2, float h);
