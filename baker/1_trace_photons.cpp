@@ -12,10 +12,6 @@
 namespace pb {
 namespace {
 
-// Photons per block: the unit of parallel work and of deterministic ordering. Large enough that a block's hits
-// (about 2.5 per photon in a room, 28 bytes each) fill a few huge pages; 16 blocks per million photons still
-// balance 2 to 16 threads.
-constexpr uint64_t kBlockPhotons = 65536;
 
 struct Block {
   HitBlock hits;
@@ -119,41 +115,51 @@ class PhotonTracer {
   bool reflection_, refraction_, caustics_;
 };
 
-// Photon i belongs to light l when firstPhotonOf[l] <= i < firstPhotonOf[l + 1].
+// Photons per light and the flux each carries [W].
 struct PhotonSchedule {
-  std::vector<uint64_t> perLight, firstPhotonOf;
+  std::vector<uint64_t> perLight;
   std::vector<Rgb> photonPower;  // [W] per photon of each light
 
   PhotonSchedule(const std::vector<AreaLight>& lights, const TransportPlan& plan, uint64_t photons)
-      : perLight(AllocatePhotons(lights, photons, plan.lightReaches)), firstPhotonOf(lights.size() + 1, 0),
-        photonPower(lights.size()) {
-    for (size_t l = 0; l < lights.size(); ++l) {
-      firstPhotonOf[l + 1] = firstPhotonOf[l] + perLight[l];
+      : perLight(AllocatePhotons(lights, photons, plan.lightReaches)), photonPower(lights.size()) {
+    for (size_t l = 0; l < lights.size(); ++l)
       photonPower[l] = perLight[l] ? lights[l].Power() / float(perLight[l]) : Rgb{};
-    }
-  }
-  size_t LightOf(uint64_t photon) const {
-    return size_t(std::upper_bound(firstPhotonOf.begin(), firstPhotonOf.end(), photon) - firstPhotonOf.begin()) - 1;
   }
 };
 
+// The unit of work: photons [first, end) of one light's stream, aligned to kBlockPhotons within that stream, so
+// that a light's first blocks are the same whatever the photon count.
+struct BlockRange {
+  size_t light;
+  uint64_t first, end;
+};
+
+std::vector<BlockRange> BlockRanges(const std::vector<uint64_t>& perLight) {
+  std::vector<BlockRange> ranges;
+  for (size_t l = 0; l < perLight.size(); ++l)
+    for (uint64_t first = 0; first < perLight[l]; first += kBlockPhotons)
+      ranges.push_back({l, first, std::min(perLight[l], first + kBlockPhotons)});
+  return ranges;
+}
+
 template <typename Tracer>
 std::vector<Block> TraceBlocks(const Tracer& tracer, const std::vector<AreaLight>& lights,
-                               const PhotonSchedule& schedule, const TraceSettings& settings, const Log& log) {
-  const uint64_t blockCount = (settings.photons + kBlockPhotons - 1) / kBlockPhotons;
-  std::vector<Block> blocks(blockCount);
-  Progress progress(log, "trace photons", settings.photons);
-  tbb::parallel_for(tbb::blocked_range<uint64_t>(0, blockCount, 1), [&](const tbb::blocked_range<uint64_t>& r) {
-    for (uint64_t b = r.begin(); b != r.end(); ++b) {
+                               const PhotonSchedule& schedule, const std::vector<BlockRange>& ranges,
+                               const TraceSettings& settings, const Log& log) {
+  std::vector<Block> blocks(ranges.size());
+  uint64_t total = 0;
+  for (uint64_t n : schedule.perLight) total += n;
+  Progress progress(log, "trace photons", total);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, ranges.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t b = r.begin(); b != r.end(); ++b) {
+      const BlockRange& range = ranges[b];
       blocks[b].hits.reserve(kBlockPhotons * 3);  // ~2.5 hits per photon in a box: growth copies are rare
-      const uint64_t begin = b * kBlockPhotons, end = std::min(settings.photons, begin + kBlockPhotons);
-      for (uint64_t i = begin; i < end; ++i) {
-        const size_t light = schedule.LightOf(i);
-        Rng rng(settings.seed, i);
-        tracer.Trace(lights[light], schedule.photonPower[light], rng, blocks[b]);
+      for (uint64_t j = range.first; j < range.end; ++j) {
+        Rng rng(settings.seed, PhotonStream(range.light, j));
+        tracer.Trace(lights[range.light], schedule.photonPower[range.light], rng, blocks[b]);
       }
       blocks[b].stats.hits = blocks[b].hits.size();
-      progress.Advance(end - begin);
+      progress.Advance(range.end - range.first);
     }
   });
   return blocks;
@@ -182,9 +188,10 @@ void TraceStats::Add(const TraceStats& b) {
 PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
                         const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
   const PhotonSchedule schedule(lights, plan, settings.photons);
+  const std::vector<BlockRange> ranges = BlockRanges(schedule.perLight);
   const auto run = [&]<bool kInterreflect, bool kSpecular>() {
     const PhotonTracer<kInterreflect, kSpecular> tracer(scene, rays, plan, settings.maxBounces);
-    return TraceBlocks(tracer, lights, schedule, settings, log);
+    return TraceBlocks(tracer, lights, schedule, ranges, settings, log);
   };
   const bool bounce = plan.On(Effect::kInterreflection), specular = plan.NeedsSpecularKernel();
   std::vector<Block> blocks = specular ? (bounce ? run.template operator()<true, true>()
@@ -193,9 +200,10 @@ PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights
                                                  : run.template operator()<false, false>());
   PhotonHits result;
   result.stats.photonsPerLight = schedule.perLight;
-  for (Block& b : blocks) {
-    result.stats.Add(b.stats);  // in block order: the double sums do not depend on threads
-    result.blocks.push_back(std::move(b.hits));
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    result.stats.Add(blocks[b].stats);  // in block order: the double sums do not depend on threads
+    result.blocks.push_back(std::move(blocks[b].hits));
+    result.blockLight.push_back(uint32_t(ranges[b].light));
   }
   return result;
 }

@@ -9,8 +9,10 @@
 // that never looks at Fresnel, refraction or the material class; a scene of black receivers stops at the first
 // hit. A forbidden effect (--effects -NAME) drops the photon where it would happen and tallies the flux.
 //
-// Determinism: photon i draws only from Rng(seed, i); photons are traced in fixed blocks whose hits are
-// concatenated in block order, so the hit list is identical for any thread count.
+// Determinism: photon j of light l draws only from Rng(seed, PhotonStream(l, j)); each light's photons are
+// traced in fixed blocks of its own stream, and the hits are concatenated by light, then block. The hit list is
+// identical for any thread count, and a light's first photons are the same photons whatever the total: a bake
+// with more photons continues each light's stream (the ground for adding photons to a bake later).
 #pragma once
 
 #include <cstdint>
@@ -52,6 +54,14 @@ static_assert(sizeof(PhotonHit) == 28, "the compact photon record of issue 3");
 // The hits of one block of photons, in photon order, in huge-page memory (baker/huge_pages.h).
 using HitBlock = std::vector<PhotonHit, HugePageAllocator<PhotonHit>>;
 
+// Photons per block: the unit of parallel work and of deterministic ordering, counted within one light's
+// stream. Large enough that a block's hits (about 2.5 per photon in a room, 28 bytes each) fill a few huge
+// pages; 16 blocks per million photons still balance 2 to 16 threads.
+inline constexpr uint64_t kBlockPhotons = 65536;
+
+// The random stream of photon j of light l: up to 2^40 photons per light.
+inline uint64_t PhotonStream(size_t light, uint64_t j) { return uint64_t(light) << 40 | j; }
+
 struct TraceSettings {
   uint64_t photons = 0;
   uint64_t seed = 1;
@@ -78,9 +88,11 @@ struct TraceStats {
 };
 
 // The hits of all photons, kept in the per-block arrays they were traced into (no merged copy: merging
-// 10^7 hits cost a zero-filled allocation and a page fault per 4 KiB). Block order = photon order.
+// 10^7 hits cost a zero-filled allocation and a page fault per 4 KiB). Blocks are ordered by light, then by
+// photon; blockLight[b] is the light whose photons block b holds.
 struct PhotonHits {
   std::vector<HitBlock> blocks;
+  std::vector<uint32_t> blockLight;
   TraceStats stats;
 
   template <typename F>

@@ -374,12 +374,14 @@ BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, Ref
   report.verticesAfter = baked.mesh.VertexCount();
   report.facesAfter = baked.mesh.faces.size();
   if (report.refusedByBudget || report.collapsesPastTolerance)
-    log.Warning(fmt::format("the vertex budget ({} vertices) left faces above the tolerance ({} collapses past it, "
-                            "{} cuts refused); raise --max-vertices or --tolerance", settings.maxVertices,
-                            report.collapsesPastTolerance, report.refusedByBudget));
+    report.warnings.push_back(fmt::format("{}: warning: the vertex budget ({} vertices) left faces above the "
+                                          "tolerance ({} collapses past it, {} cuts refused); raise --max-vertices "
+                                          "or --tolerance", in.scene.path, settings.maxVertices,
+                                          report.collapsesPastTolerance, report.refusedByBudget));
   if (report.verticesAfter > settings.maxVertices)
-    log.Warning(fmt::format("the mesh keeps {} vertices, over the budget of {}: no further collapse leaves the "
-                            "geometry unchanged", report.verticesAfter, settings.maxVertices));
+    report.warnings.push_back(fmt::format("{}: warning: the mesh keeps {} vertices, over the budget of {}: no "
+                                          "further collapse leaves the geometry unchanged", in.scene.path,
+                                          report.verticesAfter, settings.maxVertices));
   return baked;
 }
 

@@ -53,6 +53,7 @@ struct RefineReport {
   // largest error is at most this); and the fraction of the area on faces above the tolerance (where the minimum
   // edge length or the budget stopped refinement).
   double maxError = 0, meanError = 0, p99Error = 0, areaAboveTolerance = 0;
+  std::vector<std::string> warnings;  // the budget left faces above the tolerance, or could not be met
 };
 
 // What refinement reads: the scene, its surfaces, their estimators and bandwidths, and the base bake (for the

@@ -113,6 +113,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
     baked = clock.Time("refine", [&] {
       return RefineMesh({scene, surfaces, estimators, bandwidths, baked.mesh, report.exposure}, o.refine, report.refine, log);
     });
+  ReportWarnings(report, report.refine.warnings, log);
   if (!o.mapsDirectory.empty())
     report.maps = clock.Time("maps", [&] {
       return WriteIrradianceMaps(o.mapsDirectory, o.texel, scene, surfaces, regions, estimators, log);
