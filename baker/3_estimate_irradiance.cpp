@@ -48,8 +48,12 @@ std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const Surfac
 
 PointLight LightAt(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators, uint32_t s,
                    Point2 uv, Point2 texcoord, float areaRatio) {
-  const Material& material = scene.materials[surfaces.surfaces[s].material];
-  return {estimators[s]->Estimate(uv) * areaRatio, scene.AlbedoAtTexcoord(material, texcoord), material.emission};
+  return LightWith(scene, scene.materials[surfaces.surfaces[s].material], estimators[s]->Estimate(uv) * areaRatio,
+                   texcoord);
+}
+
+PointLight LightWith(const Scene& scene, const Material& material, Rgb irradiance, Point2 texcoord) {
+  return {irradiance, scene.AlbedoAtTexcoord(material, texcoord), material.emission};
 }
 
 BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators,

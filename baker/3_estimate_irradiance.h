@@ -38,6 +38,8 @@ struct PointLight {
 };
 PointLight LightAt(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators, uint32_t s,
                    Point2 uv, Point2 texcoord, float areaRatio);
+// The same with H given: R from `material` (and its texture at texcoord), Le from `material`.
+PointLight LightWith(const Scene& scene, const Material& material, Rgb irradiance, Point2 texcoord);
 
 // Every vertex of `mesh`, by LightAt.
 BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators,

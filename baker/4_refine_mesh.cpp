@@ -100,8 +100,7 @@ class DisplayedLight {
   double Approximately(uint32_t surface, uint32_t base, const Vec3d& p) const {
     const SurfacePoint a = sampler_.At(surface, base, p);
     const Material& material = in_.scene.materials[in_.surfaces.surfaces[surface].material];
-    return Display({grids_[surface].At(a.uv) * a.areaRatio, in_.scene.AlbedoAtTexcoord(material, a.texcoord),
-                    material.emission});
+    return Display(LightWith(in_.scene, material, grids_[surface].At(a.uv) * a.areaRatio, a.texcoord));
   }
 
   double AtCorner(const HalfEdgeMesh& mesh, FaceHandle f, VertexHandle v) {
@@ -234,9 +233,9 @@ size_t DisplayVertices(const HalfEdgeMesh& mesh, const RefineInputs& in) {
 
 // Collapses while every changed face stays within the tolerance, the smallest error first; then, if the mesh
 // still has more display vertices than the budget, goes on past the tolerance (still the smallest error first)
-// until it fits or no collapse keeps the geometry.
-void Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, const RefineSettings& settings,
-             RefineReport& report, const Log& log) {
+// until it fits or no collapse keeps the geometry. Returns the display vertex count it leaves.
+size_t Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, const RefineSettings& settings,
+               RefineReport& report, const Log& log) {
   LockSurfaces(mesh, LockedSurfaces(in.scene, in.surfaces));
   OpenMesh::Decimater::DecimaterT<HalfEdgeMesh> decimater(mesh);
   CollapseProgress progress(log, mesh.n_vertices());
@@ -249,7 +248,8 @@ void Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, 
   decimater.initialize();
   report.collapses = decimater.decimate();
   decimater.module(error).Set(&light, INFINITY);
-  for (size_t count = DisplayVertices(mesh, in); count > settings.maxVertices;) {
+  size_t count = DisplayVertices(mesh, in);
+  while (count > settings.maxVertices) {
     const size_t forced = decimater.decimate(count - settings.maxVertices);
     if (forced == 0) break;
     report.collapses += forced;
@@ -259,6 +259,7 @@ void Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, 
   progress.notify(report.collapses);
   mesh.garbage_collection();
   light.Forget();
+  return count;
 }
 
 // Every face's error against the estimator itself, in parallel over faces.
@@ -363,8 +364,8 @@ BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, Ref
   DisplayedLight light(in);
   std::vector<InterpolationError> errors;
   if (settings.adaptive) {
-    Coarsen(mesh, light, in, settings, report, log);
-    errors = Refine(mesh, light, in, settings, DisplayVertices(mesh, in), report, log);
+    const size_t coarse = Coarsen(mesh, light, in, settings, report, log);
+    errors = Refine(mesh, light, in, settings, coarse, report, log);
   } else {
     errors = ExactErrors(mesh, light, log);
   }

@@ -141,14 +141,7 @@ SplitMesh ToSplitMesh(const HalfEdgeMesh& mesh, const Scene& scene, const Surfac
         uint64_t texKey = 0;
         std::memcpy(&texKey, &a.texcoord, sizeof texKey);
         auto [it, isNew] = copyOf[corners[k].idx()].emplace(texKey, uint32_t(out.positions.size()));
-        if (isNew) {
-          out.positions.push_back({float(p[0]), float(p[1]), float(p[2])});
-          out.normals.push_back(a.normal);
-          out.uv.push_back(a.uv);
-          out.texcoord.push_back(a.texcoord);
-          out.surface.push_back(s);
-          out.uvAreaRatio.push_back(a.areaRatio);
-        }
+        if (isNew) out.AddVertex({float(p[0]), float(p[1]), float(p[2])}, a.normal, a.uv, a.texcoord, s, a.areaRatio);
         face[k] = it->second;
       }
       out.faces.push_back(face);

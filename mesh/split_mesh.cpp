@@ -43,14 +43,9 @@ SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces) {
       for (int k = 0; k < 3; ++k) {
         const uint32_t original = scene.triangles[t].v[k], vt = textured ? scene.triangles[t].vt[k] : 0;
         auto [it, isNew] = splitIndexOf.emplace(uint64_t(original) << 32 | vt, uint32_t(mesh.positions.size()));
-        if (isNew) {
-          mesh.positions.push_back(scene.positions[original]);
-          mesh.normals.push_back(surface.chart.frame.n);
-          mesh.uv.push_back(surfaces.cornerUv[t][k]);
-          mesh.texcoord.push_back(textured ? scene.Texcoord(t, k) : Point2{});
-          mesh.surface.push_back(s);
-          mesh.uvAreaRatio.push_back(1.0f);
-        }
+        if (isNew)
+          mesh.AddVertex(scene.positions[original], surface.chart.frame.n, surfaces.cornerUv[t][k],
+                         textured ? scene.Texcoord(t, k) : Point2{}, s, 1.0f);
         face[k] = it->second;
       }
       mesh.faces.push_back(face);

@@ -26,6 +26,16 @@ struct SplitMesh {
   std::vector<float> uvAreaRatio;     // dimensionless, 1 on planar surfaces
   std::vector<std::array<uint32_t, 3>> faces;  // counter-clockwise seen from the front
   size_t VertexCount() const { return positions.size(); }
+  // Appends a vertex; returns its index.
+  uint32_t AddVertex(Point3 position, Normal3 normal, Point2 chartUv, Point2 st, uint32_t owner, float areaRatio) {
+    positions.push_back(position);
+    normals.push_back(normal);
+    uv.push_back(chartUv);
+    texcoord.push_back(st);
+    surface.push_back(owner);
+    uvAreaRatio.push_back(areaRatio);
+    return uint32_t(positions.size() - 1);
+  }
 };
 
 // Vertices are ordered by surface, then by first use; faces by surface, then by scene order.
