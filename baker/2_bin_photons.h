@@ -21,6 +21,12 @@ struct SurfaceBins {
   uint64_t FrontHits(size_t s) const { return start[s + 1] - start[s]; }
   std::span<const Point2> Uv(size_t s) const { return {uv.data() + start[s], start[s + 1] - start[s]}; }
   std::span<const Rgb> Power(size_t s) const { return {power.data() + start[s], start[s + 1] - start[s]}; }
+  // The flux [W] that reached surface s's front side, summed in hit order.
+  Rgb FrontFlux(size_t s) const {
+    RgbSum flux;
+    for (const Rgb& p : Power(s)) flux.Add(p);
+    return flux.ToRgb();
+  }
 };
 
 // Stable: within a surface, hits keep their trace order, so sums over them are reproducible.

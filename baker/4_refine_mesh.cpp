@@ -340,11 +340,10 @@ std::vector<std::string> NoiseWarnings(const Scene& scene, const SurfaceSet& sur
     const Surface& surface = surfaces.surfaces[s];
     const double n = PhotonsPerEstimate(bins, s, surface.area, bandwidths[s], estimator);
     if (n <= 0) continue;
-    RgbSum flux;
-    for (const Rgb& p : bins.Power(s)) flux.Add(p);
     const Material& material = scene.materials[surface.material];
-    const Rgb mean = OutgoingRadiance(material.emission, material.albedo, flux.ToRgb() / float(surface.area));
-    const Rgb noisy = mean + material.albedo * (flux.ToRgb() / float(surface.area)) * float(kInvPi / std::sqrt(n));
+    const Rgb meanIrradiance = bins.FrontFlux(s) / float(surface.area);
+    const Rgb mean = OutgoingRadiance(material.emission, material.albedo, meanIrradiance);
+    const Rgb noisy = mean + material.albedo * meanIrradiance * float(kInvPi / std::sqrt(n));
     const double noise = DisplayedLuminance(noisy, exposure) - DisplayedLuminance(mean, exposure);
     if (noise <= tolerance) continue;
     warnings.push_back(fmt::format("{}: warning: surface {} ({}): the estimate's noise, about {:.3f} in grey level "

@@ -109,11 +109,9 @@ std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet
   std::vector<SurfaceReport> out;
   for (size_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
-    RgbSum flux;
-    for (const Rgb& p : bins.Power(s)) flux.Add(p);
     const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
     out.push_back({object, scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.backHits[s],
-                   flux.ToRgb() / float(surface.area), surface.planar, surface.areaDistortion, 0.0f});
+                   bins.FrontFlux(s) / float(surface.area), surface.planar, surface.areaDistortion, 0.0f});
   }
   return out;
 }
