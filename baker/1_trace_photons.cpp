@@ -1,18 +1,20 @@
 #include "baker/1_trace_photons.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 
 #include "estimators/emission.h"
 #include "estimators/scatter.h"
 #include "estimators/rng.h"
+#include "baker/interrupt.h"
 
 namespace pb {
 namespace {
 
-
+// A block being traced: its hits and its stats, in attenuation units.
 struct Block {
   HitBlock hits;
   TraceStats stats;
@@ -28,8 +30,9 @@ class PhotonTracer {
       : scene_(scene), rays_(rays), maxBounces_(maxBounces), reflection_(plan.On(Effect::kReflection)),
         refraction_(plan.On(Effect::kRefraction)), caustics_(plan.On(Effect::kCaustics)) {}
 
-  // Traces one photon from `light` with the flux `power` [W], appending its hits to `block`.
-  void Trace(const AreaLight& light, Rgb power, Rng& rng, Block& block) const {
+  // Traces one photon from `light`, appending its hits to `block`. `power` is its attenuation: 1 at emission.
+  void Trace(const AreaLight& light, Rng& rng, Block& block) const {
+    Rgb power{1, 1, 1};
     const EmissionSample e = SampleEmission(scene_, light, rng);
     block.stats.powerEmitted.Add(power);
     ++block.stats.emitted;
@@ -115,59 +118,103 @@ class PhotonTracer {
   bool reflection_, refraction_, caustics_;
 };
 
-// Photons per light and the flux each carries [W].
-struct PhotonSchedule {
-  std::vector<uint64_t> perLight;
-  std::vector<Rgb> photonPower;  // [W] per photon of each light
+// The work that brings a store to `target` photons per light: each light's partial last block continued in place,
+// then new blocks. `block` indexes the store's blocks; new blocks are appended past its end.
+struct WorkItem {
+  size_t block;
+  BlockRange range;     // the block's whole range once traced
+  uint64_t from = 0;    // photons [from, range.end) are traced now
+};
 
-  PhotonSchedule(const std::vector<AreaLight>& lights, const TransportPlan& plan, uint64_t photons)
-      : perLight(AllocatePhotons(lights, photons, plan.lightReaches)), photonPower(lights.size()) {
-    for (size_t l = 0; l < lights.size(); ++l)
-      photonPower[l] = perLight[l] ? lights[l].Power() / float(perLight[l]) : Rgb{};
+std::vector<WorkItem> PlanWork(const PhotonHits& store, const std::vector<uint64_t>& target) {
+  std::vector<WorkItem> work;
+  size_t next = store.blocks.size();
+  for (size_t b = 0; b < store.blocks.size(); ++b) {
+    const BlockRange& r = store.ranges[b];
+    if (!r.Full() && r.end == store.emitted[r.light] && target[r.light] > r.end)
+      work.push_back({b, {r.light, r.first, std::min(target[r.light], r.first + kBlockPhotons)}, r.end});
   }
-};
-
-// The unit of work: photons [first, end) of one light's stream, aligned to kBlockPhotons within that stream, so
-// that a light's first blocks are the same whatever the photon count.
-struct BlockRange {
-  size_t light;
-  uint64_t first, end;
-};
-
-std::vector<BlockRange> BlockRanges(const std::vector<uint64_t>& perLight) {
-  std::vector<BlockRange> ranges;
-  for (size_t l = 0; l < perLight.size(); ++l)
-    for (uint64_t first = 0; first < perLight[l]; first += kBlockPhotons)
-      ranges.push_back({l, first, std::min(perLight[l], first + kBlockPhotons)});
-  return ranges;
+  for (uint32_t l = 0; l < target.size(); ++l) {
+    const uint64_t start = (store.emitted[l] + kBlockPhotons - 1) / kBlockPhotons * kBlockPhotons;
+    for (uint64_t first = start; first < target[l]; first += kBlockPhotons)
+      work.push_back({next++, {l, first, std::min(target[l], first + kBlockPhotons)}, first});
+  }
+  return work;
 }
 
+// Traces the work items in parallel, each into its block (moved out of the store, or new); claims them in order,
+// so that an interruption leaves each light's traced photons close to a prefix of its stream. done[i] says
+// whether item i was traced.
 template <typename Tracer>
-std::vector<Block> TraceBlocks(const Tracer& tracer, const std::vector<AreaLight>& lights,
-                               const PhotonSchedule& schedule, const std::vector<BlockRange>& ranges,
-                               const TraceSettings& settings, const Log& log) {
-  std::vector<Block> blocks(ranges.size());
+std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<AreaLight>& lights, const std::vector<WorkItem>& work,
+                            std::vector<Block>& blocks, uint64_t seed, const Log& log) {
   uint64_t total = 0;
-  for (uint64_t n : schedule.perLight) total += n;
+  for (const WorkItem& w : work) total += w.range.end - w.from;
   Progress progress(log, "trace photons", total);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, ranges.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t b = r.begin(); b != r.end(); ++b) {
-      const BlockRange& range = ranges[b];
-      blocks[b].hits.reserve(kBlockPhotons * 3);  // ~2.5 hits per photon in a box: growth copies are rare
-      for (uint64_t j = range.first; j < range.end; ++j) {
-        Rng rng(settings.seed, PhotonStream(range.light, j));
-        tracer.Trace(lights[range.light], schedule.photonPower[range.light], rng, blocks[b]);
+  std::atomic<size_t> next{0};
+  std::vector<char> done(work.size(), 0);
+  const size_t workers = std::min<size_t>(work.size(), size_t(tbb::this_task_arena::max_concurrency()));
+  tbb::parallel_for(size_t(0), workers, [&](size_t) {
+    for (size_t i; !InterruptRequested() && (i = next++) < work.size();) {
+      const WorkItem& w = work[i];
+      Block& block = blocks[w.block];
+      block.hits.reserve(kBlockPhotons * 3);  // ~2.5 hits per photon in a box: growth copies are rare
+      for (uint64_t j = w.from; j < w.range.end; ++j) {
+        Rng rng(seed, PhotonStream(w.range.light, j));
+        tracer.Trace(lights[w.range.light], rng, block);
       }
-      blocks[b].stats.hits = blocks[b].hits.size();
-      progress.Advance(range.end - range.first);
+      block.stats.hits = block.hits.size();
+      done[i] = 1;
+      progress.Advance(w.range.end - w.from);
     }
   });
+  return {done.begin(), done.end()};
+}
+
+// Moves the store's blocks out, for tracing to continue in them.
+std::vector<Block> TakeBlocks(PhotonHits& store, size_t total) {
+  std::vector<Block> blocks(total);
+  for (size_t b = 0; b < store.blocks.size(); ++b) {
+    blocks[b].hits = std::move(store.blocks[b]);
+    blocks[b].stats = std::move(store.blockStats[b]);
+  }
   return blocks;
+}
+
+// Puts the blocks back, ordered by light, then photon, keeping for each light only the traced prefix of its stream
+// (after an interruption, a block traced beyond an untraced one is dropped).
+void StoreBlocks(PhotonHits& store, std::vector<Block>& blocks, const std::vector<WorkItem>& work,
+                 const std::vector<bool>& done) {
+  std::vector<BlockRange> ranges(store.ranges);
+  ranges.resize(blocks.size());
+  std::vector<bool> traced(blocks.size(), true);
+  for (size_t i = 0; i < work.size(); ++i) {
+    if (done[i]) ranges[work[i].block] = work[i].range;
+    else traced[work[i].block] = work[i].block < store.blocks.size();  // an unfinished old block keeps what it had
+  }
+  std::vector<size_t> order;
+  for (size_t b = 0; b < blocks.size(); ++b)
+    if (traced[b]) order.push_back(b);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return ranges[a].light != ranges[b].light ? ranges[a].light < ranges[b].light : ranges[a].first < ranges[b].first;
+  });
+  store.blocks.clear();
+  store.blockStats.clear();
+  store.ranges.clear();
+  std::fill(store.emitted.begin(), store.emitted.end(), 0);
+  for (size_t b : order) {
+    const BlockRange& r = ranges[b];
+    if (r.first != store.emitted[r.light]) continue;  // after a gap in this light's stream
+    store.blocks.push_back(std::move(blocks[b].hits));
+    store.blockStats.push_back(std::move(blocks[b].stats));
+    store.ranges.push_back(r);
+    store.emitted[r.light] = r.end;
+  }
 }
 
 }  // namespace
 
-void TraceStats::Add(const TraceStats& b) {
+void TraceStats::Add(const TraceStats& b, Rgb flux) {
   emitted += b.emitted;
   hits += b.hits;
   absorbed += b.absorbed;
@@ -179,33 +226,57 @@ void TraceStats::Add(const TraceStats& b) {
   fresnelReflections += b.fresnelReflections;
   refractions += b.refractions;
   causticHits += b.causticHits;
-  powerEmitted.Add(b.powerEmitted);
-  powerAbsorbed.Add(b.powerAbsorbed);
-  powerEscaped.Add(b.powerEscaped);
-  powerForbidden.Add(b.powerForbidden);
+  const auto add = [&](RgbSum& to, const RgbSum& from) {
+    to.r += double(flux.r) * from.r;
+    to.g += double(flux.g) * from.g;
+    to.b += double(flux.b) * from.b;
+  };
+  add(powerEmitted, b.powerEmitted);
+  add(powerAbsorbed, b.powerAbsorbed);
+  add(powerEscaped, b.powerEscaped);
+  add(powerForbidden, b.powerForbidden);
+}
+
+void PhotonHits::Summarise() {
+  stats = TraceStats{};
+  stats.photonsPerLight = emitted;
+  for (size_t l = 0; l < emitted.size(); ++l) {
+    TraceStats light;
+    for (size_t b = 0; b < blocks.size(); ++b)
+      if (ranges[b].light == l) light.Add(blockStats[b]);  // in block order: the sums do not depend on threads
+    stats.Add(light, PhotonFlux(l));
+  }
+}
+
+bool ExtendPhotons(PhotonHits& store, const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
+                   const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
+  std::vector<uint64_t> target = AllocatePhotons(lights, settings.photons, plan.lightReaches);
+  for (size_t l = 0; l < lights.size(); ++l) target[l] = std::max(target[l], store.emitted[l]);
+  const std::vector<WorkItem> work = PlanWork(store, target);
+  size_t total = store.blocks.size();
+  for (const WorkItem& w : work) total = std::max(total, w.block + 1);
+  std::vector<Block> blocks = TakeBlocks(store, total);
+  const auto run = [&]<bool kInterreflect, bool kSpecular>() {
+    const PhotonTracer<kInterreflect, kSpecular> tracer(scene, rays, plan, settings.maxBounces);
+    return TraceWork(tracer, lights, work, blocks, settings.seed, log);
+  };
+  const bool bounce = plan.On(Effect::kInterreflection), specular = plan.NeedsSpecularKernel();
+  const std::vector<bool> done = specular ? (bounce ? run.template operator()<true, true>()
+                                                    : run.template operator()<false, true>())
+                                          : (bounce ? run.template operator()<true, false>()
+                                                    : run.template operator()<false, false>());
+  StoreBlocks(store, blocks, work, done);
+  store.Summarise();
+  return std::find(done.begin(), done.end(), false) == done.end();
 }
 
 PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
                         const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
-  const PhotonSchedule schedule(lights, plan, settings.photons);
-  const std::vector<BlockRange> ranges = BlockRanges(schedule.perLight);
-  const auto run = [&]<bool kInterreflect, bool kSpecular>() {
-    const PhotonTracer<kInterreflect, kSpecular> tracer(scene, rays, plan, settings.maxBounces);
-    return TraceBlocks(tracer, lights, schedule, ranges, settings, log);
-  };
-  const bool bounce = plan.On(Effect::kInterreflection), specular = plan.NeedsSpecularKernel();
-  std::vector<Block> blocks = specular ? (bounce ? run.template operator()<true, true>()
-                                                 : run.template operator()<false, true>())
-                                       : (bounce ? run.template operator()<true, false>()
-                                                 : run.template operator()<false, false>());
-  PhotonHits result;
-  result.stats.photonsPerLight = schedule.perLight;
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    result.stats.Add(blocks[b].stats);  // in block order: the double sums do not depend on threads
-    result.blocks.push_back(std::move(blocks[b].hits));
-    result.blockLight.push_back(uint32_t(ranges[b].light));
-  }
-  return result;
+  PhotonHits store;
+  store.emitted.assign(lights.size(), 0);
+  for (const AreaLight& light : lights) store.lightPower.push_back(light.Power());
+  ExtendPhotons(store, scene, lights, rays, plan, settings, log);
+  return store;
 }
 
 }  // namespace pb

@@ -1,8 +1,13 @@
 // Stage 1: photon tracing (the paper's "How to trace a particle"; Shirley et al. 1995).
-// Each light that reaches a receiver (stage 0) emits N_i = n Phi_i / Phi photons of flux Phi_i / N_i [W] (RGB).
+// Each light that reaches a receiver (stage 0) emits N_i = floor(n Phi_i / Phi) photons (estimators/emission.h).
 // A photon is traced with Embree through reflections and refractions until it is absorbed or leaves the scene;
-// at every surface it reaches, a PhotonHit is stored with the flux that arrived. Each event picks one lobe of
-// the material with Russian roulette folded in (estimators/scatter.h), so the expected flux stays exact.
+// at every surface it reaches, a PhotonHit is stored. Each event picks one lobe of the material with Russian
+// roulette folded in (estimators/scatter.h), so the expected flux stays exact.
+//
+// Photons are stored by attenuation, the paper's second way: a hit keeps the fraction of its light's photon
+// flux that arrived (1 at emission, times each event's weight), and its flux [W] is Phi_l / N_l times that,
+// with N_l the photons light l has emitted so far. "This method allows us to increase the number of photons
+// emitted by each light source": ExtendPhotons adds photons to a store, and every earlier photon's flux follows.
 //
 // Only the transport the plan asks for is compiled into the loop that runs: four instantiations of one photon
 // loop, with or without diffuse bounces and with or without specular events. A purely diffuse scene runs a loop
@@ -10,9 +15,9 @@
 // hit. A forbidden effect (--effects -NAME) drops the photon where it would happen and tallies the flux.
 //
 // Determinism: photon j of light l draws only from Rng(seed, PhotonStream(l, j)); each light's photons are
-// traced in fixed blocks of its own stream, and the hits are concatenated by light, then block. The hit list is
-// identical for any thread count, and a light's first photons are the same photons whatever the total: a bake
-// with more photons continues each light's stream (the ground for adding photons to a bake later).
+// traced in fixed blocks of its own stream (a block covers photons [k B, (k+1) B) of one light), and the hits are
+// kept by light, then block. A store extended from n to m photons holds the same bytes as one traced with m at
+// once: a light's last, partial block is continued in place, its double sums carried on in photon order.
 #pragma once
 
 #include <cstdint>
@@ -36,15 +41,15 @@ namespace pb {
 // SurfaceSet::surfaceOfTriangle[Triangle()] and its chart position SurfaceSet::UvAt(Triangle(), b1, b2) [m].
 // Its incoming direction is quantised (mesh/octahedral.h, within 8e-5 rad); the side it arrived on is exact.
 struct PhotonHit {
-  Rgb power;                  // flux arriving [W], exact
+  Rgb attenuation;            // the fraction of the photon's emitted flux that arrived, per channel, exact
   uint32_t wiOctahedral = 0;  // unit world direction back toward where the photon came from
   uint32_t triangleSide = 0;  // Scene::triangles index in bits 0-30; bit 31 set when it arrived on the front side
   float b1 = 0, b2 = 0;       // barycentrics on the triangle
 
   static constexpr uint32_t kFrontBit = 1u << 31;
   PhotonHit() = default;
-  PhotonHit(Rgb flux, Vector3 wi, uint32_t triangle, bool front, float b1_, float b2_)
-      : power(flux), wiOctahedral(EncodeOctahedral(wi)), triangleSide(triangle | (front ? kFrontBit : 0)), b1(b1_), b2(b2_) {}
+  PhotonHit(Rgb attenuation_, Vector3 wi, uint32_t triangle, bool front, float b1_, float b2_)
+      : attenuation(attenuation_), wiOctahedral(EncodeOctahedral(wi)), triangleSide(triangle | (front ? kFrontBit : 0)), b1(b1_), b2(b2_) {}
   uint32_t Triangle() const { return triangleSide & ~kFrontBit; }
   bool OnFront() const { return (triangleSide & kFrontBit) != 0; }
   Vector3 Wi() const { return DecodeOctahedral(wiOctahedral); }
@@ -63,13 +68,22 @@ inline constexpr uint64_t kBlockPhotons = 65536;
 inline uint64_t PhotonStream(size_t light, uint64_t j) { return uint64_t(light) << 40 | j; }
 
 struct TraceSettings {
-  uint64_t photons = 0;
+  uint64_t photons = 0;  // n, over all lights
   uint64_t seed = 1;
   uint32_t maxBounces = 10'000;
 };
 
+// Photons [first, end) of light `light`'s stream; first is a multiple of kBlockPhotons and end - first <= it.
+struct BlockRange {
+  uint32_t light = 0;
+  uint64_t first = 0, end = 0;
+  bool Full() const { return end - first == kBlockPhotons; }
+};
+
+// What happened to photons. In a block the power sums are in attenuation units (each photon leaves its light
+// carrying 1 per channel); PhotonHits::stats holds them in watts.
 struct TraceStats {
-  std::vector<uint64_t> photonsPerLight;
+  std::vector<uint64_t> photonsPerLight;  // N_l (PhotonHits::stats only)
   uint64_t emitted = 0;    // photons leaving lights
   uint64_t hits = 0;       // PhotonHits stored
   uint64_t absorbed = 0;   // photons ended by Russian roulette
@@ -84,25 +98,44 @@ struct TraceStats {
   RgbSum powerEscaped;       // [W]
   RgbSum powerForbidden;     // [W], flux dropped by forbidden effects
   uint64_t SpecularEvents() const { return mirrorReflections + fresnelReflections + refractions; }
-  void Add(const TraceStats& block);
+  // Adds `block`'s counts, and its power sums times `flux` per channel (1 to add like units).
+  void Add(const TraceStats& block, Rgb flux = {1, 1, 1});
 };
 
-// The hits of all photons, kept in the per-block arrays they were traced into (no merged copy: merging
-// 10^7 hits cost a zero-filled allocation and a page fault per 4 KiB). Blocks are ordered by light, then by
-// photon; blockLight[b] is the light whose photons block b holds.
+// The photon store: the hits of all photons by attenuation, kept in the per-block arrays they were traced into
+// (no merged copy: merging 10^7 hits cost a zero-filled allocation and a page fault per 4 KiB). Blocks are
+// ordered by light, then by photon.
 struct PhotonHits {
   std::vector<HitBlock> blocks;
-  std::vector<uint32_t> blockLight;
-  TraceStats stats;
+  std::vector<BlockRange> ranges;       // ranges[b]: the photons of blocks[b]
+  std::vector<TraceStats> blockStats;   // blockStats[b]: in attenuation units, summed in photon order
+  std::vector<Rgb> lightPower;          // Phi_l [W] of each light
+  std::vector<uint64_t> emitted;        // N_l: photons light l has emitted into the store
+  TraceStats stats;                     // in watts: each light's blocks, in order, times its photon flux
 
+  // Phi_l / N_l [W]: the flux of one photon of light l, and of a hit of attenuation 1.
+  Rgb PhotonFlux(size_t light) const { return emitted[light] ? lightPower[light] / float(emitted[light]) : Rgb{}; }
+
+  // Visits every hit, in store order, with the flux [W] it brought: visit(const PhotonHit&, Rgb power).
   template <typename F>
   void ForEach(F&& visit) const {
-    for (const auto& block : blocks)
-      for (const PhotonHit& hit : block) visit(hit);
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      const Rgb flux = PhotonFlux(ranges[b].light);
+      for (const PhotonHit& hit : blocks[b]) visit(hit, hit.attenuation * flux);
+    }
   }
+  // Recomputes `stats` from the blocks.
+  void Summarise();
 };
 
+// Traces settings.photons photons into a new store.
 PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
                         const TransportPlan& plan, const TraceSettings& settings, const Log& log);
+
+// Extends `store` (traced with the same scene, plan, seed and maxBounces) so that each light has emitted
+// max(N_l, its share of settings.photons) photons; Summarise()s it. Stops early, keeping every light's photons a
+// prefix of its stream, when InterruptRequested() (baker/interrupt.h); returns false then.
+bool ExtendPhotons(PhotonHits& store, const Scene& scene, const std::vector<AreaLight>& lights,
+                   const RayScene& rays, const TransportPlan& plan, const TraceSettings& settings, const Log& log);
 
 }  // namespace pb

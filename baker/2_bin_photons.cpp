@@ -7,7 +7,7 @@ SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonHits& hits) {
   SurfaceBins bins;
   bins.start.assign(surfaceCount + 1, 0);
   bins.backHits.assign(surfaceCount, 0);
-  hits.ForEach([&](const PhotonHit& hit) {
+  hits.ForEach([&](const PhotonHit& hit, Rgb) {
     const uint32_t s = surfaces.surfaceOfTriangle[hit.Triangle()];
     if (hit.OnFront())
       ++bins.start[s + 1];
@@ -18,11 +18,11 @@ SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonHits& hits) {
   bins.uv.resize(bins.start.back());
   bins.power.resize(bins.start.back());
   std::vector<uint32_t> cursor(bins.start.begin(), bins.start.end() - 1);
-  hits.ForEach([&](const PhotonHit& hit) {
+  hits.ForEach([&](const PhotonHit& hit, Rgb power) {
     if (!hit.OnFront()) return;
     const uint32_t slot = cursor[surfaces.surfaceOfTriangle[hit.Triangle()]]++;
     bins.uv[slot] = surfaces.UvAt(hit.Triangle(), hit.b1, hit.b2);
-    bins.power[slot] = hit.power;
+    bins.power[slot] = power;
   });
   return bins;
 }

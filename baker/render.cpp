@@ -122,9 +122,9 @@ void WriteRenderReport(const std::string& path, const RenderReport& r) {
 PhotonMap BuildPhotonMap(const Scene& scene, const PhotonHits& hits) {
   std::vector<MapPhoton> photons;
   photons.reserve(hits.stats.hits);
-  hits.ForEach([&](const PhotonHit& h) {
+  hits.ForEach([&](const PhotonHit& h, Rgb power) {
     const Normal3 front = scene.FrontNormal(h.Triangle());
-    photons.push_back({scene.PointAt(h.Triangle(), h.b1, h.b2), h.Wi(), h.power, h.OnFront() ? front : -front});
+    photons.push_back({scene.PointAt(h.Triangle(), h.b1, h.b2), h.Wi(), power, h.OnFront() ? front : -front});
   });
   return PhotonMap(std::move(photons));
 }

@@ -1,6 +1,7 @@
 #include "estimators/emission.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "estimators/warps.h"
@@ -26,19 +27,8 @@ std::vector<uint64_t> AllocatePhotons(const std::vector<AreaLight>& lights, uint
   for (size_t i = 0; i < lights.size(); ++i) power[i] = eligible.empty() || eligible[i] ? lights[i].Power().Mean() : 0.0;
   const double total = std::accumulate(power.begin(), power.end(), 0.0);
   std::vector<uint64_t> count(lights.size(), 0);
-  if (lights.empty() || !(total > 0)) return count;
-  std::vector<double> remainder(lights.size());
-  uint64_t assigned = 0;
-  for (size_t i = 0; i < lights.size(); ++i) {
-    const double exact = double(n) * power[i] / total;
-    count[i] = uint64_t(exact);
-    remainder[i] = exact - double(count[i]);
-    assigned += count[i];
-  }
-  std::vector<size_t> order(lights.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return remainder[a] > remainder[b]; });
-  for (size_t k = 0; assigned < n; k = (k + 1) % order.size(), ++assigned) ++count[order[k]];
+  if (!(total > 0)) return count;
+  for (size_t i = 0; i < lights.size(); ++i) count[i] = uint64_t(std::floor(double(n) * (power[i] / total)));
   return count;
 }
 

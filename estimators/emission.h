@@ -25,9 +25,11 @@ struct EmissionSample {
 
 EmissionSample SampleEmission(const Scene& scene, const AreaLight& light, Rng& rng);
 
-// Photons per light, N_i = n Phi_i / Phi (Shirley et al. 1995), with Phi the mean over RGB channels.
-// Rounded by largest remainder, so the counts sum to exactly n; ties go to the lower index. A light with
-// eligible[i] false (it reaches no receiver) gets none and is left out of Phi; empty `eligible` means all.
+// Photons per light, N_i = floor(n Phi_i / Phi) (Shirley et al. 1995), with Phi the mean over RGB channels.
+// Rounded down, so the counts sum to n minus less than one per light, and never shrink as n grows: a bake given
+// more photons adds to every light's stream (largest-remainder rounding would move a photon from one light to
+// another as n grows, the Alabama paradox). A light with eligible[i] false (it reaches no receiver) gets none
+// and is left out of Phi; empty `eligible` means all.
 std::vector<uint64_t> AllocatePhotons(const std::vector<AreaLight>& lights, uint64_t n,
                                       const std::vector<bool>& eligible = {});
 

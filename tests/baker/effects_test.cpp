@@ -148,7 +148,7 @@ TEST(Effects, MirrorImageMatchesTheClosedForm) {
   const test::FloorCells cells{6, 8, 0.25, 0.0, -1.0};
   const uint32_t floorMaterial = s.scene.triangles[0].material;
   std::vector<double> observed(cells.Count(), 0.0);
-  hits.ForEach([&](const PhotonHit& h) {
+  hits.ForEach([&](const PhotonHit& h, Rgb) {
     if (s.scene.triangles[h.Triangle()].material != floorMaterial || !h.OnFront()) return;
     const Point3 p = s.scene.PointAt(h.Triangle(), h.b1, h.b2);
     ++observed[cells.Of(p.x, p.z)];
@@ -202,8 +202,8 @@ TEST(Effects, ClosedBoxWithGlassSphereConservesEnergy) {
   EXPECT_EQ(t.truncated, 0u);
   EXPECT_NEAR(t.powerAbsorbed.g / t.powerEmitted.g, 1.0, 0.005);
   double diffuseFlux = 0;
-  hits.ForEach([&](const PhotonHit& h) {
-    if (!s.scene.MaterialOf(h.Triangle()).IsSpecular()) diffuseFlux += h.power.g;
+  hits.ForEach([&](const PhotonHit& h, Rgb power) {
+    if (!s.scene.MaterialOf(h.Triangle()).IsSpecular()) diffuseFlux += power.g;
   });
   EXPECT_NEAR(diffuseFlux * (1 - rho) / t.powerEmitted.g, 1.0, 0.005);
 }

@@ -1,41 +1,129 @@
-// Each light's photons form one stream of its own (baker/1_trace_photons.h): a bake with more photons traces
-// the same first photons of every light, and then continues. This is what lets photons be added to a bake.
+// Each light's photons form one stream of its own, stored by attenuation (baker/1_trace_photons.h): a store
+// extended from n to m photons holds the same bytes as one traced with m at once, the flux in the store is the
+// lights' total at every step, and an interrupted extension keeps every light's photons a prefix of its stream.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstring>
+#include <random>
+#include <thread>
+
+#include "baker/interrupt.h"
+#include "estimators/emission.h"
+#include "tests/test_scenes.h"
 #include "tests/traced_scene.h"
 
 namespace pb {
 namespace {
 
-// The hits of light l's full blocks, by block.
-std::vector<const HitBlock*> FullBlocksOf(const PhotonHits& hits, uint32_t light, uint64_t photonsOfLight) {
-  std::vector<const HitBlock*> blocks;
-  for (size_t b = 0; b < hits.blocks.size(); ++b)
-    if (hits.blockLight[b] == light && blocks.size() < photonsOfLight / kBlockPhotons) blocks.push_back(&hits.blocks[b]);
-  return blocks;
+void ExpectSameSum(const RgbSum& a, const RgbSum& b, const char* what) {
+  EXPECT_EQ(a.r, b.r) << what;
+  EXPECT_EQ(a.g, b.g) << what;
+  EXPECT_EQ(a.b, b.b) << what;
 }
 
-TEST(PhotonStreams, MorePhotonsContinueEachLightsStream) {
+// Byte-identical hits, identical ranges, and stats equal to the last bit.
+void ExpectSameStore(const PhotonHits& a, const PhotonHits& b) {
+  ASSERT_EQ(a.emitted, b.emitted);
+  ASSERT_EQ(a.blocks.size(), b.blocks.size());
+  for (size_t k = 0; k < a.blocks.size(); ++k) {
+    ASSERT_EQ(a.ranges[k].light, b.ranges[k].light);
+    ASSERT_EQ(a.ranges[k].first, b.ranges[k].first);
+    ASSERT_EQ(a.ranges[k].end, b.ranges[k].end);
+    ASSERT_EQ(a.blocks[k].size(), b.blocks[k].size()) << "block " << k;
+    ASSERT_EQ(0, std::memcmp(a.blocks[k].data(), b.blocks[k].data(), a.blocks[k].size() * sizeof(PhotonHit)))
+        << "block " << k;
+  }
+  EXPECT_EQ(a.stats.hits, b.stats.hits);
+  EXPECT_EQ(a.stats.absorbed, b.stats.absorbed);
+  ExpectSameSum(a.stats.powerEmitted, b.stats.powerEmitted, "emitted");
+  ExpectSameSum(a.stats.powerAbsorbed, b.stats.powerAbsorbed, "absorbed");
+  ExpectSameSum(a.stats.powerEscaped, b.stats.powerEscaped, "escaped");
+}
+
+// The flux the store's photons left their lights with is the lights' total flux.
+void ExpectStoreFluxIsLightFlux(const test::TracedScene& s, const PhotonHits& store) {
+  double phi = 0;
+  for (const AreaLight& light : s.lights) phi += light.Power().g;
+  EXPECT_NEAR(store.stats.powerEmitted.g, phi, 1e-6 * phi);
+}
+
+PhotonHits ExtendedStore(const test::TracedScene& s, const std::vector<uint64_t>& steps, uint64_t seed) {
+  PhotonHits store = s.Trace(steps[0], seed);
+  ExpectStoreFluxIsLightFlux(s, store);
+  for (size_t i = 1; i < steps.size(); ++i) {
+    EXPECT_TRUE(ExtendPhotons(store, s.scene, s.lights, s.rays, s.Plan(), {steps[i], seed, 10'000}, Log(true)));
+    ExpectStoreFluxIsLightFlux(s, store);
+  }
+  return store;
+}
+
+TEST(PhotonStreams, ExtendingTheBoxEqualsTracingAtOnce) {
   const test::TracedScene box(PB_SOURCE_DIR "/data/box/box.obj");
-  const PhotonHits fewer = box.Trace(300'000, 5), more = box.Trace(700'000, 5);
   ASSERT_EQ(box.lights.size(), 2u);
-  for (uint32_t l = 0; l < 2; ++l) {
-    const uint64_t n1 = fewer.stats.photonsPerLight[l], n2 = more.stats.photonsPerLight[l];
-    ASSERT_GT(n2, n1);
-    const auto a = FullBlocksOf(fewer, l, n1), b = FullBlocksOf(more, l, n2);
-    ASSERT_GE(a.size(), 1u) << "light " << l << " has no full block at " << n1 << " photons";
-    for (size_t k = 0; k < a.size(); ++k) {
-      ASSERT_EQ(a[k]->size(), b[k]->size()) << "light " << l << " block " << k;
-      for (size_t i = 0; i < a[k]->size(); ++i) {
-        const PhotonHit &x = (*a[k])[i], &y = (*b[k])[i];
-        ASSERT_EQ(x.triangleSide, y.triangleSide);
-        ASSERT_EQ(x.wiOctahedral, y.wiOctahedral);
-        ASSERT_EQ(x.b1, y.b1);
-        ASSERT_EQ(x.b2, y.b2);
-        // Only the flux differs: the light's flux is shared by more photons.
-        ASSERT_NEAR(y.power.r * float(n2), x.power.r * float(n1), 1e-5f * x.power.r * float(n1));
-      }
+  // 100k leaves each light a partial block, which 250k continues in place.
+  const PhotonHits extended = ExtendedStore(box, {100'000, 250'000, 400'000}, 5);
+  ExpectSameStore(extended, box.Trace(400'000, 5));
+}
+
+TEST(PhotonStreams, ExtendingTwoLightsOfVeryDifferentPowerEqualsTracingAtOnce) {
+  const std::string dir = test::TempDirectory("streams-two-lights");
+  // Same radiance, areas 0.0025 and 1 m^2: the big lamp has 400 times the power; the small one gets 249
+  // photons of 100k (a partial first block), then 997 of 400k.
+  const test::TracedScene s(test::WriteFloorWithLamps(dir, 0.5f, 2.0f, {{-1.0f, -0.95f, 0, 0.05f, 1}, {0, 1, 0, 1, 1}}));
+  ASSERT_EQ(s.lights.size(), 2u);
+  const PhotonHits extended = ExtendedStore(s, {100'000, 400'000}, 7);
+  EXPECT_LT(extended.emitted[0] * 300, extended.emitted[1]);
+  ExpectSameStore(extended, s.Trace(400'000, 7));
+}
+
+TEST(PhotonStreams, AnInterruptedExtensionKeepsAPrefixOfEachStreamAndResumesExactly) {
+  const test::TracedScene box(PB_SOURCE_DIR "/data/box/box.obj");
+  PhotonHits store = box.Trace(100'000, 3);
+  {
+    const InterruptScope scope;
+    std::thread ctrlC([] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      RequestInterrupt();
+    });
+    const bool complete = ExtendPhotons(store, box.scene, box.lights, box.rays, box.Plan(), {1'500'000, 3, 10'000}, Log(true));
+    ctrlC.join();
+    EXPECT_FALSE(complete) << "1.5M photons took under 10 ms";
+  }
+  uint64_t hits = 0;
+  std::vector<uint64_t> next(box.lights.size(), 0);
+  for (size_t k = 0; k < store.blocks.size(); ++k) {
+    const BlockRange& r = store.ranges[k];
+    EXPECT_EQ(r.first, next[r.light]) << "a gap in light " << r.light << "'s stream";
+    next[r.light] = r.end;
+    hits += store.blocks[k].size();
+  }
+  EXPECT_EQ(next, store.emitted);
+  EXPECT_EQ(hits, store.stats.hits);
+  ExpectStoreFluxIsLightFlux(box, store);
+  ASSERT_TRUE(ExtendPhotons(store, box.scene, box.lights, box.rays, box.Plan(), {1'500'000, 3, 10'000}, Log(true)));
+  ExpectSameStore(store, box.Trace(1'500'000, 3));
+}
+
+TEST(PhotonStreams, EachLightsCountNeverShrinksAsTheTotalGrows) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> radiance(0.01f, 10.0f);
+  std::vector<AreaLight> lights(7);
+  for (AreaLight& l : lights) {
+    l.radiance = {radiance(random), radiance(random), radiance(random)};
+    l.area = radiance(random);
+  }
+  std::vector<uint64_t> previous(lights.size(), 0);
+  for (uint64_t n = 1; n < 20'000; n += 1 + n / 50) {
+    const std::vector<uint64_t> counts = AllocatePhotons(lights, n);
+    uint64_t sum = 0;
+    for (size_t l = 0; l < lights.size(); ++l) {
+      ASSERT_GE(counts[l], previous[l]) << "light " << l << " at n = " << n;
+      sum += counts[l];
     }
+    ASSERT_LE(sum, n);
+    ASSERT_GT(sum + lights.size(), n);
+    previous = counts;
   }
 }
 

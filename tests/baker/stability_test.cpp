@@ -111,7 +111,7 @@ TEST(Stability, WhiteFurnaceIsCappedAndMatchesItsClosedForm) {
   const PhotonHits hits = traced.Trace(kPhotons, 4, 100000);
   const double rho = 0.99;
   double flux = 0;
-  hits.ForEach([&](const PhotonHit& h) { flux += h.power.g; });
+  hits.ForEach([&](const PhotonHit&, Rgb power) { flux += power.g; });
   EXPECT_NEAR(flux * (1 - rho) / hits.stats.powerEmitted.g, 1.0, 5 * std::sqrt(rho / kPhotons));
   EXPECT_EQ(hits.stats.truncated, 0u);
   EXPECT_EQ(hits.stats.escaped, 0u);
@@ -127,7 +127,7 @@ TEST(Stability, ALightFlushWithTheCeilingNeitherLeaksNorShadowsItself) {
   constexpr uint64_t kPhotons = 200000;
   const PhotonHits hits = traced.Trace(kPhotons, 6);
   double flux = 0;
-  hits.ForEach([&](const PhotonHit& h) { flux += h.power.g; });
+  hits.ForEach([&](const PhotonHit&, Rgb power) { flux += power.g; });
   EXPECT_NEAR(flux * 0.5 / hits.stats.powerEmitted.g, 1.0, 5 * std::sqrt(0.5 / kPhotons));
   EXPECT_EQ(hits.stats.escaped, 0u) << "light leaks out of the box";
 }
@@ -231,7 +231,7 @@ TEST(Stability, ALightCuttingThroughTheFloorLightsItAsItsUpperPartWould) {
   const test::FloorCells cells{4, 8, 0.25, 0.0, -1.0};
   std::vector<double> observed(cells.Count(), 0.0);
   uint64_t wrongSide = 0;
-  hits.ForEach([&](const PhotonHit& h) {
+  hits.ForEach([&](const PhotonHit& h, Rgb) {
     if (scene.MaterialOf(h.Triangle()).IsEmissive()) return;
     const Point3 p = scene.PointAt(h.Triangle(), h.b1, h.b2);
     if (!h.OnFront()) return;  // light from the lower part, under the floor

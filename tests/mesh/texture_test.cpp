@@ -133,7 +133,7 @@ TEST(Texture, AUniformlyTexturedClosedBoxKeepsItsClosedForm) {
   const double rho = traced.scene.textures.at(0).maximum.g;
   ASSERT_NEAR(rho, SrgbToLinear(188), 1e-6);
   double flux = 0;
-  hits.ForEach([&](const PhotonHit& h) { flux += h.power.g; });
+  hits.ForEach([&](const PhotonHit&, Rgb power) { flux += power.g; });
   // The light's own Kd is 0.5, not rho: the closed form then holds to about |rho - 0.5| x (light's share of hits),
   // well inside the noise bound below.
   EXPECT_NEAR(flux * (1 - rho) / hits.stats.powerEmitted.g, 1.0, 5 * std::sqrt(rho / kPhotons) + 0.01);
