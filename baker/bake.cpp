@@ -13,6 +13,8 @@
 #include "baker/5_write_maps.h"
 #include "baker/5_write_ply.h"
 #include "baker/atomic_file.h"
+#include "baker/interrupt.h"
+#include "baker/progressive.h"
 #include "baker/stage_clock.h"
 #include "baker/threads.h"
 #include "mesh/errors.h"
@@ -33,12 +35,16 @@ void ValidateOptions(const BakeOptions& o) {
   if (!(o.refine.tolerance > 0 && o.refine.tolerance < 1)) throw InputError("--tolerance", 0, "must lie in (0, 1)");
   if (o.refine.subdivide < 0 || o.refine.subdivide > 8) throw InputError("--subdivide", 0, "must lie in [0, 8]");
   if (o.refine.maxVertices < 3) throw InputError("--max-vertices", 0, "must be at least 3");
+  if (o.targetNoise && !(*o.targetNoise > 0 && *o.targetNoise < 1)) throw InputError("--target-noise", 0, "must lie in (0, 1)");
+  if (o.targetNoise && o.maxPhotons < o.photons)
+    throw InputError("--max-photons", 0, "must be at least --photons, the first round of --target-noise");
 }
 
 void ValidateOutputs(const BakeOptions& o) {
   RequireWritableLocation(o.outputPath);
   if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
   if (!o.mapsDirectory.empty()) RequireWritableLocation(o.mapsDirectory + "/surface_0.exr");
+  if (!o.savePhotonsPath.empty()) RequireWritableLocation(o.savePhotonsPath);
 }
 
 void RequireLight(const Scene& scene, const std::vector<AreaLight>& lights) {
@@ -71,6 +77,47 @@ std::vector<std::string> BandwidthWarnings(const Scene& scene, const SurfaceSet&
   return warnings;
 }
 
+// Stages 1 to 3: the photons, binned per surface, each surface's h and estimator, and the light at every vertex.
+struct Estimated {
+  PhotonHits photons;
+  SurfaceBins bins;
+  std::vector<float> bandwidths;
+  SurfaceEstimators estimators;
+  BakedMesh baked;
+};
+
+// Stages 2 and 3 from the photons in `e`.
+void EstimateLight(Estimated& e, const Scene& scene, const SurfaceSet& surfaces, const SurfaceRegions& regions,
+                   const BakeOptions& o, StageClock& clock, const Log& log) {
+  e.bins = clock.Time("bin", [&] { return BinPhotons(surfaces, e.photons); });
+  e.bandwidths = clock.Time("bandwidth", [&] { return SurfaceBandwidths(regions, e.bins, o.estimator, o.autoBandwidth); });
+  e.estimators = clock.Time("estimators", [&] { return BuildEstimators(regions, e.bins, o.estimator, e.bandwidths); });
+  e.baked = clock.Time("estimate", [&] {
+    return EstimateIrradiance(scene, surfaces, e.estimators, SplitBySurface(scene, surfaces), log);
+  });
+}
+
+// Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/progressive.h); then --save-photons.
+Estimated TraceAndEstimate(const PhotonSource& source, const SurfaceSet& surfaces, const SurfaceRegions& regions,
+                           const BakeOptions& o, BakeReport& report, StageClock& clock, const Log& log) {
+  const InterruptScope interrupt;
+  ProgressiveReport& progress = report.progressive;
+  Estimated e{clock.Time("trace", [&] { return OpenPhotonStore(o, source, progress); })};
+  for (uint64_t photons = std::max(o.photons, progress.resumedPhotons);;) {
+    clock.Time("trace", [&] { GrowPhotonStore(e.photons, photons, o, source, progress, log); });
+    EstimateLight(e, source.scene, surfaces, regions, o, clock, log);
+    if (!o.targetNoise) break;
+    const double noise = clock.Time("noise", [&] { return BakeNoise(e.baked, IrradianceNoise(e.estimators, e.baked.mesh)); });
+    progress.rounds.push_back({e.photons.stats.emitted, noise});
+    log.Info(fmt::format("round {}: {} photons, noise {:.4f} (target {:.4f})", progress.rounds.size(),
+                         e.photons.stats.emitted, noise, *o.targetNoise));
+    if (noise <= *o.targetNoise || photons >= o.maxPhotons || progress.interrupted || InterruptRequested()) break;
+    photons = NextRoundPhotons(photons, noise, *o.targetNoise, o.maxPhotons);
+  }
+  clock.Time("save photons", [&] { SavePhotonStore(e.photons, o, source, progress); });
+  return e;
+}
+
 }  // namespace
 
 BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
@@ -94,17 +141,14 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
   std::optional<RayScene> rays;
   clock.Time("bvh", [&] { rays.emplace(scene); });
 
-  const PhotonHits photons =
-      clock.Time("trace", [&] { return TracePhotons(scene, lights, *rays, report.plan, {o.photons, o.seed, o.maxBounces}, log); });
-  const SurfaceBins bins = clock.Time("bin", [&] { return BinPhotons(surfaces, photons); });
   const SurfaceRegions regions = clock.Time("regions", [&] { return BuildRegions(surfaces); });
-  const std::vector<float> bandwidths =
-      clock.Time("bandwidth", [&] { return SurfaceBandwidths(regions, bins, o.estimator, o.autoBandwidth); });
+  Estimated estimated = TraceAndEstimate({scene, lights, *rays, report.plan}, surfaces, regions, o, report, clock, log);
+  const PhotonHits& photons = estimated.photons;
+  const SurfaceBins& bins = estimated.bins;
+  const std::vector<float>& bandwidths = estimated.bandwidths;
+  const SurfaceEstimators& estimators = estimated.estimators;
+  BakedMesh& baked = estimated.baked;
   ReportWarnings(report, BandwidthWarnings(scene, surfaces, bins, bandwidths, o.estimator.kind), log);
-  const SurfaceEstimators estimators =
-      clock.Time("estimators", [&] { return BuildEstimators(regions, bins, o.estimator, bandwidths); });
-  BakedMesh baked =
-      clock.Time("estimate", [&] { return EstimateIrradiance(scene, surfaces, estimators, SplitBySurface(scene, surfaces), log); });
   report.exposure = DisplayExposure(baked, o.exposure);
   if (o.refine.adaptive)
     ReportWarnings(report, NoiseWarnings(scene, surfaces, bins, bandwidths, o.estimator, report.exposure,
@@ -130,7 +174,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
   report.worstAreaDistortion = surfaces.WorstAreaDistortion();
   for (size_t s = 0; s < report.surfaces.size(); ++s) report.surfaces[s].bandwidth = bandwidths[s];
   report.trace = photons.stats;
-  return {std::move(report), std::move(baked)};
+  return {std::move(report), std::move(estimated.baked)};
 }
 
 BakeReport Bake(const BakeOptions& o, const Log& log) {

@@ -32,6 +32,11 @@ struct BakeOptions {
   std::string mapsDirectory;      // --maps: one irradiance map (EXR) per surface here; empty for none.
   float texel = 0.02f;            // --texel: map texel side [m]; range (0, inf), typical 0.005-0.05.
   RefineSettings refine;          // --refine, --tolerance, --max-vertices, --subdivide (baker/4_refine_mesh.h)
+  // Progressive bakes (baker/progressive.h).
+  std::string resumePath;         // --resume: continue the photon store in this file (same scene, seed, options).
+  std::string savePhotonsPath;    // --save-photons: write the photon store here; may equal resumePath.
+  std::optional<float> targetNoise;  // --target-noise: trace in rounds until the noise is at most this; (0, 1).
+  uint64_t maxPhotons = 100'000'000;  // --max-photons: --target-noise's budget over all lights.
 };
 
 }  // namespace pb

@@ -20,13 +20,40 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
           {"h_m", o.autoBandwidth ? nlohmann::json("auto") : nlohmann::json(o.estimator.bandwidth)},          {"photons", o.photons},   {"seed", o.seed},
           {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly},
           {"effects", o.effectsText}, {"refine", o.refine.adaptive}, {"tolerance", o.refine.tolerance},
-          {"max_vertices", o.refine.maxVertices}, {"subdivide", o.refine.subdivide}};
+          {"max_vertices", o.refine.maxVertices}, {"subdivide", o.refine.subdivide}, {"resume", o.resumePath},
+          {"save_photons", o.savePhotonsPath},
+          {"target_noise", o.targetNoise ? nlohmann::json(*o.targetNoise) : nlohmann::json()},
+          {"max_photons", o.maxPhotons}};
 }
 
 double StageSeconds(const BakeReport& r, const std::string& stage) {
   for (const auto& [name, seconds] : r.stageSeconds)
     if (name == stage) return seconds;
   return 0;
+}
+
+nlohmann::json ProgressiveJson(const ProgressiveReport& p) {
+  nlohmann::json rounds = nlohmann::json::array();
+  for (const RoundReport& r : p.rounds) rounds.push_back({{"photons", r.photons}, {"noise", r.noise}});
+  return {{"resumed_from", p.resumedFrom}, {"resumed_photons", p.resumedPhotons}, {"saved_to", p.savedTo},
+          {"interrupted", p.interrupted}, {"target_noise", p.target ? nlohmann::json(*p.target) : nlohmann::json()},
+          {"target_met", p.TargetMet()}, {"rounds", rounds}};
+}
+
+// The progressive lines of the summary: what was resumed and saved, the rounds, an interruption.
+std::string ProgressiveLines(const ProgressiveReport& p, uint64_t emitted) {
+  std::string s;
+  if (!p.resumedFrom.empty())
+    s += fmt::format("  resumed   {} photons from {}; {} traced now\n", p.resumedPhotons, p.resumedFrom,
+                     emitted - p.resumedPhotons);
+  if (p.target) {
+    s += fmt::format("  rounds    {} to target noise {:.4f}:", p.rounds.size(), *p.target);
+    for (const RoundReport& r : p.rounds) s += fmt::format(" {} photons -> {:.4f} |", r.photons, r.noise);
+    s += p.TargetMet() ? " met\n" : " NOT met (raise --max-photons)\n";
+  }
+  if (p.interrupted) s += "  INTERRUPTED: tracing stopped at Ctrl-C; the outputs are valid, with fewer photons\n";
+  if (!p.savedTo.empty()) s += fmt::format("  photons   saved to {} (add more with --resume)\n", p.savedTo);
+  return s;
 }
 
 nlohmann::json TraceJson(const TraceStats& t) {
@@ -136,6 +163,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   s += fmt::format("  flux      emitted {:.5g} W = absorbed {:.5g} W + escaped {:.5g} W + forbidden {:.5g} W"
                    "  (balance {:+.3f}%)\n", t.powerEmitted.Mean(), t.powerAbsorbed.Mean(), t.powerEscaped.Mean(),
                    t.powerForbidden.Mean(), 100.0 * balance);
+  s += ProgressiveLines(r.progressive, t.emitted);
   s += SurfaceTable(r);
   s += "  seconds  ";
   for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
@@ -164,6 +192,7 @@ void WriteReportJson(const std::string& path, const BakeReport& r) {
     j["lights"].push_back({{"surface", l.surface}, {"material", l.material}, {"area_m2", l.area},
                            {"power_W", Json(l.power)}, {"photons", l.photons}, {"note", l.note}});
   j["photons"] = TraceJson(r.trace);
+  j["progressive"] = ProgressiveJson(r.progressive);
   for (const SurfaceReport& s : r.surfaces)
     j["surfaces"].push_back({{"object", s.object}, {"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
                              {"back_hits", s.backHits}, {"mean_irradiance_W_m2", Json(s.meanIrradiance)},

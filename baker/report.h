@@ -12,6 +12,7 @@
 #include "baker/5_write_maps.h"
 #include "baker/baked_mesh.h"
 #include "baker/options.h"
+#include "baker/progressive.h"
 #include "mesh/lights.h"
 
 namespace pb {
@@ -51,6 +52,7 @@ struct BakeReport {
   float exposure = 1;
   MapsWritten maps;  // --maps: the EXR files written and their texel count
   RefineReport refine;  // --refine / --subdivide: vertices before and after, interpolation error
+  ProgressiveReport progressive;  // --resume, --save-photons, --target-noise rounds, interruption
 
   double TotalSeconds() const;
 };

@@ -1,4 +1,5 @@
-// Times pipeline stages in wall-clock seconds and records them, in order, as (name, seconds) pairs.
+// Times pipeline stages in wall-clock seconds and records them, in order, as (name, seconds) pairs. A stage run
+// again (a round of a progressive bake) adds to its first record.
 #pragma once
 
 #include <chrono>
@@ -18,7 +19,10 @@ class StageClock {
   auto Time(const std::string& name, F&& stage) {
     const auto start = std::chrono::steady_clock::now();
     auto finish = [&] {
-      record_.emplace_back(name, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      for (auto& [recorded, total] : record_)
+        if (recorded == name) return void(total += seconds);
+      record_.emplace_back(name, seconds);
     };
     if constexpr (std::is_void_v<decltype(stage())>) {
       stage();

@@ -50,6 +50,11 @@ class DensityEstimator {
   virtual ~DensityEstimator() = default;
   // H [W/m^2] at x, a point of the surface's region. Reproducible bit for bit for the same photons.
   virtual Rgb Estimate(Point2 x) const = 0;
+  // The relative standard deviation of Estimate(x)'s luminance, predicted from the photons it uses, as if their
+  // positions were a Poisson process: sqrt(sum_j w_j^2) / sum_j w_j, with w_j photon j's luminance times its
+  // weight in the estimate (knn: times sqrt(k / (k - 2)), its exact factor for equal fluxes). 0 when no photon
+  // contributes. Dimensionless. The smoothing bias is not included.
+  virtual double RelativeNoise(Point2 x) const = 0;
 };
 
 // `region` must outlive the estimator; the photon arrays are copied.

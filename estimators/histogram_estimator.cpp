@@ -26,10 +26,12 @@ HistogramEstimator::HistogramEstimator(std::span<const Point2> uv, std::span<con
   nu_ = int(su / h_) + 1;
   nv_ = int(sv / h_) + 1;
   std::vector<RgbSum> sums(size_t(nu_) * nv_);
+  luminanceSquares_.assign(sums.size(), 0.0);
   for (size_t i = 0; i < uv.size(); ++i) {
     const int iu = std::clamp(int(std::floor((uv[i].u - lo_.u) / h_)), 0, nu_ - 1);
     const int iv = std::clamp(int(std::floor((uv[i].v - lo_.v) / h_)), 0, nv_ - 1);
     sums[Bucket(iu, iv)].Add(power[i], 1.0f);
+    luminanceSquares_[Bucket(iu, iv)] += double(Luminance(power[i])) * Luminance(power[i]);
   }
   flux_.resize(sums.size());
   for (size_t i = 0; i < sums.size(); ++i) flux_[i] = sums[i].ToRgb();
@@ -37,8 +39,8 @@ HistogramEstimator::HistogramEstimator(std::span<const Point2> uv, std::span<con
   area_ = edgeCorrection ? region.GridOverlapAreas(lo_, h_, nu_, nv_) : std::vector<double>(sums.size(), double(h_) * h_);
 }
 
-Rgb HistogramEstimator::Estimate(Point2 x) const {
-  if (flux_.empty()) return {};
+int HistogramEstimator::BucketAt(Point2 x) const {
+  if (flux_.empty()) return -1;
   const double fu = (x.u - lo_.u) / h_, fv = (x.v - lo_.v) / h_;
   int best = -1;
   for (double du : {-1e-6, 1e-6})
@@ -46,8 +48,18 @@ Rgb HistogramEstimator::Estimate(Point2 x) const {
       const int iu = std::clamp(int(std::floor(fu + du)), 0, nu_ - 1), iv = std::clamp(int(std::floor(fv + dv)), 0, nv_ - 1);
       if (best < 0 || area_[Bucket(iu, iv)] > area_[best]) best = Bucket(iu, iv);
     }
-  if (!(area_[best] > 0)) return {};
-  return flux_[best] * float(1.0 / area_[best]);
+  return area_[best] > 0 ? best : -1;
+}
+
+Rgb HistogramEstimator::Estimate(Point2 x) const {
+  const int b = BucketAt(x);
+  return b < 0 ? Rgb{} : flux_[b] * float(1.0 / area_[b]);
+}
+
+double HistogramEstimator::RelativeNoise(Point2 x) const {
+  const int b = BucketAt(x);
+  const double sum = b < 0 ? 0.0 : Luminance(flux_[b]);
+  return sum > 0 ? std::sqrt(luminanceSquares_[b]) / sum : 0.0;
 }
 
 }  // namespace pb

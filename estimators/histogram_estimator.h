@@ -19,14 +19,17 @@ class HistogramEstimator final : public DensityEstimator {
 
   // For x on a line between buckets, the bucket with the most surface area among those touching x.
   Rgb Estimate(Point2 x) const override;
+  double RelativeNoise(Point2 x) const override;
 
  private:
   int Bucket(int iu, int iv) const { return iv * nu_ + iu; }
+  int BucketAt(Point2 x) const;  // the bucket x reads from; -1 when none has area on the surface
 
   float h_;
   Point2 lo_;
   int nu_ = 1, nv_ = 1;
   std::vector<Rgb> flux_;     // per bucket [W]
+  std::vector<double> luminanceSquares_;  // per bucket: sum of the photons' squared flux luminance [W^2]
   std::vector<double> area_;  // per bucket: area on the surface [m^2], or h^2 without edge correction
 };
 

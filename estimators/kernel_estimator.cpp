@@ -60,25 +60,49 @@ Rgb KernelEstimator::Estimate(Point2 x) const {
   return sum * float(1.0 / std::max(correction_->KernelMass(x, kernel_, h_), minimumMass_));
 }
 
+// The kernel mass M(x) cancels in the ratio, as does 1/h^2.
+double KernelEstimator::RelativeNoise(Point2 x) const {
+  const float inverseH2 = 1.0f / (h_ * h_);
+  double sum = 0, squares = 0;
+  WithSquaredProfile(kernel_, [&](auto profile) {
+    ForEachCellNear(x, [&](uint32_t begin, uint32_t end) {
+      for (uint32_t i = begin; i < end; ++i) {
+        const float t2 = LengthSquared(uv_[i] - x) * inverseH2;
+        if (t2 >= 1.0f) continue;
+        const double w = double(Luminance(power_[i])) * profile(t2);
+        sum += w;
+        squares += w * w;
+      }
+    });
+  });
+  return sum > 0 ? std::sqrt(squares) / sum : 0.0;
+}
+
+template <typename Visit>
+void KernelEstimator::ForEachCellNear(Point2 x, Visit visit) const {
+  const int u0 = int(std::floor((x.u - h_ - lo_.u) / cellSize_)), u1 = int(std::floor((x.u + h_ - lo_.u) / cellSize_));
+  const int v0 = int(std::floor((x.v - h_ - lo_.v) / cellSize_)), v1 = int(std::floor((x.v + h_ - lo_.v) / cellSize_));
+  for (int cv = std::max(v0, 0); cv <= std::min(v1, nv_ - 1); ++cv)
+    for (int cu = std::max(u0, 0); cu <= std::min(u1, nu_ - 1); ++cu) {
+      const size_t c = size_t(cv) * nu_ + cu;
+      visit(cellStart_[c], cellStart_[c + 1]);
+    }
+}
+
 // Sum of phi_j k(r_j^2 / h^2) over the photons within h of x, in cell order: in float within a cell (a few
 // hundred terms), in double across cells.
 template <typename Profile>
 Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile) const {
-  const int u0 = int(std::floor((x.u - h_ - lo_.u) / cellSize_)), u1 = int(std::floor((x.u + h_ - lo_.u) / cellSize_));
-  const int v0 = int(std::floor((x.v - h_ - lo_.v) / cellSize_)), v1 = int(std::floor((x.v + h_ - lo_.v) / cellSize_));
   const float inverseH2 = 1.0f / (h_ * h_);
   RgbSum sum;
-  for (int cv = std::max(v0, 0); cv <= std::min(v1, nv_ - 1); ++cv) {
-    for (int cu = std::max(u0, 0); cu <= std::min(u1, nu_ - 1); ++cu) {
-      const size_t c = size_t(cv) * nu_ + cu;
-      Rgb cell;
-      for (uint32_t i = cellStart_[c]; i < cellStart_[c + 1]; ++i) {
-        const float t2 = LengthSquared(uv_[i] - x) * inverseH2;
-        if (t2 < 1.0f) cell += power_[i] * profile(t2);
-      }
-      sum.Add(cell);
+  ForEachCellNear(x, [&](uint32_t begin, uint32_t end) {
+    Rgb cell;
+    for (uint32_t i = begin; i < end; ++i) {
+      const float t2 = LengthSquared(uv_[i] - x) * inverseH2;
+      if (t2 < 1.0f) cell += power_[i] * profile(t2);
     }
-  }
+    sum.Add(cell);
+  });
   return sum.ToRgb();
 }
 

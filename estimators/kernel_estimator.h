@@ -26,9 +26,13 @@ class KernelEstimator final : public DensityEstimator {
 
   // H at chart point x [W/m^2]. Sums in a fixed order, so the result is reproducible bit for bit.
   Rgb Estimate(Point2 x) const override;
+  double RelativeNoise(Point2 x) const override;
 
  private:
   int CellIndex(float coordinate, float lo, int count) const;
+  // Calls visit(begin, end) with the photon range of each grid cell within h of x, in a fixed order.
+  template <typename Visit>
+  void ForEachCellNear(Point2 x, Visit visit) const;
   template <typename Profile>
   Rgb ProfileSum(Point2 x, Profile profile) const;
 

@@ -39,12 +39,32 @@ NearestEstimator::NearestEstimator(std::span<const Point2> uv, std::span<const R
 
 NearestEstimator::~NearestEstimator() = default;
 
+size_t NearestEstimator::Search(Point2 x, std::vector<uint32_t>& index, std::vector<float>& distance2) const {
+  index.resize(k_);
+  distance2.resize(k_);
+  const float query[2] = {x.u, x.v};
+  return tree_->index.knnSearch(query, k_, index.data(), distance2.data());
+}
+
+double NearestEstimator::RelativeNoise(Point2 x) const {
+  std::vector<uint32_t> index;
+  std::vector<float> distance2;
+  const size_t found = tree_ ? Search(x, index, distance2) : power_.size();
+  double sum = 0, squares = 0;
+  for (size_t i = 0; i < found; ++i) {
+    const double w = Luminance(power_[tree_ ? index[i] : i]);
+    sum += w;
+    squares += w * w;
+  }
+  if (!(sum > 0)) return 0.0;
+  return std::sqrt(squares) / sum * (found > 2 ? std::sqrt(double(found) / double(found - 2)) : 1.0);
+}
+
 Rgb NearestEstimator::Estimate(Point2 x) const {
   if (!tree_) return surfaceMean_;
-  std::vector<uint32_t> index(k_);
-  std::vector<float> distance2(k_);
-  const float query[2] = {x.u, x.v};
-  const size_t found = tree_->index.knnSearch(query, k_, index.data(), distance2.data());
+  std::vector<uint32_t> index;
+  std::vector<float> distance2;
+  const size_t found = Search(x, index, distance2);
   RgbSum flux;
   for (size_t i = 0; i < found; ++i) flux.Add(power_[index[i]]);
   const double r = std::sqrt(double(distance2[found - 1]));

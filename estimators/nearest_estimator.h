@@ -23,8 +23,11 @@ class NearestEstimator final : public DensityEstimator {
   ~NearestEstimator() override;
 
   Rgb Estimate(Point2 x) const override;
+  double RelativeNoise(Point2 x) const override;
 
  private:
+  // The k nearest photons to x (fewer only when the tree holds fewer), nearest first; distance2 [m^2].
+  size_t Search(Point2 x, std::vector<uint32_t>& index, std::vector<float>& distance2) const;
   struct Tree;
   uint32_t k_;
   const SurfaceRegion& region_;

@@ -12,6 +12,7 @@ struct Rgb {
   float Max() const { return std::max({r, g, b}); }
   float Mean() const { return (r + g + b) / 3.0f; }
   bool IsBlack() const { return r == 0 && g == 0 && b == 0; }
+  bool operator==(const Rgb&) const = default;
 };
 
 inline Rgb operator+(Rgb a, Rgb b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }

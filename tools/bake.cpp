@@ -90,6 +90,17 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("--subdivide", o.refine.subdivide,
                  "split every triangle into 4^N first (uniform, OpenSubdiv); range 0-8, 0 = off")
       ->capture_default_str();
+  app.add_option("--save-photons", o.savePhotonsPath,
+                 "also write the photon store to this file (docs/photon-file.md), to add photons later with --resume; "
+                 "may be the --resume file");
+  app.add_option("--resume", o.resumePath,
+                 "continue the photon store in this file: each light's stream goes on where it stopped, up to "
+                 "--photons in all; the result equals one bake with that many photons. Same scene, --seed, --scale, "
+                 "--effects and --max-bounces, or it is refused");
+  app.add_option("--target-noise", o.targetNoise,
+                 "trace in rounds, the first of --photons, until the 95th percentile of the vertices' relative noise "
+                 "(luminance- and area-weighted) is at most this; range (0, 1), typical 0.01-0.05");
+  app.add_option("--max-photons", o.maxPhotons, "--target-noise's photon budget over all lights")->capture_default_str();
   app.add_option("--report", o.reportPath, "write the summary figures as JSON to this file");
   app.add_option("--exposure", o.exposure, "display exposure on radiance for the PLY's uchar colours; range > 0; "
                                            "default automatic (log-average luminance to 0.18)");

@@ -13,7 +13,7 @@ packages=(
   # useful
   libnanoflann-dev libeigen3-dev libtinyobjloader-dev libcli11-dev
   nlohmann-json3-dev libfmt-dev libspdlog-dev libgtest-dev libbenchmark-dev
-  libpng-dev
+  libpng-dev zlib1g-dev
 )
 
 missing=()

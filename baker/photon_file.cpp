@@ -1,0 +1,266 @@
+#include "baker/photon_file.h"
+
+#include <fmt/format.h>
+#include <zlib.h>
+
+#include <bit>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <type_traits>
+
+#include "baker/atomic_file.h"
+#include "mesh/errors.h"
+
+namespace pb {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the photon file is little-endian, as in memory");
+static_assert(std::is_trivially_copyable_v<PhotonHit> && sizeof(PhotonHit) == 28, "records are the 28-byte hits");
+
+constexpr char kMagic[8] = {'P', 'B', 'P', 'H', 'O', 'T', 'O', 'N'};
+constexpr uint32_t kVersion = 1;
+constexpr uint64_t kHeaderBytes = 8 + 4 + 4 + 4 + 8 + 4 + 4 + 4 + 4;  // magic .. block count
+constexpr uint64_t kLightBytes = 3 * 4 + 8;
+constexpr uint64_t kStatsBytes = 11 * 8 + 12 * 8;
+constexpr uint64_t kBlockBytes = 4 + 3 * 8 + kStatsBytes;
+constexpr uint64_t kTrailerBytes = 4;
+
+// Every field of a block's stats, in file order: the counts, then the four RGB sums.
+template <typename Stats, typename F>
+void VisitStats(Stats& s, F&& field) {
+  for (auto* count : {&s.emitted, &s.hits, &s.absorbed, &s.escaped, &s.forbidden, &s.truncated, &s.diffuseBounces,
+                      &s.mirrorReflections, &s.fresnelReflections, &s.refractions, &s.causticHits})
+    field(*count);
+  for (auto* sum : {&s.powerEmitted, &s.powerAbsorbed, &s.powerEscaped, &s.powerForbidden}) {
+    field(sum->r);
+    field(sum->g);
+    field(sum->b);
+  }
+}
+
+// zlib's crc32 restarts on a null buffer (an empty vector's data()), so empty spans are skipped.
+uLong Crc(uLong crc, const void* bytes, size_t count) {
+  return count == 0 ? crc : crc32_z(crc, static_cast<const Bytef*>(bytes), count);
+}
+
+class Writer {
+ public:
+  explicit Writer(std::ostream& out) : out_(out) {}
+  void Bytes(const void* bytes, size_t count) {
+    crc_ = Crc(crc_, bytes, count);
+    out_.write(static_cast<const char*>(bytes), std::streamsize(count));
+  }
+  template <typename T>
+  void Put(T value) {
+    static_assert(std::is_arithmetic_v<T>);
+    Bytes(&value, sizeof value);
+  }
+  void PutCrc() {
+    const uint32_t crc = uint32_t(crc_);
+    out_.write(reinterpret_cast<const char*>(&crc), sizeof crc);
+  }
+
+ private:
+  std::ostream& out_;
+  uLong crc_ = crc32(0, nullptr, 0);
+};
+
+class Reader {
+ public:
+  Reader(std::istream& in, const std::string& path) : in_(in), path_(path) {}
+  void Bytes(void* bytes, size_t count) {
+    if (!in_.read(static_cast<char*>(bytes), std::streamsize(count)))
+      throw InputError(path_, 0, "photon file is truncated");
+    crc_ = Crc(crc_, bytes, count);
+  }
+  template <typename T>
+  T Get() {
+    T value;
+    Bytes(&value, sizeof value);
+    return value;
+  }
+  void CheckCrc() {
+    uint32_t stored = 0;
+    if (!in_.read(reinterpret_cast<char*>(&stored), sizeof stored))
+      throw InputError(path_, 0, "photon file is truncated");
+    if (stored != uint32_t(crc_))
+      throw InputError(path_, 0, fmt::format("photon file is corrupt: its CRC-32 is {:08x}, its contents give {:08x}",
+                                             stored, uint32_t(crc_)));
+  }
+
+ private:
+  std::istream& in_;
+  const std::string& path_;
+  uLong crc_ = crc32(0, nullptr, 0);
+};
+
+struct Header {
+  PhotonOrigin origin;
+  uint32_t lights = 0, blocks = 0;
+};
+
+void WriteHeader(Writer& w, const PhotonOrigin& o, const PhotonHits& store) {
+  w.Bytes(kMagic, sizeof kMagic);
+  w.Put(kVersion);
+  w.Put(uint32_t(sizeof(PhotonHit)));
+  w.Put(o.sceneHash);
+  w.Put(o.seed);
+  w.Put(o.maxBounces);
+  w.Put(o.effects);
+  w.Put(uint32_t(store.emitted.size()));
+  w.Put(uint32_t(store.blocks.size()));
+}
+
+Header ReadHeader(Reader& r, const std::string& path) {
+  char magic[sizeof kMagic];
+  r.Bytes(magic, sizeof magic);
+  if (std::memcmp(magic, kMagic, sizeof kMagic) != 0)
+    throw InputError(path, 0, "not a photon file (it does not start with PBPHOTON)");
+  if (const uint32_t version = r.Get<uint32_t>(); version != kVersion)
+    throw InputError(path, 0, fmt::format("photon file version {} is not the version {} this bake reads", version, kVersion));
+  if (const uint32_t record = r.Get<uint32_t>(); record != sizeof(PhotonHit))
+    throw InputError(path, 0, fmt::format("photon records of {} bytes, not {}", record, sizeof(PhotonHit)));
+  Header h;
+  h.origin.sceneHash = r.Get<uint32_t>();
+  h.origin.seed = r.Get<uint64_t>();
+  h.origin.maxBounces = r.Get<uint32_t>();
+  h.origin.effects = r.Get<uint32_t>();
+  h.lights = r.Get<uint32_t>();
+  h.blocks = r.Get<uint32_t>();
+  return h;
+}
+
+// Refuses a file whose length is not what its header promises, before the records are read.
+void CheckLength(const std::string& path, const Header& h, const std::vector<uint64_t>& blockHits) {
+  uint64_t expected = kHeaderBytes + h.lights * kLightBytes + h.blocks * kBlockBytes + kTrailerBytes;
+  for (uint64_t n : blockHits) expected += n * sizeof(PhotonHit);
+  const uint64_t actual = std::filesystem::file_size(path);
+  if (actual < expected)
+    throw InputError(path, 0, fmt::format("photon file is truncated: {} bytes of the {} its header describes", actual, expected));
+  if (actual > expected)
+    throw InputError(path, 0, fmt::format("photon file has {} bytes past the {} its header describes", actual - expected, expected));
+}
+
+void CheckOrigin(const std::string& path, const PhotonOrigin& file, const PhotonOrigin& bake) {
+  const auto refuse = [&](const std::string& what) {
+    throw InputError(path, 0, "cannot resume: " + what + "; bake again without --resume, or with the original inputs");
+  };
+  if (file.sceneHash != bake.sceneHash)
+    refuse(fmt::format("the photons were traced in a different scene (scene hash {:08x}, this scene {:08x})",
+                       file.sceneHash, bake.sceneHash));
+  if (file.seed != bake.seed) refuse(fmt::format("the photons were traced with --seed {}, not {}", file.seed, bake.seed));
+  if (file.maxBounces != bake.maxBounces)
+    refuse(fmt::format("the photons were traced with at most {} bounces, not {}", file.maxBounces, bake.maxBounces));
+  if (file.effects != bake.effects)
+    refuse(fmt::format("the photons were traced with other effects (--effects; bits {:05b}, this bake {:05b})",
+                       file.effects, bake.effects));
+}
+
+// Each light's blocks cover photons [0, N_l) of its stream, in order: a file that passed its CRC but not this was
+// not written by WritePhotonFile.
+void CheckBlocks(const std::string& path, const PhotonHits& store) {
+  std::vector<uint64_t> next(store.emitted.size(), 0);
+  uint32_t previousLight = 0;
+  for (const BlockRange& r : store.ranges) {
+    if (r.light >= next.size() || r.light < previousLight || r.first != next[r.light] || r.end <= r.first ||
+        r.end - r.first > kBlockPhotons)
+      throw InputError(path, 0, "photon file is corrupt: its blocks do not cover each light's photons in order");
+    next[r.light] = r.end;
+    previousLight = r.light;
+  }
+  if (next != store.emitted) throw InputError(path, 0, "photon file is corrupt: its blocks and light counts disagree");
+}
+
+template <typename T>
+void HashVector(uLong& crc, const std::vector<T>& values) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  crc = Crc(crc, values.data(), values.size() * sizeof(T));
+}
+
+}  // namespace
+
+uint32_t SceneHash(const Scene& scene) {
+  uLong crc = crc32(0, nullptr, 0);
+  HashVector(crc, scene.positions);
+  crc = Crc(crc, scene.origin.data(), sizeof scene.origin);
+  for (const Triangle& t : scene.triangles) {
+    crc = Crc(crc, t.v.data(), sizeof t.v);
+    crc = Crc(crc, t.vt.data(), sizeof t.vt);
+    crc = Crc(crc, &t.material, sizeof t.material);
+  }
+  for (const Material& m : scene.materials) {
+    const float values[] = {float(m.kind), m.albedo.r, m.albedo.g, m.albedo.b, m.emission.r, m.emission.g, m.emission.b,
+                            m.specular.r, m.specular.g, m.specular.b, m.transmittance.r, m.transmittance.g,
+                            m.transmittance.b, m.ior, float(m.albedoTexture)};
+    crc = Crc(crc, values, sizeof values);
+  }
+  HashVector(crc, scene.texcoords);
+  for (const Texture& t : scene.textures) HashVector(crc, t.texels);
+  return uint32_t(crc);
+}
+
+uint32_t SimulatedEffects(const TransportPlan& plan) {
+  uint32_t bits = 0;
+  for (Effect e : kAllEffects)
+    if (plan.On(e)) bits |= 1u << uint32_t(e);
+  return bits;
+}
+
+void WritePhotonFile(const std::string& path, const PhotonHits& store, const PhotonOrigin& origin) {
+  WriteFileAtomically(path, [&](std::ostream& out) {
+    Writer w(out);
+    WriteHeader(w, origin, store);
+    for (size_t l = 0; l < store.emitted.size(); ++l) {
+      for (float c : {store.lightPower[l].r, store.lightPower[l].g, store.lightPower[l].b}) w.Put(c);
+      w.Put(store.emitted[l]);
+    }
+    for (size_t b = 0; b < store.blocks.size(); ++b) {
+      w.Put(store.ranges[b].light);
+      w.Put(store.ranges[b].first);
+      w.Put(store.ranges[b].end);
+      w.Put(uint64_t(store.blocks[b].size()));
+      VisitStats(store.blockStats[b], [&](auto value) { w.Put(value); });
+    }
+    for (const HitBlock& block : store.blocks) w.Bytes(block.data(), block.size() * sizeof(PhotonHit));
+    w.PutCrc();
+  });
+}
+
+PhotonHits ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "cannot open photon file: " + std::string(std::strerror(errno)));
+  Reader r(in, path);
+  const Header h = ReadHeader(r, path);
+  if (h.lights > (1u << 20) || h.blocks > (1u << 30)) throw InputError(path, 0, "photon file is corrupt: implausible header");
+  PhotonHits store;
+  store.lightPower.resize(h.lights);
+  store.emitted.resize(h.lights);
+  for (uint32_t l = 0; l < h.lights; ++l) {
+    store.lightPower[l] = {r.Get<float>(), r.Get<float>(), r.Get<float>()};
+    store.emitted[l] = r.Get<uint64_t>();
+  }
+  std::vector<uint64_t> blockHits(h.blocks);
+  store.ranges.resize(h.blocks);
+  store.blockStats.resize(h.blocks);
+  for (uint32_t b = 0; b < h.blocks; ++b) {
+    store.ranges[b] = {r.Get<uint32_t>(), r.Get<uint64_t>(), r.Get<uint64_t>()};
+    blockHits[b] = r.Get<uint64_t>();
+    VisitStats(store.blockStats[b], [&](auto& value) { value = r.Get<std::remove_reference_t<decltype(value)>>(); });
+  }
+  CheckLength(path, h, blockHits);
+  for (uint32_t b = 0; b < h.blocks; ++b) {
+    store.blocks.emplace_back(blockHits[b]);
+    r.Bytes(store.blocks.back().data(), blockHits[b] * sizeof(PhotonHit));
+  }
+  r.CheckCrc();
+  CheckBlocks(path, store);
+  CheckOrigin(path, h.origin, expected);
+  if (store.lightPower != lightPower)
+    throw InputError(path, 0, fmt::format("cannot resume: the photon file has {} lights, or lights of other power, "
+                                          "than this scene's {}", h.lights, lightPower.size()));
+  store.Summarise();
+  return store;
+}
+
+}  // namespace pb

@@ -1,0 +1,111 @@
+#include "baker/progressive.h"
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "baker/interrupt.h"
+#include "baker/options.h"
+#include "mesh/color.h"
+
+namespace pb {
+namespace {
+
+PhotonOrigin OriginOf(const BakeOptions& o, const PhotonSource& source) {
+  return {SceneHash(source.scene), o.seed, o.maxBounces, SimulatedEffects(source.plan)};
+}
+
+std::vector<Rgb> LightPowers(const std::vector<AreaLight>& lights) {
+  std::vector<Rgb> powers;
+  for (const AreaLight& light : lights) powers.push_back(light.Power());
+  return powers;
+}
+
+// Each vertex's share of the mesh's area: a third of each face it is a corner of [m^2].
+std::vector<double> VertexAreas(const SplitMesh& mesh) {
+  std::vector<double> area(mesh.VertexCount(), 0.0);
+  for (const auto& f : mesh.faces) {
+    const double a = 0.5 * Length(Cross(mesh.positions[f[1]] - mesh.positions[f[0]], mesh.positions[f[2]] - mesh.positions[f[0]]));
+    for (uint32_t v : f) area[v] += a / 3.0;
+  }
+  return area;
+}
+
+// The smallest x such that the vertices of noise <= x carry at least `fraction` of the total weight.
+double WeightedPercentile(const std::vector<double>& noise, const std::vector<double>& weight, double fraction) {
+  std::vector<size_t> order(noise.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return noise[a] < noise[b]; });
+  const double total = std::accumulate(weight.begin(), weight.end(), 0.0);
+  if (!(total > 0)) return 0.0;
+  double below = 0;
+  for (size_t v : order) {
+    below += weight[v];
+    if (below >= fraction * total) return noise[v];
+  }
+  return noise[order.back()];
+}
+
+}  // namespace
+
+PhotonHits OpenPhotonStore(const BakeOptions& o, const PhotonSource& source, ProgressiveReport& report) {
+  report.target = o.targetNoise;
+  if (o.resumePath.empty()) {
+    PhotonHits store;
+    store.emitted.assign(source.lights.size(), 0);
+    store.lightPower = LightPowers(source.lights);
+    return store;
+  }
+  PhotonHits store = ReadPhotonFile(o.resumePath, OriginOf(o, source), LightPowers(source.lights));
+  report.resumedFrom = o.resumePath;
+  report.resumedPhotons = store.stats.emitted;
+  return store;
+}
+
+void GrowPhotonStore(PhotonHits& store, uint64_t photons, const BakeOptions& o, const PhotonSource& source,
+                     ProgressiveReport& report, const Log& log) {
+  if (!ExtendPhotons(store, source.scene, source.lights, source.rays, source.plan, {photons, o.seed, o.maxBounces}, log)) {
+    report.interrupted = true;
+    log.Warning(fmt::format("interrupted: tracing stopped after {} photons; the bake goes on with them and writes "
+                            "valid outputs (Ctrl-C again to quit at once)", store.stats.emitted));
+  }
+}
+
+void SavePhotonStore(const PhotonHits& store, const BakeOptions& o, const PhotonSource& source,
+                     ProgressiveReport& report) {
+  if (o.savePhotonsPath.empty()) return;
+  WritePhotonFile(o.savePhotonsPath, store, OriginOf(o, source));
+  report.savedTo = o.savePhotonsPath;
+}
+
+std::vector<double> IrradianceNoise(const SurfaceEstimators& estimators, const SplitMesh& mesh) {
+  std::vector<double> noise(mesh.VertexCount());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, noise.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t v = r.begin(); v != r.end(); ++v) noise[v] = estimators[mesh.surface[v]]->RelativeNoise(mesh.uv[v]);
+  });
+  return noise;
+}
+
+double BakeNoise(const BakedMesh& baked, const std::vector<double>& irradianceNoise) {
+  const std::vector<double> area = VertexAreas(baked.mesh);
+  std::vector<double> noise(area.size()), weight(area.size());
+  for (size_t v = 0; v < area.size(); ++v) {
+    const double radiance = Luminance(baked.Radiance(v));
+    const double reflected = Luminance(OutgoingRadiance({}, baked.albedo[v], baked.irradiance[v]));
+    noise[v] = radiance > 0 ? reflected / radiance * irradianceNoise[v] : 0.0;
+    weight[v] = radiance * area[v];
+  }
+  return WeightedPercentile(noise, weight, 0.95);
+}
+
+uint64_t NextRoundPhotons(uint64_t photons, double noise, float target, uint64_t maxPhotons) {
+  const double ratio = noise / double(target);
+  const double next = std::max(1.25, 1.1 * ratio * ratio) * double(photons);
+  return uint64_t(std::min(next, double(maxPhotons)));
+}
+
+}  // namespace pb

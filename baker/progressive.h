@@ -1,0 +1,69 @@
+// Progressive bakes: the photon store of a bake (baker/1_trace_photons.h) started empty or from --resume, grown to
+// --photons or in rounds to --target-noise, and saved by --save-photons (baker/photon_file.h). The paper ("How
+// to trace a particle") stores photons by attenuation so that "the number of photons emitted by each light
+// source" can grow; its warning that this "can lead to bias" is met by dividing each light's photons by that
+// light's own count, which only ever grows (README, "Adding photons to a bake").
+//
+// The noise of a vertex is the relative standard deviation of its displayed radiance L = Le + R H / pi, in
+// luminance: sigma_L / L = (R H / pi) / L x sigma_H / H, with sigma_H / H predicted by the surface's estimator
+// from the photons it uses (DensityEstimator::RelativeNoise; smoothing bias not included). The bake's noise is
+// the 95th percentile over vertices, each weighted by its luminance L times its area (a third of its faces'),
+// so that dark corners and dense meshes do not decide it. Dimensionless.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "baker/0_plan_transport.h"
+#include "baker/1_trace_photons.h"
+#include "baker/3_estimate_irradiance.h"
+#include "baker/baked_mesh.h"
+#include "baker/photon_file.h"
+#include "baker/progress.h"
+
+namespace pb {
+
+struct BakeOptions;
+
+struct RoundReport {
+  uint64_t photons = 0;  // emitted by the end of the round, over all lights
+  double noise = 0;      // the bake's noise after it
+};
+
+struct ProgressiveReport {
+  std::string resumedFrom;      // --resume's file, or ""
+  uint64_t resumedPhotons = 0;  // photons it held
+  std::string savedTo;          // --save-photons' file, or ""
+  bool interrupted = false;     // Ctrl-C stopped tracing early
+  std::optional<float> target;  // --target-noise
+  std::vector<RoundReport> rounds;  // --target-noise's rounds, in order
+  bool TargetMet() const { return target && !rounds.empty() && rounds.back().noise <= *target; }
+};
+
+// What photons are traced in.
+struct PhotonSource {
+  const Scene& scene;
+  const std::vector<AreaLight>& lights;
+  const RayScene& rays;
+  const TransportPlan& plan;
+};
+
+// An empty store for the scene's lights, or --resume's (every check of baker/photon_file.h passed).
+PhotonHits OpenPhotonStore(const BakeOptions& options, const PhotonSource& source, ProgressiveReport& report);
+// Grows the store to `photons` over all lights (counts never shrink); notes an interruption in the report.
+void GrowPhotonStore(PhotonHits& store, uint64_t photons, const BakeOptions& options, const PhotonSource& source,
+                     ProgressiveReport& report, const Log& log);
+// Writes --save-photons, when given.
+void SavePhotonStore(const PhotonHits& store, const BakeOptions& options, const PhotonSource& source,
+                     ProgressiveReport& report);
+
+// sigma_H / H at every vertex of `baked`, from its surface's estimator.
+std::vector<double> IrradianceNoise(const SurfaceEstimators& estimators, const SplitMesh& mesh);
+// The bake's noise: the weighted 95th percentile above; 0 for a mesh with no lit vertex.
+double BakeNoise(const BakedMesh& baked, const std::vector<double>& irradianceNoise);
+// Photons for the next round: n (noise / target)^2 with 10% to spare, at least 1.25 n, at most maxPhotons.
+uint64_t NextRoundPhotons(uint64_t photons, double noise, float target, uint64_t maxPhotons);
+
+}  // namespace pb
