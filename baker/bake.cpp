@@ -108,7 +108,7 @@ Estimated TraceAndEstimate(const PhotonSource& source, const SurfaceSet& surface
     EstimateLight(e, source.scene, surfaces, regions, o, clock, log);
     if (!o.targetNoise) break;
     const double noise = clock.Time("noise", [&] { return BakeNoise(e.baked, IrradianceNoise(e.estimators, e.baked.mesh)); });
-    progress.rounds.push_back({e.photons.stats.emitted, noise});
+    progress.rounds.push_back({photons, e.photons.stats.emitted, noise});
     log.Info(fmt::format("round {}: {} photons, noise {:.4f} (target {:.4f})", progress.rounds.size(),
                          e.photons.stats.emitted, noise, *o.targetNoise));
     if (noise <= *o.targetNoise || photons >= o.maxPhotons || progress.interrupted || InterruptRequested()) break;

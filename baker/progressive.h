@@ -28,8 +28,9 @@ namespace pb {
 struct BakeOptions;
 
 struct RoundReport {
-  uint64_t photons = 0;  // emitted by the end of the round, over all lights
-  double noise = 0;      // the bake's noise after it
+  uint64_t requested = 0;  // the round's --photons: a bake with this many gives the same bytes
+  uint64_t photons = 0;    // emitted by the end of the round, over all lights
+  double noise = 0;        // the bake's noise after it
 };
 
 struct ProgressiveReport {

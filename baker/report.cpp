@@ -34,7 +34,7 @@ double StageSeconds(const BakeReport& r, const std::string& stage) {
 
 nlohmann::json ProgressiveJson(const ProgressiveReport& p) {
   nlohmann::json rounds = nlohmann::json::array();
-  for (const RoundReport& r : p.rounds) rounds.push_back({{"photons", r.photons}, {"noise", r.noise}});
+  for (const RoundReport& r : p.rounds) rounds.push_back({{"requested", r.requested}, {"photons", r.photons}, {"noise", r.noise}});
   return {{"resumed_from", p.resumedFrom}, {"resumed_photons", p.resumedPhotons}, {"saved_to", p.savedTo},
           {"interrupted", p.interrupted}, {"target_noise", p.target ? nlohmann::json(*p.target) : nlohmann::json()},
           {"target_met", p.TargetMet()}, {"rounds", rounds}};

@@ -145,9 +145,9 @@ std::string TempDirectory(const std::string& name) {
 void WriteText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
 std::string WriteSquareLightOverFloor(const std::string& directory, float lightSide, float radiance, float height,
-                                      float floorSide, int floorCells) {
-  WriteText(directory + "/scene.mtl",
-            fmt::format("newmtl black\nKd 0 0 0\nnewmtl light\nKd 0 0 0\nKe {0} {0} {0}\n", radiance));
+                                      float floorSide, int floorCells, float floorAlbedo) {
+  WriteText(directory + "/scene.mtl", fmt::format("newmtl black\nKd {1} {1} {1}\nnewmtl light\nKd 0 0 0\nKe {0} {0} {0}\n",
+                                                  radiance, floorAlbedo));
   ObjWriter obj;
   obj.text = "mtllib scene.mtl\nusemtl black\n";
   const float f = floorSide / 2, l = lightSide / 2;

@@ -17,10 +17,11 @@ std::string TempDirectory(const std::string& name);
 void WriteText(const std::string& path, const std::string& text);
 
 // A square light of side `lightSide` and radiance `radiance` (grey), facing down at height `height`, centred
-// over a black (Kd 0) square floor of side `floorSide` in the plane y = 0, both centred on the y axis.
+// over a square floor of side `floorSide` in the plane y = 0, both centred on the y axis, black (Kd 0) unless
+// floorAlbedo is given. The light is black, so no light returns to the floor: its H is Lambert's either way.
 // The floor is cut into `floorCells` x `floorCells` quads. Returns the OBJ path.
 std::string WriteSquareLightOverFloor(const std::string& directory, float lightSide, float radiance, float height,
-                                      float floorSide, int floorCells);
+                                      float floorSide, int floorCells, float floorAlbedo = 0);
 
 // A hard shadow: a grey (Kd `albedo`) floor square y = 0, x and z in [-1, 1] (cut into floorCells^2 quads),
 // lit by a small square light (side `lightSide`, radiance `radiance`) facing down at y = 1 above the origin,

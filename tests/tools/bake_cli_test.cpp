@@ -175,5 +175,70 @@ TEST(BakeCli, BoxBakesToAReadablePlyWithTheContractProperties) {
     EXPECT_FLOAT_EQ(float(ascii.vertex.at("irradiance_r")[v]), float(ply.vertex.at("irradiance_r")[v]));
 }
 
+
+// ---- progressive bakes as a user runs them (tests/baker/progressive_test.cpp tests the library) ----
+
+// A lamp 50 m above a 4 x 4 m floor: 99.8% of photons escape, so hundreds of millions of them are cheap in memory.
+std::string WriteFarLamp(const std::string& dir) {
+  return test::WriteFloorWithLamps(dir, 0.5f, 1.0f, {{-0.5f, 0.5f, -0.5f, 0.5f, 50.0f}});
+}
+
+TEST(BakeCli, CtrlCFinishesTheBatchAndWritesValidOutputs) {
+  const std::string dir = test::TempDirectory("cli-ctrl-c");
+  const std::string scene = WriteFarLamp(dir);
+  const std::string bake = std::string(PB_BAKE_EXE) + " " + scene + " -o " + dir + "/out.ply --photons 400000000 "
+                           "--save-photons " + dir + "/s.photons --report " + dir + "/r.json";
+  // 400M photons take about half a minute; Ctrl-C comes after one second.
+  const BakeRun run = test::RunTool("sh -c '" + bake + " & p=$!; sleep 1; kill -INT $p; wait $p'", "");
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("interrupted: tracing stopped after"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("INTERRUPTED"), std::string::npos) << "the summary says so";
+  const nlohmann::json report = nlohmann::json::parse(test::ReadBytes(dir + "/r.json"));
+  EXPECT_TRUE(report.at("progressive").at("interrupted").get<bool>());
+  const uint64_t emitted = report.at("photons").at("emitted").get<uint64_t>();
+  EXPECT_GT(emitted, 0u);
+  EXPECT_LT(emitted, 400'000'000u);
+  EXPECT_GT(test::ReadPly(dir + "/out.ply").VertexCount(), 0u);
+  // The photon file is valid: it resumes, and the resumed bake holds at least the photons it had.
+  const BakeRun resumed = RunBake(scene + " -o " + dir + "/more.ply --photons 1000000 --resume " + dir +
+                                  "/s.photons --report " + dir + "/more.json");
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  const nlohmann::json more = nlohmann::json::parse(test::ReadBytes(dir + "/more.json"));
+  EXPECT_EQ(more.at("progressive").at("resumed_photons").get<uint64_t>(), emitted);
+  EXPECT_GE(more.at("photons").at("emitted").get<uint64_t>(), emitted);
+}
+
+TEST(BakeCli, ABakeKilledWhileWritingPhotonsLeavesThePreviousFileIntact) {
+  const std::string dir = test::TempDirectory("cli-killed-write");
+  const std::string common = PB_SOURCE_DIR "/data/box/box.obj -q -o " + dir + "/out.ply --save-photons " + dir + "/s.photons";
+  ASSERT_EQ(RunBake(common + " --photons 20000").status, 0);
+  const std::string before = test::ReadBytes(dir + "/s.photons");
+  // A file size limit of 1 MB kills the second bake (SIGXFSZ) part-way through its 35 MB photon file.
+  const BakeRun killed = test::RunTool("sh -c 'ulimit -f 2048; " + std::string(PB_BAKE_EXE) + " " + common +
+                                       " --photons 1000000'", "");
+  EXPECT_NE(killed.status, 0);
+  EXPECT_TRUE(test::ReadBytes(dir + "/s.photons") == before) << "the previous photon file changed";
+  EXPECT_EQ(RunBake(PB_SOURCE_DIR "/data/box/box.obj -q -o " + dir + "/again.ply --resume " + dir + "/s.photons").status, 0);
+}
+
+TEST(BakeCli, ResumeAndTargetNoiseAreReported) {
+  const std::string dir = test::TempDirectory("cli-progressive");
+  const std::string common = PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/out.ply";
+  ASSERT_EQ(RunBake(common + " --photons 100000 -q --save-photons " + dir + "/s.photons").status, 0);
+  const BakeRun run = RunBake(common + " --photons 100000 --resume " + dir + "/s.photons --target-noise 0.04 --report " + dir + "/r.json");
+  ASSERT_EQ(run.status, 0) << run.output;
+  for (const char* text : {"resumed   99999 photons from", "rounds    ", "met", "round 1: 99999 photons"})
+    EXPECT_NE(run.output.find(text), std::string::npos) << text << "\n" << run.output;
+  const nlohmann::json r = nlohmann::json::parse(test::ReadBytes(dir + "/r.json"));
+  EXPECT_TRUE(r.at("progressive").at("target_met").get<bool>());
+  EXPECT_LE(r.at("progressive").at("rounds").back().at("noise").get<double>(), 0.04);
+  const BakeRun refused = RunBake(common + " --resume " + dir + "/s.photons --seed 3");
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_NE(refused.output.find("s.photons: error: cannot resume: the photons were traced with --seed 1, not 3"),
+            std::string::npos) << refused.output;
+  EXPECT_EQ(RunBake(common + " --target-noise 0").status, 1);
+  EXPECT_EQ(RunBake(common + " --target-noise 0.02 --photons 1000 --max-photons 10").status, 1);
+}
+
 }  // namespace
 }  // namespace pb
