@@ -57,17 +57,26 @@ PointLight LightWith(const Scene& scene, const Material& material, Rgb irradianc
 }
 
 BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators,
-                             SplitMesh mesh, const Log& log) {
+                             SplitMesh mesh, const Log& log, std::vector<double>* irradianceNoise) {
   BakedMesh baked;
   const size_t n = mesh.VertexCount();
   baked.irradiance.resize(n);
   baked.albedo.resize(n);
   baked.emitted.resize(n);
+  if (irradianceNoise) irradianceNoise->assign(n, 0.0);
   Progress progress(log, "estimate irradiance", n);
+  // LightAt, or the same with the noise of H from the same query.
+  const auto lightAt = [&](size_t v) {
+    const uint32_t s = mesh.surface[v];
+    if (!irradianceNoise) return LightAt(scene, surfaces, estimators, s, mesh.uv[v], mesh.texcoord[v], mesh.uvAreaRatio[v]);
+    const DensityEstimator::WithNoise e = estimators[s]->EstimateWithNoise(mesh.uv[v]);
+    (*irradianceNoise)[v] = e.relativeNoise;
+    return LightWith(scene, scene.materials[surfaces.surfaces[s].material], e.irradiance * mesh.uvAreaRatio[v],
+                     mesh.texcoord[v]);
+  };
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t v = r.begin(); v != r.end(); ++v) {
-      const PointLight light =
-          LightAt(scene, surfaces, estimators, mesh.surface[v], mesh.uv[v], mesh.texcoord[v], mesh.uvAreaRatio[v]);
+      const PointLight light = lightAt(v);
       baked.irradiance[v] = light.irradiance;
       baked.albedo[v] = light.albedo;
       baked.emitted[v] = light.emitted;

@@ -41,8 +41,9 @@ PointLight LightAt(const Scene& scene, const SurfaceSet& surfaces, const Surface
 // The same with H given: R from `material` (and its texture at texcoord), Le from `material`.
 PointLight LightWith(const Scene& scene, const Material& material, Rgb irradiance, Point2 texcoord);
 
-// Every vertex of `mesh`, by LightAt.
+// Every vertex of `mesh`, by LightAt. With `irradianceNoise`, also each vertex's predicted sigma_H / H
+// (DensityEstimator::RelativeNoise), from the same query; H is the same bit for bit either way.
 BakedMesh EstimateIrradiance(const Scene& scene, const SurfaceSet& surfaces, const SurfaceEstimators& estimators,
-                             SplitMesh mesh, const Log& log);
+                             SplitMesh mesh, const Log& log, std::vector<double>* irradianceNoise = nullptr);
 
 }  // namespace pb

@@ -84,6 +84,7 @@ struct Estimated {
   std::vector<float> bandwidths;
   SurfaceEstimators estimators;
   BakedMesh baked;
+  std::vector<double> irradianceNoise;  // sigma_H / H per vertex, with --target-noise
 };
 
 // Stages 2 and 3 from the photons in `e`.
@@ -93,7 +94,8 @@ void EstimateLight(Estimated& e, const Scene& scene, const SurfaceSet& surfaces,
   e.bandwidths = clock.Time("bandwidth", [&] { return SurfaceBandwidths(regions, e.bins, o.estimator, o.autoBandwidth); });
   e.estimators = clock.Time("estimators", [&] { return BuildEstimators(regions, e.bins, o.estimator, e.bandwidths); });
   e.baked = clock.Time("estimate", [&] {
-    return EstimateIrradiance(scene, surfaces, e.estimators, SplitBySurface(scene, surfaces), log);
+    return EstimateIrradiance(scene, surfaces, e.estimators, SplitBySurface(scene, surfaces), log,
+                              o.targetNoise ? &e.irradianceNoise : nullptr);
   });
 }
 
@@ -107,7 +109,7 @@ Estimated TraceAndEstimate(const PhotonSource& source, const SurfaceSet& surface
     clock.Time("trace", [&] { GrowPhotonStore(e.photons, photons, o, source, progress, log); });
     EstimateLight(e, source.scene, surfaces, regions, o, clock, log);
     if (!o.targetNoise) break;
-    const double noise = clock.Time("noise", [&] { return BakeNoise(e.baked, IrradianceNoise(e.estimators, e.baked.mesh)); });
+    const double noise = clock.Time("noise", [&] { return BakeNoise(e.baked, e.irradianceNoise); });
     progress.rounds.push_back({photons, e.photons.stats.emitted, noise});
     log.Info(fmt::format("round {}: {} photons, noise {:.4f} (target {:.4f})", progress.rounds.size(),
                          e.photons.stats.emitted, noise, *o.targetNoise));

@@ -1,8 +1,6 @@
 #include "baker/progressive.h"
 
 #include <fmt/format.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -80,14 +78,6 @@ void SavePhotonStore(const PhotonHits& store, const BakeOptions& o, const Photon
   if (o.savePhotonsPath.empty()) return;
   WritePhotonFile(o.savePhotonsPath, store, OriginOf(o, source));
   report.savedTo = o.savePhotonsPath;
-}
-
-std::vector<double> IrradianceNoise(const SurfaceEstimators& estimators, const SplitMesh& mesh) {
-  std::vector<double> noise(mesh.VertexCount());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, noise.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t v = r.begin(); v != r.end(); ++v) noise[v] = estimators[mesh.surface[v]]->RelativeNoise(mesh.uv[v]);
-  });
-  return noise;
 }
 
 double BakeNoise(const BakedMesh& baked, const std::vector<double>& irradianceNoise) {

@@ -60,9 +60,8 @@ void GrowPhotonStore(PhotonHits& store, uint64_t photons, const BakeOptions& opt
 void SavePhotonStore(const PhotonHits& store, const BakeOptions& options, const PhotonSource& source,
                      ProgressiveReport& report);
 
-// sigma_H / H at every vertex of `baked`, from its surface's estimator.
-std::vector<double> IrradianceNoise(const SurfaceEstimators& estimators, const SplitMesh& mesh);
-// The bake's noise: the weighted 95th percentile above; 0 for a mesh with no lit vertex.
+// The bake's noise: the weighted 95th percentile above, from each vertex's sigma_H / H (EstimateIrradiance gives
+// them); 0 for a mesh with no lit vertex.
 double BakeNoise(const BakedMesh& baked, const std::vector<double>& irradianceNoise);
 // Photons for the next round: n (noise / target)^2 with 10% to spare, at least 1.25 n, at most maxPhotons.
 uint64_t NextRoundPhotons(uint64_t photons, double noise, float target, uint64_t maxPhotons);

@@ -55,6 +55,13 @@ class DensityEstimator {
   // weight in the estimate (knn: times sqrt(k / (k - 2)), its exact factor for equal fluxes). 0 when no photon
   // contributes. Dimensionless. The smoothing bias is not included.
   virtual double RelativeNoise(Point2 x) const = 0;
+  // Both at once: the same H as Estimate(x), bit for bit, and its RelativeNoise(x). Estimators whose noise comes
+  // from the same photons' sums override this to query them once.
+  struct WithNoise {
+    Rgb irradiance;         // [W/m^2]
+    double relativeNoise;   // dimensionless
+  };
+  virtual WithNoise EstimateWithNoise(Point2 x) const { return {Estimate(x), RelativeNoise(x)}; }
 };
 
 // `region` must outlive the estimator; the photon arrays are copied.

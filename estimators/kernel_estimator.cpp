@@ -54,28 +54,34 @@ int KernelEstimator::CellIndex(float coordinate, float lo, int count) const {
 }
 
 Rgb KernelEstimator::Estimate(Point2 x) const {
-  if (uv_.empty()) return {};
-  const Rgb sum = WithSquaredProfile(kernel_, [&](auto profile) { return ProfileSum(x, profile); }) * (1.0f / (h_ * h_));
-  if (correction_ == nullptr) return sum;
-  return sum * float(1.0 / std::max(correction_->KernelMass(x, kernel_, h_), minimumMass_));
+  NoiseSums unused;
+  return Normalised(KernelSum<false>(x, unused), x);
 }
 
 // The kernel mass M(x) cancels in the ratio, as does 1/h^2.
 double KernelEstimator::RelativeNoise(Point2 x) const {
-  const float inverseH2 = 1.0f / (h_ * h_);
-  double sum = 0, squares = 0;
-  WithSquaredProfile(kernel_, [&](auto profile) {
-    ForEachCellNear(x, [&](uint32_t begin, uint32_t end) {
-      for (uint32_t i = begin; i < end; ++i) {
-        const float t2 = LengthSquared(uv_[i] - x) * inverseH2;
-        if (t2 >= 1.0f) continue;
-        const double w = double(Luminance(power_[i])) * profile(t2);
-        sum += w;
-        squares += w * w;
-      }
-    });
-  });
-  return sum > 0 ? std::sqrt(squares) / sum : 0.0;
+  NoiseSums noise;
+  KernelSum<true>(x, noise);
+  return noise.Relative();
+}
+
+DensityEstimator::WithNoise KernelEstimator::EstimateWithNoise(Point2 x) const {
+  NoiseSums noise;
+  const Rgb sum = KernelSum<true>(x, noise);
+  return {Normalised(sum, x), noise.Relative()};
+}
+
+Rgb KernelEstimator::Normalised(Rgb profileSum, Point2 x) const {
+  if (uv_.empty()) return {};
+  const Rgb sum = profileSum * (1.0f / (h_ * h_));
+  if (correction_ == nullptr) return sum;
+  return sum * float(1.0 / std::max(correction_->KernelMass(x, kernel_, h_), minimumMass_));
+}
+
+template <bool kNoise>
+Rgb KernelEstimator::KernelSum(Point2 x, NoiseSums& noise) const {
+  if (uv_.empty()) return {};
+  return WithSquaredProfile(kernel_, [&](auto profile) { return ProfileSum<kNoise>(x, profile, noise); });
 }
 
 template <typename Visit>
@@ -89,17 +95,24 @@ void KernelEstimator::ForEachCellNear(Point2 x, Visit visit) const {
     }
 }
 
-// Sum of phi_j k(r_j^2 / h^2) over the photons within h of x, in cell order: in float within a cell (a few
-// hundred terms), in double across cells.
-template <typename Profile>
-Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile) const {
+// In cell order: in float within a cell (a few hundred terms), in double across cells. The noise sums do not
+// touch the flux sum, so Estimate and EstimateWithNoise agree bit for bit.
+template <bool kNoise, typename Profile>
+Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile, NoiseSums& noise) const {
   const float inverseH2 = 1.0f / (h_ * h_);
   RgbSum sum;
   ForEachCellNear(x, [&](uint32_t begin, uint32_t end) {
     Rgb cell;
     for (uint32_t i = begin; i < end; ++i) {
       const float t2 = LengthSquared(uv_[i] - x) * inverseH2;
-      if (t2 < 1.0f) cell += power_[i] * profile(t2);
+      if (t2 >= 1.0f) continue;
+      const float k = profile(t2);
+      cell += power_[i] * k;
+      if constexpr (kNoise) {
+        const double w = double(Luminance(power_[i])) * k;
+        noise.sum += w;
+        noise.squares += w * w;
+      }
     }
     sum.Add(cell);
   });

@@ -5,6 +5,7 @@
 // wide.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -27,14 +28,24 @@ class KernelEstimator final : public DensityEstimator {
   // H at chart point x [W/m^2]. Sums in a fixed order, so the result is reproducible bit for bit.
   Rgb Estimate(Point2 x) const override;
   double RelativeNoise(Point2 x) const override;
+  WithNoise EstimateWithNoise(Point2 x) const override;
 
  private:
   int CellIndex(float coordinate, float lo, int count) const;
   // Calls visit(begin, end) with the photon range of each grid cell within h of x, in a fixed order.
   template <typename Visit>
   void ForEachCellNear(Point2 x, Visit visit) const;
-  template <typename Profile>
-  Rgb ProfileSum(Point2 x, Profile profile) const;
+  // Sums of w_j = luminance(phi_j) k_j and of w_j^2, for RelativeNoise.
+  struct NoiseSums {
+    double sum = 0, squares = 0;
+    double Relative() const { return sum > 0 ? std::sqrt(squares) / sum : 0.0; }
+  };
+  // sum_j phi_j k(r_j^2 / h^2) over the photons within h of x; with kNoise, also the noise sums.
+  template <bool kNoise, typename Profile>
+  Rgb ProfileSum(Point2 x, Profile profile, NoiseSums& noise) const;
+  template <bool kNoise>
+  Rgb KernelSum(Point2 x, NoiseSums& noise) const;
+  Rgb Normalised(Rgb profileSum, Point2 x) const;  // times 1/h^2 and 1/M(x)
 
   float h_;
   Kernel kernel_;

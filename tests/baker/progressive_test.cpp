@@ -179,7 +179,10 @@ TEST(Progressive, PredictedNoiseMatchesTheMeasuredErrorOnTheClosedForm) {
   settings.bandwidth = 0.05f;
   for (uint64_t photons : {100'000, 400'000, 1'600'000}) {
     const test::StagedBake bake(scene, photons, settings);
-    const std::vector<double> predicted = IrradianceNoise(bake.estimators, bake.base.mesh);
+    std::vector<double> predicted;
+    const BakedMesh noisy = EstimateIrradiance(bake.traced.scene, bake.traced.surfaces, bake.estimators,
+                                               SplitBySurface(bake.traced.scene, bake.traced.surfaces), Log(true), &predicted);
+    ASSERT_TRUE(noisy.irradiance == bake.base.irradiance) << "the noise changed the estimate";
     double weight = 0, predictedMs = 0, measuredMs = 0;
     for (size_t v = 0; v < bake.base.mesh.VertexCount(); ++v) {
       const Point3 p = bake.base.mesh.positions[v];
