@@ -113,7 +113,12 @@ Estimated TraceAndEstimate(const PhotonSource& source, const SurfaceSet& surface
     progress.rounds.push_back({photons, e.photons.stats.emitted, noise});
     log.Info(fmt::format("round {}: {} photons, noise {:.4f} (target {:.4f})", progress.rounds.size(),
                          e.photons.stats.emitted, noise, *o.targetNoise));
-    if (noise <= *o.targetNoise || photons >= o.maxPhotons || progress.interrupted || InterruptRequested()) break;
+    if (noise <= *o.targetNoise || photons >= o.maxPhotons || progress.interrupted) break;
+    if (InterruptRequested()) {  // Ctrl-C came after this round's tracing: no further round
+      progress.interrupted = true;
+      log.Warning("interrupted: no further rounds; the bake goes on with the photons it has");
+      break;
+    }
     photons = NextRoundPhotons(photons, noise, *o.targetNoise, o.maxPhotons);
   }
   clock.Time("save photons", [&] { SavePhotonStore(e.photons, o, source, progress); });

@@ -51,7 +51,7 @@ std::string ProgressiveLines(const ProgressiveReport& p, uint64_t emitted) {
     for (const RoundReport& r : p.rounds) s += fmt::format(" {} photons -> {:.4f} |", r.photons, r.noise);
     s += p.TargetMet() ? " met\n" : " NOT met (raise --max-photons)\n";
   }
-  if (p.interrupted) s += "  INTERRUPTED: tracing stopped at Ctrl-C; the outputs are valid, with fewer photons\n";
+  if (p.interrupted) s += "  INTERRUPTED: Ctrl-C stopped the tracing early; the outputs are valid, with fewer photons\n";
   if (!p.savedTo.empty()) s += fmt::format("  photons   saved to {} (add more with --resume)\n", p.savedTo);
   return s;
 }
