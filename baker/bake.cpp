@@ -38,6 +38,13 @@ void ValidateOptions(const BakeOptions& o) {
   if (o.targetNoise && !(*o.targetNoise > 0 && *o.targetNoise < 1)) throw InputError("--target-noise", 0, "must lie in (0, 1)");
   if (o.targetNoise && o.maxPhotons < o.photons)
     throw InputError("--max-photons", 0, "must be at least --photons, the first round of --target-noise");
+  // knn's noise is 1/sqrt(k - 2) whatever the photon count: more photons only shrink its disc.
+  if (const double knnNoise = 1.0 / std::sqrt(std::max(1.0, o.estimator.neighbours - 2.0));
+      o.targetNoise && o.estimator.kind == EstimatorKind::kNearest && *o.targetNoise < knnNoise)
+    throw InputError("--target-noise", 0, fmt::format("knn's noise is 1/sqrt(k - 2) = {:.3f} for --k {}, whatever the "
+                                                      "photon count: raise --k to {} or more, or use the kernel estimator",
+                                                      knnNoise, o.estimator.neighbours,
+                                                      uint32_t(std::ceil(2 + 1 / (*o.targetNoise * *o.targetNoise)))));
 }
 
 void ValidateOutputs(const BakeOptions& o) {

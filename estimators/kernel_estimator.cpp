@@ -103,18 +103,23 @@ Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile, NoiseSums& noise) con
   RgbSum sum;
   ForEachCellNear(x, [&](uint32_t begin, uint32_t end) {
     Rgb cell;
+    float cellSum = 0, cellSquares = 0;  // noise sums, in float within a cell like the flux
     for (uint32_t i = begin; i < end; ++i) {
       const float t2 = LengthSquared(uv_[i] - x) * inverseH2;
       if (t2 >= 1.0f) continue;
       const float k = profile(t2);
       cell += power_[i] * k;
       if constexpr (kNoise) {
-        const double w = double(Luminance(power_[i])) * k;
-        noise.sum += w;
-        noise.squares += w * w;
+        const float w = Luminance(power_[i]) * k;
+        cellSum += w;
+        cellSquares += w * w;
       }
     }
     sum.Add(cell);
+    if constexpr (kNoise) {
+      noise.sum += cellSum;
+      noise.squares += cellSquares;
+    }
   });
   return sum.ToRgb();
 }

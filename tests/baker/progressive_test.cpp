@@ -172,10 +172,13 @@ TEST(PhotonFile, AWriteThatFailsPartWayLeavesThePreviousFileIntact) {
 // the predicted relative noise against the RMS of the measured relative error. Smoothing bias at h = 0.05 m is
 // below 0.1% of H, under a tenth of the noise here; vertices near one another share photons, so the measured RMS
 // itself varies by a few percent, far inside the factor 1.5 the issue allows.
-TEST(Progressive, PredictedNoiseMatchesTheMeasuredErrorOnTheClosedForm) {
-  const std::string dir = test::TempDirectory("progressive-honest-noise");
+class HonestNoise : public testing::TestWithParam<EstimatorKind> {};
+
+TEST_P(HonestNoise, PredictedNoiseMatchesTheMeasuredErrorOnTheClosedForm) {
+  const std::string dir = test::TempDirectory("progressive-honest-noise-" + EstimatorName(GetParam()));
   const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 4, 80, 0.5f);
   EstimatorSettings settings;
+  settings.kind = GetParam();
   settings.bandwidth = 0.05f;
   for (uint64_t photons : {100'000, 400'000, 1'600'000}) {
     const test::StagedBake bake(scene, photons, settings);
@@ -193,13 +196,16 @@ TEST(Progressive, PredictedNoiseMatchesTheMeasuredErrorOnTheClosedForm) {
       measuredMs += exact * error * error;
     }
     const double ratio = std::sqrt(predictedMs / measuredMs);
-    std::printf("%llu photons: predicted noise %.4f, measured %.4f (ratio %.3f); bake noise (p95) %.4f\n",
-                (unsigned long long)photons, std::sqrt(predictedMs / weight), std::sqrt(measuredMs / weight), ratio,
+    std::printf("%s, %llu photons: predicted noise %.4f, measured %.4f (ratio %.3f); bake noise (p95) %.4f\n",
+                EstimatorName(GetParam()).c_str(), (unsigned long long)photons, std::sqrt(predictedMs / weight), std::sqrt(measuredMs / weight), ratio,
                 BakeNoise(bake.base, predicted));
     EXPECT_GT(ratio, 1 / 1.5) << photons << " photons";
     EXPECT_LT(ratio, 1.5) << photons << " photons";
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(EveryEstimator, HonestNoise, testing::ValuesIn(kAllEstimators),
+                         [](const testing::TestParamInfo<EstimatorKind>& info) { return EstimatorName(info.param); });
 
 }  // namespace
 }  // namespace pb

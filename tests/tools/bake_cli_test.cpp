@@ -237,6 +237,10 @@ TEST(BakeCli, ResumeAndTargetNoiseAreReported) {
   EXPECT_NE(refused.output.find("s.photons: error: cannot resume: the photons were traced with --seed 1, not 3"),
             std::string::npos) << refused.output;
   EXPECT_EQ(RunBake(common + " --target-noise 0").status, 1);
+  const BakeRun knn = RunBake(common + " --target-noise 0.05 --estimator knn --k 50");
+  EXPECT_EQ(knn.status, 1);
+  EXPECT_NE(knn.output.find("knn's noise is 1/sqrt(k - 2) = 0.144 for --k 50, whatever the photon count: raise --k "
+                            "to 402 or more"), std::string::npos) << knn.output;
   EXPECT_EQ(RunBake(common + " --target-noise 0.02 --photons 1000 --max-photons 10").status, 1);
 }
 
