@@ -270,11 +270,17 @@ bool ExtendPhotons(PhotonHits& store, const Scene& scene, const std::vector<Area
   return std::find(done.begin(), done.end(), false) == done.end();
 }
 
-PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
-                        const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
+PhotonHits EmptyPhotonStore(const std::vector<AreaLight>& lights) {
   PhotonHits store;
   store.emitted.assign(lights.size(), 0);
   for (const AreaLight& light : lights) store.lightPower.push_back(light.Power());
+  store.Summarise();
+  return store;
+}
+
+PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
+                        const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
+  PhotonHits store = EmptyPhotonStore(lights);
   ExtendPhotons(store, scene, lights, rays, plan, settings, log);
   return store;
 }

@@ -128,6 +128,9 @@ struct PhotonHits {
   void Summarise();
 };
 
+// A store of no photons for these lights.
+PhotonHits EmptyPhotonStore(const std::vector<AreaLight>& lights);
+
 // Traces settings.photons photons into a new store.
 PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
                         const TransportPlan& plan, const TraceSettings& settings, const Log& log);

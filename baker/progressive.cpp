@@ -17,12 +17,6 @@ PhotonOrigin OriginOf(const BakeOptions& o, const PhotonSource& source) {
   return {SceneHash(source.scene), o.seed, o.maxBounces, SimulatedEffects(source.plan)};
 }
 
-std::vector<Rgb> LightPowers(const std::vector<AreaLight>& lights) {
-  std::vector<Rgb> powers;
-  for (const AreaLight& light : lights) powers.push_back(light.Power());
-  return powers;
-}
-
 // Each vertex's share of the mesh's area: a third of each face it is a corner of [m^2].
 std::vector<double> VertexAreas(const SplitMesh& mesh) {
   std::vector<double> area(mesh.VertexCount(), 0.0);
@@ -52,13 +46,9 @@ double WeightedPercentile(const std::vector<double>& noise, const std::vector<do
 
 PhotonHits OpenPhotonStore(const BakeOptions& o, const PhotonSource& source, ProgressiveReport& report) {
   report.target = o.targetNoise;
-  if (o.resumePath.empty()) {
-    PhotonHits store;
-    store.emitted.assign(source.lights.size(), 0);
-    store.lightPower = LightPowers(source.lights);
-    return store;
-  }
-  PhotonHits store = ReadPhotonFile(o.resumePath, OriginOf(o, source), LightPowers(source.lights));
+  PhotonHits empty = EmptyPhotonStore(source.lights);
+  if (o.resumePath.empty()) return empty;
+  PhotonHits store = ReadPhotonFile(o.resumePath, OriginOf(o, source), empty.lightPower);
   report.resumedFrom = o.resumePath;
   report.resumedPhotons = store.stats.emitted;
   return store;

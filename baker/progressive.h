@@ -18,7 +18,6 @@
 
 #include "baker/0_plan_transport.h"
 #include "baker/1_trace_photons.h"
-#include "baker/3_estimate_irradiance.h"
 #include "baker/baked_mesh.h"
 #include "baker/photon_file.h"
 #include "baker/progress.h"
