@@ -238,14 +238,11 @@ void TraceStats::Add(const TraceStats& b, Rgb flux) {
 }
 
 void PhotonHits::Summarise() {
+  std::vector<TraceStats> perLight(emitted.size());
+  for (size_t b = 0; b < blocks.size(); ++b)
+    perLight[ranges[b].light].Add(blockStats[b]);  // in block order: the sums do not depend on threads
   stats = TraceStats{};
-  stats.photonsPerLight = emitted;
-  for (size_t l = 0; l < emitted.size(); ++l) {
-    TraceStats light;
-    for (size_t b = 0; b < blocks.size(); ++b)
-      if (ranges[b].light == l) light.Add(blockStats[b]);  // in block order: the sums do not depend on threads
-    stats.Add(light, PhotonFlux(l));
-  }
+  for (size_t l = 0; l < emitted.size(); ++l) stats.Add(perLight[l], PhotonFlux(l));
 }
 
 bool ExtendPhotons(PhotonHits& store, const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,

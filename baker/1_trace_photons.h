@@ -83,7 +83,6 @@ struct BlockRange {
 // What happened to photons. In a block the power sums are in attenuation units (each photon leaves its light
 // carrying 1 per channel); PhotonHits::stats holds them in watts.
 struct TraceStats {
-  std::vector<uint64_t> photonsPerLight;  // N_l (PhotonHits::stats only)
   uint64_t emitted = 0;    // photons leaving lights
   uint64_t hits = 0;       // PhotonHits stored
   uint64_t absorbed = 0;   // photons ended by Russian roulette

@@ -182,7 +182,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
   report.duplicateTrianglesSkipped = scene.duplicateTrianglesSkipped;
   report.vertices = baked.mesh.VertexCount();
   report.faces = baked.mesh.faces.size();
-  report.lights = DescribeLights(scene, lights, photons.stats.photonsPerLight, report.plan);
+  report.lights = DescribeLights(scene, lights, photons.emitted, report.plan);
   report.surfaces = DescribeSurfaces(scene, surfaces, bins);
   report.curvedCharts = surfaces.CurvedCount();
   report.worstAreaDistortion = surfaces.WorstAreaDistortion();
