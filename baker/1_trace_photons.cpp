@@ -39,7 +39,7 @@ class PhotonTracer {
     Point3 origin = rays_.SpawnPoint(e.position, e.normal);
     Vector3 direction = e.direction;
     bool afterSpecular = false;
-    for (uint32_t bounce = 0; bounce < maxBounces_; ++bounce) {
+    for (uint32_t bounce = 0; bounce <= maxBounces_; ++bounce) {
       const auto hit = rays_.Intersect(origin, direction);
       if (!hit) return Escape(power, block.stats);
       const Normal3 front = scene_.FrontNormal(hit->triangle);
@@ -71,6 +71,7 @@ class PhotonTracer {
       afterSpecular = s.Specular();
     }
     ++block.stats.truncated;
+    block.stats.powerForbidden.Add(power);
   }
 
  private:
@@ -114,7 +115,7 @@ class PhotonTracer {
 
   const Scene& scene_;
   const RayScene& rays_;
-  uint32_t maxBounces_;
+  uint32_t maxBounces_;  // scattering events after the first hit
   bool reflection_, refraction_, caustics_;
 };
 
@@ -280,6 +281,14 @@ PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights
   PhotonHits store = EmptyPhotonStore(lights);
   ExtendPhotons(store, scene, lights, rays, plan, settings, log);
   return store;
+}
+
+PhotonHits TracePhotons(const PreparedScene& scene, const TraceSettings& settings, const Log& log) {
+  return TracePhotons(scene.scene, scene.lights, *scene.rays, scene.plan, settings, log);
+}
+
+bool ExtendPhotons(PhotonHits& store, const PreparedScene& scene, const TraceSettings& settings, const Log& log) {
+  return ExtendPhotons(store, scene.scene, scene.lights, *scene.rays, scene.plan, settings, log);
 }
 
 }  // namespace pb

@@ -24,7 +24,9 @@
 #include <vector>
 
 #include "baker/0_plan_transport.h"
+#include "baker/0_prepare_scene.h"
 #include "baker/huge_pages.h"
+#include "baker/options.h"
 #include "baker/progress.h"
 #include "mesh/color.h"
 #include "mesh/geometry.h"
@@ -70,7 +72,9 @@ inline uint64_t PhotonStream(size_t light, uint64_t j) { return uint64_t(light) 
 struct TraceSettings {
   uint64_t photons = 0;  // n, over all lights
   uint64_t seed = 1;
-  uint32_t maxBounces = 10'000;
+  // Scattering events a photon may undergo after its first hit: 0 stores direct light only. A photon still going
+  // after its last allowed event is truncated; its flux is tallied with the forbidden flux.
+  uint32_t maxBounces = kDefaultMaxBounces;
 };
 
 // Photons [first, end) of light `light`'s stream; first is a multiple of kBlockPhotons and end - first <= it.
@@ -88,14 +92,14 @@ struct TraceStats {
   uint64_t absorbed = 0;   // photons ended by Russian roulette
   uint64_t escaped = 0;    // photons that left the scene
   uint64_t forbidden = 0;  // photons dropped because their next event is an effect the plan turned off
-  uint64_t truncated = 0;  // photons cut at maxBounces (should be 0)
+  uint64_t truncated = 0;  // photons cut at maxBounces (0 unless --max-bounces is set low)
   // Events, by kind. A purely diffuse scene has only diffuse bounces.
   uint64_t diffuseBounces = 0, mirrorReflections = 0, fresnelReflections = 0, refractions = 0;
   uint64_t causticHits = 0;  // hits stored on a diffuse surface right after a specular event (L..S D)
   RgbSum powerEmitted;       // [W], sum of the photons' initial flux
   RgbSum powerAbsorbed;      // [W], sum over events of the flux the material absorbs on average
   RgbSum powerEscaped;       // [W]
-  RgbSum powerForbidden;     // [W], flux dropped by forbidden effects
+  RgbSum powerForbidden;     // [W], flux dropped by forbidden effects and by the bounce limit
   uint64_t SpecularEvents() const { return mirrorReflections + fresnelReflections + refractions; }
   // Adds `block`'s counts, and its power sums times `flux` per channel (1 to add like units).
   void Add(const TraceStats& block, Rgb flux = {1, 1, 1});
@@ -139,5 +143,9 @@ PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights
 // prefix of its stream, when InterruptRequested() (baker/interrupt.h); returns false then.
 bool ExtendPhotons(PhotonHits& store, const Scene& scene, const std::vector<AreaLight>& lights,
                    const RayScene& rays, const TransportPlan& plan, const TraceSettings& settings, const Log& log);
+
+// The same for a prepared scene: its lights, ray scene and plan.
+PhotonHits TracePhotons(const PreparedScene& scene, const TraceSettings& settings, const Log& log);
+bool ExtendPhotons(PhotonHits& store, const PreparedScene& scene, const TraceSettings& settings, const Log& log);
 
 }  // namespace pb

@@ -31,19 +31,20 @@ constexpr int kMaxDivisions = 32;
 constexpr double kGridFraction = 0.25;
 constexpr double kMaxGridNodes = 4e6;
 
-// H of one surface on a regular grid in its chart, read between nodes by bilinear interpolation. Decimation
+// The photons' H per unit chart area (PhotonIrradiance::ChartDensity) of one surface on a regular grid in its
+// chart, read between nodes by bilinear interpolation. Decimation
 // weighs each collapse by the error of the faces it would make, and weighs large faces again and again as their
 // neighbours change: reading H there from the grid costs a fraction of the estimator's price. Nodes h/4 apart
 // follow the estimate's own detail (scale h) closely, and refinement, which judges faces against the
 // estimator itself, mends what the grid misses.
 class IrradianceGrid {
  public:
-  IrradianceGrid(const DensityEstimator& estimator, const Bounds2& bounds, double spacing)
+  IrradianceGrid(const PhotonIrradiance& photons, uint32_t surface, const Bounds2& bounds, double spacing)
       : lo_(bounds.lo), spacing_(spacing), nu_(int(std::ceil((bounds.hi.u - bounds.lo.u) / spacing)) + 2),
         nv_(int(std::ceil((bounds.hi.v - bounds.lo.v) / spacing)) + 2), nodes_(size_t(nu_) * nv_) {
     tbb::parallel_for(0, nv_, [&](int j) {
       for (int i = 0; i < nu_; ++i)
-        nodes_[size_t(j) * nu_ + i] = estimator.Estimate({float(lo_.u + i * spacing_), float(lo_.v + j * spacing_)});
+        nodes_[size_t(j) * nu_ + i] = photons.ChartDensity(surface, {float(lo_.u + i * spacing_), float(lo_.v + j * spacing_)});
     });
   }
 
@@ -64,19 +65,20 @@ class IrradianceGrid {
   std::vector<Rgb> nodes_;
 };
 
-std::vector<IrradianceGrid> IrradianceGrids(const RefineInputs& in) {
-  std::vector<Bounds2> bounds(in.surfaces.surfaces.size());
+std::vector<IrradianceGrid> IrradianceGrids(const IrradianceField& field) {
+  const SurfaceSet& surfaces = field.Prepared().surfaces;
+  std::vector<Bounds2> bounds(surfaces.surfaces.size());
   double nodes = 0;
-  for (size_t s = 0; s < bounds.size(); ++s) {
-    for (uint32_t t : in.surfaces.surfaces[s].triangles)
-      for (Point2 c : in.surfaces.cornerUv[t]) bounds[s].Extend(c);
-    const double spacing = kGridFraction * in.bandwidths[s];
+  for (uint32_t s = 0; s < bounds.size(); ++s) {
+    for (uint32_t t : surfaces.surfaces[s].triangles)
+      for (Point2 c : surfaces.cornerUv[t]) bounds[s].Extend(c);
+    const double spacing = kGridFraction * field.Bandwidth(s);
     nodes += (double(bounds[s].hi.u - bounds[s].lo.u) / spacing + 2) * (double(bounds[s].hi.v - bounds[s].lo.v) / spacing + 2);
   }
   const double coarsen = std::max(1.0, std::sqrt(nodes / kMaxGridNodes));
   std::vector<IrradianceGrid> grids;
-  for (size_t s = 0; s < bounds.size(); ++s)
-    grids.emplace_back(*in.estimators[s], bounds[s], coarsen * kGridFraction * in.bandwidths[s]);
+  for (uint32_t s = 0; s < bounds.size(); ++s)
+    grids.emplace_back(field.Photons(), s, bounds[s], coarsen * kGridFraction * field.Bandwidth(s));
   return grids;
 }
 
@@ -86,21 +88,22 @@ std::vector<IrradianceGrid> IrradianceGrids(const RefineInputs& in) {
 class DisplayedLight {
  public:
   explicit DisplayedLight(const RefineInputs& in)
-      : in_(in), sampler_(in.scene, in.surfaces, in.base), grids_(IrradianceGrids(in)) {
-    for (const Surface& s : in.surfaces.surfaces) textured_.push_back(in.scene.materials[s.material].albedoTexture >= 0);
+      : in_(in), sampler_(in.field.Prepared().scene, in.field.Prepared().surfaces, in.base),
+        grids_(IrradianceGrids(in.field)) {
+    const PreparedScene& prepared = in.field.Prepared();
+    for (const Surface& s : prepared.surfaces.surfaces)
+      textured_.push_back(prepared.scene.materials[s.material].albedoTexture >= 0);
   }
 
-  // Exact: H from the estimator.
+  // Exact: H from the field.
   double At(uint32_t surface, uint32_t base, const Vec3d& p) const {
-    const SurfacePoint a = sampler_.At(surface, base, p);
-    return Display(LightAt(in_.scene, in_.surfaces, in_.estimators, surface, a.uv, a.texcoord, a.areaRatio));
+    return Display(in_.field.Light(sampler_.At(surface, base, {p[0], p[1], p[2]})));
   }
 
-  // H from the grid.
+  // The photons' H from the grid.
   double Approximately(uint32_t surface, uint32_t base, const Vec3d& p) const {
-    const SurfacePoint a = sampler_.At(surface, base, p);
-    const Material& material = in_.scene.materials[in_.surfaces.surfaces[surface].material];
-    return Display(LightWith(in_.scene, material, grids_[surface].At(a.uv) * a.areaRatio, a.texcoord));
+    const SurfacePoint a = sampler_.At(surface, base, {p[0], p[1], p[2]});
+    return Display(in_.field.LightWith(a, PerSurfaceArea(grids_[surface].At(a.uv), a)));
   }
 
   double AtCorner(const HalfEdgeMesh& mesh, FaceHandle f, VertexHandle v) {
@@ -150,9 +153,9 @@ class DisplayedLight {
     return LatticeError(p, values, Divisions(s, p), [&](const Vec3d& q) { return At(s, base, q); });
   }
 
-  double Display(const PointLight& light) const { return DisplayedLuminance(light.Radiance(), in_.exposure); }
+  double Display(const SurfaceLight& light) const { return DisplayedLuminance(light.Radiance(), in_.exposure); }
   int Divisions(uint32_t s, const std::array<Vec3d, 3>& p) const {
-    return LatticeDivisions(p, 0.5 * in_.bandwidths[s], kMaxDivisions);
+    return LatticeDivisions(p, 0.5 * in_.field.Bandwidth(s), kMaxDivisions);
   }
 
   const RefineInputs& in_;
@@ -227,16 +230,18 @@ class CollapseProgress : public OpenMesh::Decimater::Observer {
   size_t reported_ = 0;
 };
 
-size_t DisplayVertices(const HalfEdgeMesh& mesh, const RefineInputs& in) {
-  return ToSplitMesh(mesh, in.scene, in.surfaces, in.base).VertexCount();
+SplitMesh ToSplitMesh(const HalfEdgeMesh& mesh, const RefineInputs& in) {
+  return ToSplitMesh(mesh, in.field.Prepared().scene, in.field.Prepared().surfaces, in.base);
 }
+
+size_t DisplayVertices(const HalfEdgeMesh& mesh, const RefineInputs& in) { return ToSplitMesh(mesh, in).VertexCount(); }
 
 // Collapses while every changed face stays within the tolerance, the smallest error first; then, if the mesh
 // still has more display vertices than the budget, goes on past the tolerance (still the smallest error first)
 // until it fits or no collapse keeps the geometry. Returns the display vertex count it leaves.
 size_t Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in, const RefineSettings& settings,
                RefineReport& report, const Log& log) {
-  LockSurfaces(mesh, LockedSurfaces(in.scene, in.surfaces));
+  LockSurfaces(mesh, LockedSurfaces(in.field.Prepared().scene, in.field.Prepared().surfaces));
   OpenMesh::Decimater::DecimaterT<HalfEdgeMesh> decimater(mesh);
   CollapseProgress progress(log, mesh.n_vertices());
   decimater.set_observer(&progress);
@@ -278,7 +283,7 @@ std::vector<InterpolationError> Refine(HalfEdgeMesh& mesh, DisplayedLight& light
                                        const RefineSettings& settings, size_t displayVertices, RefineReport& report,
                                        const Log& log) {
   std::vector<double> minimumEdge;
-  for (float h : in.bandwidths) minimumEdge.push_back(settings.minimumEdgeFraction * h);
+  for (float h : in.field.Photons().Bandwidths()) minimumEdge.push_back(settings.minimumEdgeFraction * h);
   DisplayErrorModule error(light, settings.tolerance, ExactErrors(mesh, light, log));
   MinimumEdgeLength edgeLength(std::move(minimumEdge));
   VertexBudget budget(settings.maxVertices, displayVertices, light.Textured());
@@ -321,44 +326,37 @@ void SummariseErrors(const HalfEdgeMesh& mesh, const std::vector<InterpolationEr
     }
 }
 
-double PhotonsPerEstimate(const SurfaceBins& bins, size_t s, double area, float h, const EstimatorSettings& e) {
-  switch (e.kind) {
-    case EstimatorKind::kKernel: return double(bins.FrontHits(s)) * kPi * h * h / area;
-    case EstimatorKind::kHistogram: return double(bins.FrontHits(s)) * h * h / area;
-    case EstimatorKind::kNearest: return e.neighbours;
-  }
-  return 0;
-}
-
 }  // namespace
 
-std::vector<std::string> NoiseWarnings(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins,
-                                       const std::vector<float>& bandwidths, const EstimatorSettings& estimator,
-                                       float exposure, float tolerance) {
+std::vector<std::string> NoiseWarnings(const IrradianceField& field, const SurfaceBins& bins, float exposure,
+                                       float tolerance) {
+  const PreparedScene& prepared = field.Prepared();
   std::vector<std::string> warnings;
-  for (size_t s = 0; s < surfaces.surfaces.size(); ++s) {
-    const Surface& surface = surfaces.surfaces[s];
-    const double n = PhotonsPerEstimate(bins, s, surface.area, bandwidths[s], estimator);
-    if (n <= 0) continue;
-    const Material& material = scene.materials[surface.material];
+  for (uint32_t s = 0; s < prepared.surfaces.surfaces.size(); ++s) {
+    const Surface& surface = prepared.surfaces.surfaces[s];
+    if (bins.FrontHits(s) == 0) continue;
+    const double relative = field.Photons().UniformNoise(s, bins.FrontHits(s), surface.area);
+    const Material& material = prepared.scene.materials[surface.material];
     const Rgb meanIrradiance = bins.FrontFlux(s) / float(surface.area);
     const Rgb mean = OutgoingRadiance(material.emission, material.albedo, meanIrradiance);
-    const Rgb noisy = mean + material.albedo * meanIrradiance * float(kInvPi / std::sqrt(n));
+    const Rgb noisy = mean + material.albedo * meanIrradiance * float(kInvPi * relative);
     const double noise = DisplayedLuminance(noisy, exposure) - DisplayedLuminance(mean, exposure);
     if (noise <= tolerance) continue;
     warnings.push_back(fmt::format("{}: warning: surface {} ({}): the estimate's noise, about {:.3f} in grey level "
-                                   "({:.0f} photons per estimate), is above --tolerance {:.3g}: refinement there "
-                                   "follows the noise; raise --photons or --h, or the tolerance",
-                                   scene.path, s, material.name, noise, n, tolerance));
+                                   "({:.1f}% of H), is above --tolerance {:.3g}: refinement there follows the noise; "
+                                   "raise --photons or --h, or the tolerance",
+                                   prepared.scene.path, s, material.name, noise, 100 * relative, tolerance));
   }
   return warnings;
 }
 
-BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, RefineReport& report, const Log& log) {
+RefinedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, const Log& log) {
+  RefineReport report;
   report.ran = true;
   report.verticesBefore = in.base.VertexCount();
   report.facesBefore = in.base.faces.size();
-  HalfEdgeMesh mesh = SubdivideUniform(BuildHalfEdgeMesh(in.scene, in.surfaces), settings.subdivide);
+  const PreparedScene& prepared = in.field.Prepared();
+  HalfEdgeMesh mesh = SubdivideUniform(BuildHalfEdgeMesh(prepared.scene, prepared.surfaces), settings.subdivide);
   report.detachedFaces = mesh.detachedFaces;
   DisplayedLight light(in);
   std::vector<InterpolationError> errors;
@@ -369,20 +367,19 @@ BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, Ref
     errors = ExactErrors(mesh, light, log);
   }
   SummariseErrors(mesh, errors, settings.tolerance, report);
-  BakedMesh baked = EstimateIrradiance(in.scene, in.surfaces, in.estimators,
-                                       ToSplitMesh(mesh, in.scene, in.surfaces, in.base), log);
+  BakedMesh baked = EstimateIrradiance(in.field, ToSplitMesh(mesh, in), log);
   report.verticesAfter = baked.mesh.VertexCount();
   report.facesAfter = baked.mesh.faces.size();
   if (report.refusedByBudget || report.collapsesPastTolerance)
     report.warnings.push_back(fmt::format("{}: warning: the vertex budget ({} vertices) left faces above the "
                                           "tolerance ({} collapses past it, {} cuts refused); raise --max-vertices "
-                                          "or --tolerance", in.scene.path, settings.maxVertices,
+                                          "or --tolerance", prepared.scene.path, settings.maxVertices,
                                           report.collapsesPastTolerance, report.refusedByBudget));
   if (report.verticesAfter > settings.maxVertices)
     report.warnings.push_back(fmt::format("{}: warning: the mesh keeps {} vertices, over the budget of {}: no "
-                                          "further collapse leaves the geometry unchanged", in.scene.path,
+                                          "further collapse leaves the geometry unchanged", prepared.scene.path,
                                           report.verticesAfter, settings.maxVertices));
-  return baked;
+  return {std::move(baked), std::move(report)};
 }
 
 }  // namespace pb

@@ -22,23 +22,12 @@
 #include <vector>
 
 #include "baker/2_bin_photons.h"
-#include "baker/3_estimate_irradiance.h"
+#include "baker/3_irradiance_field.h"
 #include "baker/baked_mesh.h"
+#include "baker/options.h"
 #include "baker/progress.h"
-#include "mesh/scene.h"
-#include "mesh/surfaces.h"
 
 namespace pb {
-
-struct RefineSettings {
-  bool adaptive = false;        // --refine: steps 2 and 3
-  float tolerance = 0.02f;      // --tolerance: largest displayed-luminance error; range (0, 1), typical 0.01-0.05
-  size_t maxVertices = 200'000; // --max-vertices: budget of the written mesh's vertices; typical 1e4-1e6
-  int subdivide = 0;            // --subdivide: uniform levels first; range [0, 8], each ~4x the vertices
-  // Edges are not cut below this fraction of their surface's h [m]: the estimate is smooth at scale h.
-  float minimumEdgeFraction = 0.125f;
-  bool Enabled() const { return adaptive || subdivide > 0; }
-};
 
 struct RefineReport {
   bool ran = false;
@@ -56,24 +45,24 @@ struct RefineReport {
   std::vector<std::string> warnings;  // the budget left faces above the tolerance, or could not be met
 };
 
-// What refinement reads: the scene, its surfaces, their estimators and bandwidths, and the base bake (for the
-// input's corner normals and area ratios).
+// What refinement reads: the irradiance field (stage 3), the base mesh (for the input's corner normals and area
+// ratios) and the PLY's display exposure.
 struct RefineInputs {
-  const Scene& scene;
-  const SurfaceSet& surfaces;
-  const SurfaceEstimators& estimators;
-  const std::vector<float>& bandwidths;  // h per surface [m]
-  const SplitMesh& base;                 // SplitBySurface(scene, surfaces)
-  float exposure;                        // the PLY's display exposure
+  const IrradianceField& field;
+  const SplitMesh& base;  // SplitBySurface(scene, surfaces)
+  float exposure;
 };
 
-BakedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, RefineReport& report, const Log& log);
+struct RefinedMesh {
+  BakedMesh mesh;
+  RefineReport report;
+};
+RefinedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, const Log& log);
 
 // One warning per lit surface whose estimate is noisier than the tolerance in displayed grey level: refinement
-// there follows the noise. The noise is that of N photons per estimate (N = hits x pi h^2 / A for kernels,
-// hits x h^2 / A for buckets, k for knn): a relative deviation of 1 / sqrt(N) of the surface's mean radiance.
-std::vector<std::string> NoiseWarnings(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins,
-                                       const std::vector<float>& bandwidths, const EstimatorSettings& estimator,
-                                       float exposure, float tolerance);
+// there follows the noise. The noise is the field's for the surface's photons spread evenly over it
+// (PhotonIrradiance::UniformNoise), as a relative deviation of the surface's mean reflected radiance.
+std::vector<std::string> NoiseWarnings(const IrradianceField& field, const SurfaceBins& bins, float exposure,
+                                       float tolerance);
 
 }  // namespace pb

@@ -14,19 +14,6 @@ namespace {
 
 constexpr int kMaxTexelsPerSide = 8192;
 
-// The chart's area ratio (surface area / chart area) at uv: that of the triangle containing it; 1 if none does.
-float AreaRatioAt(const Scene& scene, const SurfaceSet& surfaces, const Surface& surface, Point2 uv) {
-  if (surface.planar) return 1.0f;
-  for (uint32_t t : surface.triangles) {
-    const Triangle2& c = surfaces.cornerUv[t];
-    const double a = SignedArea(c[0], c[1], c[2]);
-    const double w0 = SignedArea(uv, c[1], c[2]), w1 = SignedArea(c[0], uv, c[2]), w2 = SignedArea(c[0], c[1], uv);
-    const bool inside = a > 0 ? (w0 >= 0 && w1 >= 0 && w2 >= 0) : (w0 <= 0 && w1 <= 0 && w2 <= 0);
-    if (inside && a != 0) return float(scene.Area(t) / std::abs(a));
-  }
-  return 1.0f;
-}
-
 struct GridSize {
   int nu, nv;
 };
@@ -36,9 +23,11 @@ GridSize TexelGrid(const Bounds2& b, float texel) {
 
 std::string Vec(double x, double y, double z) { return fmt::format("{:.9g} {:.9g} {:.9g}", x, y, z); }
 
-void WriteSurfaceMap(const std::string& path, float texel, const Scene& scene, const SurfaceSet& surfaces,
-                     uint32_t s, const SurfaceRegion& region, const DensityEstimator& estimator) {
-  const Surface& surface = surfaces.surfaces[s];
+void WriteSurfaceMap(const std::string& path, float texel, const IrradianceField& field,
+                     const SurfacePointSampler& sampler, uint32_t s) {
+  const Scene& scene = field.Prepared().scene;
+  const Surface& surface = field.Prepared().surfaces.surfaces[s];
+  const SurfaceRegion& region = *field.Prepared().regions[s];
   const Bounds2 b = region.Bounds();
   const auto [nu, nv] = TexelGrid(b, texel);
   Image image(nu, nv);
@@ -50,7 +39,7 @@ void WriteSurfaceMap(const std::string& path, float texel, const Scene& scene, c
       coverage[k] = float(std::clamp(area[k] / (double(texel) * texel), 0.0, 1.0));
       if (coverage[k] == 0) continue;
       const Point2 uv{b.lo.u + (float(i) + 0.5f) * texel, b.lo.v + (float(j) + 0.5f) * texel};
-      image.At(i, j) = estimator.Estimate(uv) * AreaRatioAt(scene, surfaces, surface, uv);
+      image.At(i, j) = field.Irradiance(sampler.AtChartPoint(s, uv));
     }
   const SurfaceChart& chart = surface.chart;
   const std::array<double, 3> o = scene.ToWorld(chart.origin);
@@ -72,25 +61,33 @@ void WriteSurfaceMap(const std::string& path, float texel, const Scene& scene, c
 
 }  // namespace
 
-MapsWritten WriteIrradianceMaps(const std::string& directory, float texel, const Scene& scene,
-                                const SurfaceSet& surfaces, const SurfaceRegions& regions,
-                                const SurfaceEstimators& estimators, const Log& log) {
-  if (!(texel > 0) || !std::isfinite(texel)) throw InputError("--texel", 0, "must be a finite length > 0 m");
-  RequireWritableLocation(directory + "/surface_0.exr");
-  MapsWritten written;
-  for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
+void CheckMapTexels(float texel, const SurfaceRegions& regions) {
+  for (size_t s = 0; s < regions.size(); ++s) {
     const Bounds2 b = regions[s]->Bounds();
     const double side = std::max(b.hi.u - b.lo.u, b.hi.v - b.lo.v) / texel;
     if (side > kMaxTexelsPerSide)
       throw InputError("--texel", 0, fmt::format("surface {} would need {:.0f} texels on a side (at most {}); "
                                                  "use a larger --texel", s, side, kMaxTexelsPerSide));
-    const auto [nu, nv] = TexelGrid(b, texel);
+  }
+}
+
+MapsWritten WriteIrradianceMaps(const std::string& directory, float texel, const IrradianceField& field,
+                                const SplitMesh& base, const Log& log) {
+  const PreparedScene& prepared = field.Prepared();
+  const SurfaceSet& surfaces = prepared.surfaces;
+  const SurfaceRegions& regions = prepared.regions;
+  RequireWritableLocation(directory + "/surface_0.exr");
+  CheckMapTexels(texel, regions);
+  MapsWritten written;
+  for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
+    const auto [nu, nv] = TexelGrid(regions[s]->Bounds(), texel);
     written.texels += size_t(nu) * size_t(nv);
     written.paths.push_back(fmt::format("{}/surface_{}.exr", directory, s));
   }
+  const SurfacePointSampler sampler(prepared.scene, surfaces, base);
   Progress progress(log, "irradiance maps", surfaces.surfaces.size());
   tbb::parallel_for(size_t(0), surfaces.surfaces.size(), [&](size_t s) {
-    WriteSurfaceMap(written.paths[s], texel, scene, surfaces, uint32_t(s), *regions[s], *estimators[s]);
+    WriteSurfaceMap(written.paths[s], texel, field, sampler, uint32_t(s));
     progress.Advance(1);
   });
   return written;

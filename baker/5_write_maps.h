@@ -4,19 +4,20 @@
 //
 // Image layout: texel (i, j) (column i, row j, row 0 first) has its centre at chart point
 // (u0 + (i + 1/2) texel, v0 + (j + 1/2) texel), with (u0, v0) the corner of the chart's bounding box. R, G, B hold
-// H there (0 where the centre is off the surface); A holds the fraction of the texel's area that lies on the
-// surface. On curved charts H is multiplied by the local area ratio of the triangle under the texel centre, as at
-// vertices. The header names the quantity and units, the surface (index, object, material), the texel size and
+// H there; A holds the fraction of the texel's area that lies on the
+// surface. Each texel asks the irradiance field (stage 3) at the surface point under its centre
+// (SurfacePointSampler::AtChartPoint: on curved charts with the area ratio interpolated from the vertices, so
+// that a texel centre at a vertex reads exactly what the vertex holds); a centre off the surface reads the
+// surface's nearest point. The header names the quantity and units, the surface (index, object, material), the texel size and
 // the chart: origin and u, v axes in world coordinates [m], and (u0, v0).
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "baker/3_estimate_irradiance.h"
+#include "baker/3_irradiance_field.h"
 #include "baker/progress.h"
-#include "mesh/scene.h"
-#include "mesh/surfaces.h"
+#include "mesh/split_mesh.h"
 
 namespace pb {
 
@@ -27,8 +28,12 @@ struct MapsWritten {
 
 // One file per surface, "DIR/surface_<index>.exr". InputError if DIR is not a writable folder or a chart would
 // need more than 8192 texels on a side.
-MapsWritten WriteIrradianceMaps(const std::string& directory, float texel, const Scene& scene,
-                                const SurfaceSet& surfaces, const SurfaceRegions& regions,
-                                const SurfaceEstimators& estimators, const Log& log);
+// InputError("--texel") when a surface's chart would need more than 8192 texels on a side: checked before any
+// photon is traced.
+void CheckMapTexels(float texel, const SurfaceRegions& regions);
+
+// `base` is SplitBySurface of the field's scene.
+MapsWritten WriteIrradianceMaps(const std::string& directory, float texel, const IrradianceField& field,
+                                const SplitMesh& base, const Log& log);
 
 }  // namespace pb

@@ -18,6 +18,7 @@ struct BakedMesh {
   std::vector<Rgb> irradiance;  // H [W/m^2]
   std::vector<Rgb> albedo;      // R
   std::vector<Rgb> emitted;     // Le [W/(m^2 sr)], non-zero on lights' front sides
+  std::vector<double> irradianceNoise;  // sigma_H / H per vertex, when asked for (--target-noise); else empty
 
   Rgb Radiance(size_t vertex) const { return OutgoingRadiance(emitted[vertex], albedo[vertex], irradiance[vertex]); }
 };

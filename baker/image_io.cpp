@@ -68,7 +68,8 @@ void WriteExr(const std::string& path, const Image& image,
   });
 }
 
-Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes) {
+Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes,
+              std::vector<float>* alpha) {
   try {
     Imf::InputFile file(path.c_str());
     if (attributes)
@@ -79,6 +80,11 @@ Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::s
     Image image(window.max.x - window.min.x + 1, window.max.y - window.min.y + 1);
     Imf::FrameBuffer frame;
     for (size_t c = 0; c < 3; ++c) frame.insert(c == 0 ? "R" : c == 1 ? "G" : "B", FloatSlice(image, c));
+    if (alpha) {
+      alpha->assign(image.pixels.size(), 0.0f);
+      frame.insert("A", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(alpha->data()), sizeof(float),
+                                   sizeof(float) * size_t(image.width), 1, 1, 1.0));
+    }
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
     return image;

@@ -26,8 +26,10 @@ struct Image {
 void WriteExr(const std::string& path, const Image& image,
               const std::vector<std::pair<std::string, std::string>>& attributes = {},
               const std::vector<float>* alpha = nullptr);
-// For tests and tools; InputError on failure. With `attributes`, also returns the header's string attributes.
-Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes = nullptr);
+// For tests and tools; InputError on failure. With `attributes`, also returns the header's string attributes;
+// with `alpha`, the A channel (one value per pixel, row-major; 1 where the file has none).
+Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes = nullptr,
+              std::vector<float>* alpha = nullptr);
 void WritePng(const std::string& path, const Image& image, float exposure);
 
 }  // namespace pb

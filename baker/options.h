@@ -1,15 +1,31 @@
 // Options of one bake, as the user gives them. Units: lengths in metres, counts dimensionless.
-// Each field states its range and a typical value; tools/bake.cpp shows the same text in --help.
+// Each field states its range and a typical value; tools/bake.cpp shows the same text in --help, and Validate()
+// checks every range before any work is done (STYLE.md habit 14: validation beside the parameter's owner).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
 
-#include "baker/4_refine_mesh.h"
 #include "estimators/density_estimator.h"
 
 namespace pb {
+
+// The default bounce limit, --max-bounces: unlimited in practice, since Russian roulette ends a path long before
+// (a path survives 10,000 bounces of albedo 0.99 with probability 2e-44); it only stops a closed white box.
+inline constexpr uint32_t kDefaultMaxBounces = 10'000;
+
+// --refine, --tolerance, --max-vertices, --subdivide (baker/4_refine_mesh.h).
+struct RefineSettings {
+  bool adaptive = false;        // --refine: coarsen where the light is flat, refine where it changes
+  float tolerance = 0.02f;      // --tolerance: largest displayed-luminance error; range (0, 1), typical 0.01-0.05
+  size_t maxVertices = 200'000; // --max-vertices: budget of the written mesh's vertices; >= 3, typical 1e4-1e6
+  int subdivide = 0;            // --subdivide: uniform levels first; range [0, 8], each ~4x the vertices
+  // Edges are not cut below this fraction of their surface's h [m]: the estimate is smooth at scale h.
+  float minimumEdgeFraction = 0.125f;
+  bool Enabled() const { return adaptive || subdivide > 0; }
+};
 
 struct BakeOptions {
   std::string scenePath;   // OBJ file; its MTL files are found relative to it.
@@ -27,7 +43,9 @@ struct BakeOptions {
   float scale = 1.0f;             // metres per scene unit; (0, inf), typical 1 or 0.001 (millimetres).
   bool asciiPly = false;          // ASCII instead of binary little-endian PLY.
   std::optional<float> exposure;  // display exposure multiplier on radiance; unset = automatic.
-  uint32_t maxBounces = 10'000;   // safety cap on path length; photons cut there are counted.
+  // --max-bounces: scattering events a photon may undergo after its first hit; 0 = direct light only; range
+  // [0, 10000]; the default, 10000, is unlimited in practice (Russian roulette ends paths; baker/1_trace_photons.h).
+  uint32_t maxBounces = kDefaultMaxBounces;
   bool quiet = false;             // no progress or summary on stderr.
   std::string mapsDirectory;      // --maps: one irradiance map (EXR) per surface here; empty for none.
   float texel = 0.02f;            // --texel: map texel side [m]; range (0, inf), typical 0.005-0.05.
@@ -37,6 +55,9 @@ struct BakeOptions {
   std::string savePhotonsPath;    // --save-photons: write the photon store here; may equal resumePath.
   std::optional<float> targetNoise;  // --target-noise: trace in rounds until the noise is at most this; (0, 1).
   uint64_t maxPhotons = 100'000'000;  // --max-photons: --target-noise's budget over all lights.
+
+  // InputError naming the option when any value lies outside its range (or --effects does not parse).
+  void Validate() const;
 };
 
 }  // namespace pb

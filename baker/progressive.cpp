@@ -13,8 +13,8 @@
 namespace pb {
 namespace {
 
-PhotonOrigin OriginOf(const BakeOptions& o, const PhotonSource& source) {
-  return {SceneHash(source.scene), o.seed, o.maxBounces, SimulatedEffects(source.plan)};
+PhotonOrigin OriginOf(const BakeOptions& o, const PreparedScene& scene) {
+  return {SceneHash(scene.scene), o.seed, o.maxBounces, SimulatedEffects(scene.plan)};
 }
 
 // Each vertex's share of the mesh's area: a third of each face it is a corner of [m^2].
@@ -44,39 +44,39 @@ double WeightedPercentile(const std::vector<double>& noise, const std::vector<do
 
 }  // namespace
 
-PhotonHits OpenPhotonStore(const BakeOptions& o, const PhotonSource& source, ProgressiveReport& report) {
+PhotonHits OpenPhotonStore(const BakeOptions& o, const PreparedScene& scene, ProgressiveReport& report) {
   report.target = o.targetNoise;
-  PhotonHits empty = EmptyPhotonStore(source.lights);
+  PhotonHits empty = EmptyPhotonStore(scene.lights);
   if (o.resumePath.empty()) return empty;
-  PhotonHits store = ReadPhotonFile(o.resumePath, OriginOf(o, source), empty.lightPower);
+  PhotonHits store = ReadPhotonFile(o.resumePath, OriginOf(o, scene), empty.lightPower);
   report.resumedFrom = o.resumePath;
   report.resumedPhotons = store.stats.emitted;
   return store;
 }
 
-void GrowPhotonStore(PhotonHits& store, uint64_t photons, const BakeOptions& o, const PhotonSource& source,
+void GrowPhotonStore(PhotonHits& store, uint64_t photons, const BakeOptions& o, const PreparedScene& scene,
                      ProgressiveReport& report, const Log& log) {
-  if (!ExtendPhotons(store, source.scene, source.lights, source.rays, source.plan, {photons, o.seed, o.maxBounces}, log)) {
+  if (!ExtendPhotons(store, scene, {photons, o.seed, o.maxBounces}, log)) {
     report.interrupted = true;
     log.Warning(fmt::format("interrupted: tracing stopped after {} photons; the bake goes on with them and writes "
                             "valid outputs (Ctrl-C again to quit at once)", store.stats.emitted));
   }
 }
 
-void SavePhotonStore(const PhotonHits& store, const BakeOptions& o, const PhotonSource& source,
+void SavePhotonStore(const PhotonHits& store, const BakeOptions& o, const PreparedScene& scene,
                      ProgressiveReport& report) {
   if (o.savePhotonsPath.empty()) return;
-  WritePhotonFile(o.savePhotonsPath, store, OriginOf(o, source));
+  WritePhotonFile(o.savePhotonsPath, store, OriginOf(o, scene));
   report.savedTo = o.savePhotonsPath;
 }
 
-double BakeNoise(const BakedMesh& baked, const std::vector<double>& irradianceNoise) {
+double BakeNoise(const BakedMesh& baked) {
   const std::vector<double> area = VertexAreas(baked.mesh);
   std::vector<double> noise(area.size()), weight(area.size());
   for (size_t v = 0; v < area.size(); ++v) {
     const double radiance = Luminance(baked.Radiance(v));
     const double reflected = Luminance(OutgoingRadiance({}, baked.albedo[v], baked.irradiance[v]));
-    noise[v] = radiance > 0 ? reflected / radiance * irradianceNoise[v] : 0.0;
+    noise[v] = radiance > 0 ? reflected / radiance * baked.irradianceNoise[v] : 0.0;
     weight[v] = radiance * area[v];
   }
   return WeightedPercentile(noise, weight, 0.95);

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "baker/0_plan_transport.h"
+#include "baker/0_prepare_scene.h"
 #include "baker/1_trace_photons.h"
 #include "baker/baked_mesh.h"
 #include "baker/photon_file.h"
@@ -42,26 +42,18 @@ struct ProgressiveReport {
   bool TargetMet() const { return target && !rounds.empty() && rounds.back().noise <= *target; }
 };
 
-// What photons are traced in.
-struct PhotonSource {
-  const Scene& scene;
-  const std::vector<AreaLight>& lights;
-  const RayScene& rays;
-  const TransportPlan& plan;
-};
-
 // An empty store for the scene's lights, or --resume's (every check of baker/photon_file.h passed).
-PhotonHits OpenPhotonStore(const BakeOptions& options, const PhotonSource& source, ProgressiveReport& report);
+PhotonHits OpenPhotonStore(const BakeOptions& options, const PreparedScene& scene, ProgressiveReport& report);
 // Grows the store to `photons` over all lights (counts never shrink); notes an interruption in the report.
-void GrowPhotonStore(PhotonHits& store, uint64_t photons, const BakeOptions& options, const PhotonSource& source,
+void GrowPhotonStore(PhotonHits& store, uint64_t photons, const BakeOptions& options, const PreparedScene& scene,
                      ProgressiveReport& report, const Log& log);
 // Writes --save-photons, when given.
-void SavePhotonStore(const PhotonHits& store, const BakeOptions& options, const PhotonSource& source,
+void SavePhotonStore(const PhotonHits& store, const BakeOptions& options, const PreparedScene& scene,
                      ProgressiveReport& report);
 
-// The bake's noise: the weighted 95th percentile above, from each vertex's sigma_H / H (EstimateIrradiance gives
-// them); 0 for a mesh with no lit vertex.
-double BakeNoise(const BakedMesh& baked, const std::vector<double>& irradianceNoise);
+// The bake's noise: the weighted 95th percentile above, from each vertex's sigma_H / H (BakedMesh::irradianceNoise,
+// which EstimateIrradiance gives with withNoise); 0 for a mesh with no lit vertex.
+double BakeNoise(const BakedMesh& baked);
 // Photons for the next round: n (noise / target)^2 with 10% to spare, at least 1.25 n, at most maxPhotons.
 uint64_t NextRoundPhotons(uint64_t photons, double noise, float target, uint64_t maxPhotons);
 

@@ -7,15 +7,12 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "baker/0_plan_transport.h"
+#include "baker/0_prepare_scene.h"
 #include "baker/atomic_file.h"
 #include "baker/stage_clock.h"
 #include "baker/threads.h"
 #include "baker/tone_map.h"
 #include "mesh/errors.h"
-#include "mesh/lights.h"
-#include "mesh/obj_loader.h"
-#include "mesh/surfaces.h"
 
 namespace pb {
 namespace {
@@ -165,22 +162,17 @@ RenderReport Render(const RenderOptions& o, const Log& log) {
   StageClock clock(report.stageSeconds);
 
   Camera cameraData = LoadCamera(o.cameraPath.empty() ? CameraSidecarPath(o.scenePath) : o.cameraPath);
-  const Scene scene = clock.Time("load", [&] { return LoadObj(o.scenePath, {o.scale}).scene; });
-  cameraData = InLocalCoordinates(cameraData, scene);
-  std::optional<RayScene> rays;
-  clock.Time("bvh", [&] { rays.emplace(scene); });
+  const PreparedScene scene = PrepareScene(SceneSettings{o.scenePath, o.scale, {}}, clock);
+  cameraData = InLocalCoordinates(cameraData, scene.scene);
   std::optional<PhotonMap> photonMap;
   if (o.path.sampling == DirectionSampling::kPhotons) {
-    const SurfaceSet surfaces = BuildSurfaces(scene);
-    const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
-    if (lights.empty()) throw InputError(scene.path, 0, "scene has no light: no face uses a material with Ke > 0");
-    const TransportPlan plan = PlanTransport(scene, surfaces, lights, {});
-    const PhotonHits hits =
-        clock.Time("trace photons", [&] { return TracePhotons(scene, lights, *rays, plan, {o.photons, o.seed, 10'000}, log); });
-    photonMap.emplace(clock.Time("photon map", [&] { return BuildPhotonMap(scene, hits); }));
+    const PhotonHits hits = clock.Time("trace photons", [&] {
+      return TracePhotons(scene, {o.photons, o.seed, kDefaultMaxBounces}, log);
+    });
+    photonMap.emplace(clock.Time("photon map", [&] { return BuildPhotonMap(scene.scene, hits); }));
     report.photonsStored = photonMap->Size();
   }
-  const PathTracer tracer(scene, *rays, photonMap ? &*photonMap : nullptr, o.path);
+  const PathTracer tracer(scene.scene, *scene.rays, photonMap ? &*photonMap : nullptr, o.path);
   const PinholeCamera camera(cameraData, o.width, o.height);
 
   const std::vector<uint32_t> counts = o.sppSweep.empty() ? std::vector<uint32_t>{o.spp} : o.sppSweep;

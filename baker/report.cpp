@@ -19,6 +19,7 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
           {"edge_correction", o.estimator.edgeCorrection},
           {"h_m", o.autoBandwidth ? nlohmann::json("auto") : nlohmann::json(o.estimator.bandwidth)},          {"photons", o.photons},   {"seed", o.seed},
           {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly},
+          {"max_bounces", o.maxBounces},
           {"effects", o.effectsText}, {"refine", o.refine.adaptive}, {"tolerance", o.refine.tolerance},
           {"max_vertices", o.refine.maxVertices}, {"subdivide", o.refine.subdivide}, {"resume", o.resumePath},
           {"save_photons", o.savePhotonsPath},
@@ -122,6 +123,8 @@ double BakeReport::TotalSeconds() const {
   return total;
 }
 
+namespace {
+
 std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<AreaLight>& lights,
                                         const std::vector<uint64_t>& photonsPerLight, const TransportPlan& plan) {
   std::vector<LightReport> out;
@@ -132,15 +135,42 @@ std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<Ar
   return out;
 }
 
-std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins) {
+std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins,
+                                            const IrradianceField& field) {
   std::vector<SurfaceReport> out;
-  for (size_t s = 0; s < surfaces.surfaces.size(); ++s) {
+  for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
     const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
     out.push_back({object, scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.backHits[s],
-                   bins.FrontFlux(s) / float(surface.area), surface.planar, surface.areaDistortion, 0.0f});
+                   bins.FrontFlux(s) / float(surface.area), surface.planar, surface.areaDistortion,
+                   field.Bandwidth(s)});
   }
   return out;
+}
+
+}  // namespace
+
+BakeReport DescribeBake(const BakeResults& r) {
+  const PreparedScene& p = r.scene;
+  BakeReport report{r.options, r.threads};
+  report.triangles = p.scene.triangles.size();
+  report.degenerateTrianglesSkipped = p.scene.degenerateTrianglesSkipped;
+  report.duplicateTrianglesSkipped = p.scene.duplicateTrianglesSkipped;
+  report.vertices = r.mesh.mesh.VertexCount();
+  report.faces = r.mesh.mesh.faces.size();
+  report.curvedCharts = p.surfaces.CurvedCount();
+  report.worstAreaDistortion = p.surfaces.WorstAreaDistortion();
+  report.lights = DescribeLights(p.scene, p.lights, r.photons.emitted, p.plan);
+  report.surfaces = DescribeSurfaces(p.scene, p.surfaces, r.bins, r.field);
+  report.trace = r.photons.stats;
+  report.stageSeconds = r.stageSeconds;
+  report.plan = p.plan;
+  report.warnings = r.warnings;
+  report.exposure = r.exposure;
+  report.maps = r.maps;
+  report.refine = r.refine;
+  report.progressive = r.progressive;
+  return report;
 }
 
 void PrintSummary(const BakeReport& r, const Log& log) {

@@ -1,13 +1,17 @@
 // What a bake did, in figures: photon counts, flux balance [W], hits per surface, seconds per stage, the
 // transport effects simulated, and the output. Printed as a summary on stderr and written as JSON (--report).
+// The report is described at the end from what the stages returned (DescribeBake; meshoptimizer's analyse
+// functions are the model): no stage reads it, so it never becomes a channel between stages.
 #pragma once
 
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "baker/0_prepare_scene.h"
 #include "baker/1_trace_photons.h"
 #include "baker/2_bin_photons.h"
+#include "baker/3_irradiance_field.h"
 #include "baker/4_refine_mesh.h"
 #include "baker/5_write_maps.h"
 #include "baker/baked_mesh.h"
@@ -57,9 +61,23 @@ struct BakeReport {
   double TotalSeconds() const;
 };
 
-std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<AreaLight>& lights,
-                                        const std::vector<uint64_t>& photonsPerLight, const TransportPlan& plan);
-std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins);
+// What the stages returned, and what the driver recorded as they ran (times, warnings).
+struct BakeResults {
+  const BakeOptions& options;
+  unsigned threads;
+  const PreparedScene& scene;
+  const PhotonHits& photons;
+  const SurfaceBins& bins;
+  const IrradianceField& field;
+  const BakedMesh& mesh;  // the written mesh
+  float exposure;         // the PLY's display exposure
+  const RefineReport& refine;
+  const MapsWritten& maps;
+  const ProgressiveReport& progressive;
+  const std::vector<std::pair<std::string, double>>& stageSeconds;
+  const std::vector<std::string>& warnings;
+};
+BakeReport DescribeBake(const BakeResults& results);
 
 void PrintSummary(const BakeReport& report, const Log& log);
 void WriteReportJson(const std::string& path, const BakeReport& report);

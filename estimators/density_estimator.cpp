@@ -1,5 +1,8 @@
 #include "estimators/density_estimator.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "estimators/enum_names.h"
 #include "estimators/histogram_estimator.h"
 #include "estimators/kernel_estimator.h"
@@ -18,6 +21,16 @@ std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& 
       return std::make_unique<NearestEstimator>(uv, power, settings.neighbours, region, settings.edgeCorrection);
   }
   return nullptr;
+}
+
+double UniformRelativeNoise(const EstimatorSettings& settings, double photonsPerArea) {
+  const double h2 = double(settings.bandwidth) * settings.bandwidth;
+  switch (settings.kind) {
+    case EstimatorKind::kKernel: return std::sqrt(MomentsOf(settings.kernel).roughness / (photonsPerArea * h2));
+    case EstimatorKind::kHistogram: return 1.0 / std::sqrt(photonsPerArea * h2);
+    case EstimatorKind::kNearest: return 1.0 / std::sqrt(std::max(1.0, double(settings.neighbours) - 2.0));
+  }
+  return INFINITY;
 }
 
 std::optional<EstimatorKind> ParseEstimator(std::string_view name) {

@@ -64,6 +64,15 @@ class DensityEstimator {
   virtual WithNoise EstimateWithNoise(Point2 x) const { return {Estimate(x), RelativeNoise(x)}; }
 };
 
+// The noise model of the three estimators, in one place: the relative standard deviation of one estimate inside
+// a surface where photons of equal flux land uniformly, `photonsPerArea` [1/m^2] of them. It is the expectation
+// of DensityEstimator::RelativeNoise there:
+//   kernel     sqrt(R(K) / (n h^2)), R(K) the kernel's roughness (estimators/kernels.h)
+//   histogram  1 / sqrt(n h^2), the bucket's photon count
+//   knn        1 / sqrt(k - 2), whatever n: more photons only shrink its disc
+// Infinite for a kernel or histogram with n = 0; 0 for them as n grows without bound. Dimensionless.
+double UniformRelativeNoise(const EstimatorSettings& settings, double photonsPerArea);
+
 // `region` must outlive the estimator; the photon arrays are copied.
 std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& region,
                                                        std::span<const Point2> uv, std::span<const Rgb> power);

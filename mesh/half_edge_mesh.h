@@ -62,34 +62,7 @@ class HalfEdgeMesh : public HalfEdgeKernel {
 // non-manifold (three triangles on one edge) is added with its own copies of its vertices.
 HalfEdgeMesh BuildHalfEdgeMesh(const Scene& scene, const SurfaceSet& surfaces);
 
-// Barycentrics (b1, b2) of point p in scene triangle t, in double precision (p need not lie inside it).
-std::array<double, 2> BarycentricsIn(const Scene& scene, uint32_t t, const OpenMesh::Vec3d& p);
-
-// What the estimator and the writer need to know of a point on a surface.
-struct SurfacePoint {
-  Point2 uv;              // chart position [m]
-  Point2 texcoord;        // texture coordinates on textured surfaces, else (0, 0)
-  Normal3 normal;         // the chart's normal on planar surfaces; the input's smooth normals, interpolated, on curved
-  float areaRatio = 1;    // (u,v) area per surface area: 1 on planar surfaces, interpolated from the input on curved
-};
-
-// Evaluates SurfacePoint on any face of a mesh refined from the scene. `base` is SplitBySurface(scene, surfaces):
-// it holds the input's per-corner normals and area ratios, which points on curved surfaces interpolate on their
-// base triangle. On planar surfaces the chart is the plane's own projection, so a face need not lie inside its
-// base triangle (as after decimation).
-class SurfacePointSampler {
- public:
-  SurfacePointSampler(const Scene& scene, const SurfaceSet& surfaces, const SplitMesh& base);
-  SurfacePoint At(uint32_t surface, uint32_t baseTriangle, const OpenMesh::Vec3d& p) const;
-
- private:
-  const Scene& scene_;
-  const SurfaceSet& surfaces_;
-  const SplitMesh& base_;
-  std::vector<uint32_t> splitFace_;  // scene triangle -> its face in `base`
-};
-
-// The display mesh of `mesh` (deleted elements skipped), each corner sampled by SurfacePointSampler. Vertices are ordered by surface, then by first use; faces by surface, then by index in `mesh`.
+// The display mesh of `mesh` (deleted elements skipped), each corner sampled by SurfacePointSampler (mesh/split_mesh.h). Vertices are ordered by surface, then by first use; faces by surface, then by index in `mesh`.
 SplitMesh ToSplitMesh(const HalfEdgeMesh& mesh, const Scene& scene, const SurfaceSet& surfaces,
                       const SplitMesh& base);
 

@@ -1,5 +1,7 @@
 #include "mesh/ray_scene.h"
 
+#include <embree3/rtcore.h>
+
 #include <cstdio>
 #include <cstring>
 

@@ -7,13 +7,17 @@
 // avoided by SpawnPoint's offset along the normal instead.
 #pragma once
 
-#include <embree3/rtcore.h>
-
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
 #include "mesh/geometry.h"
 #include "mesh/scene.h"
+
+// Embree's device and scene handles (RTCDevice, RTCScene), declared here so that only ray_scene.cpp includes
+// <embree3/rtcore.h>: nothing above this header compiles Embree's API.
+struct RTCDeviceTy;
+struct RTCSceneTy;
 
 namespace pb {
 
@@ -38,8 +42,8 @@ class RayScene {
   Point3 SpawnPoint(Point3 p, Normal3 side) const { return p + AsVector(side) * spawnOffset_; }
 
  private:
-  RTCDevice device_ = nullptr;
-  RTCScene scene_ = nullptr;
+  RTCDeviceTy* device_ = nullptr;
+  RTCSceneTy* scene_ = nullptr;
   float spawnOffset_ = 0;
 };
 

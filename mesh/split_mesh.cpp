@@ -1,10 +1,59 @@
 #include "mesh/split_mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
 namespace pb {
 namespace {
+
+template <typename T>
+T Interpolate(const std::array<T, 3>& c, const std::array<double, 2>& b) {
+  const double b0 = 1 - b[0] - b[1];
+  return c[0] * float(b0) + c[1] * float(b[0]) + c[2] * float(b[1]);
+}
+Point2 Interpolate(const std::array<Point2, 3>& c, const std::array<double, 2>& b) {
+  const double b0 = 1 - b[0] - b[1];
+  return {float(b0 * c[0].u + b[0] * c[1].u + b[1] * c[2].u), float(b0 * c[0].v + b[0] * c[1].v + b[1] * c[2].v)};
+}
+
+double Dot3(const Point3d& a, const Point3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Point3d Minus(const Point3d& a, const Point3d& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Point3d ToPoint3d(Point3 p) { return {p.x, p.y, p.z}; }
+
+// The base mesh's face of each scene triangle: SplitBySurface orders its faces by surface, then by the surface's
+// (ascending) triangles.
+std::vector<uint32_t> SplitFaceOfTriangle(const Scene& scene, const SurfaceSet& surfaces) {
+  std::vector<uint32_t> face(scene.triangles.size());
+  uint32_t next = 0;
+  for (const Surface& s : surfaces.surfaces)
+    for (uint32_t t : s.triangles) face[t] = next++;
+  return face;
+}
+
+// The point of segment [a, b] nearest to p.
+Point2 NearestOnSegment(Point2 p, Point2 a, Point2 b) {
+  const double du = double(b.u) - a.u, dv = double(b.v) - a.v, length2 = du * du + dv * dv;
+  const double t = length2 > 0 ? std::clamp(((double(p.u) - a.u) * du + (double(p.v) - a.v) * dv) / length2, 0.0, 1.0) : 0.0;
+  return {float(a.u + t * du), float(a.v + t * dv)};
+}
+
+double Distance2(Point2 a, Point2 b) {
+  const double du = double(a.u) - b.u, dv = double(a.v) - b.v;
+  return du * du + dv * dv;
+}
+
+// Barycentrics (b1, b2) of uv in chart triangle c, and whether uv lies inside it (edges included).
+struct ChartBarycentrics {
+  std::array<double, 2> b;
+  bool inside;
+};
+ChartBarycentrics BarycentricsInChart(const std::array<Point2, 3>& c, Point2 uv) {
+  const double area = SignedArea(c[0], c[1], c[2]);
+  if (area == 0) return {{0, 0}, false};
+  const double b1 = SignedArea(c[0], uv, c[2]) / area, b2 = SignedArea(c[0], c[1], uv) / area;
+  return {{b1, b2}, b1 >= 0 && b2 >= 0 && b1 + b2 <= 1};
+}
 
 // Smooth normals and local area ratios of a curved surface's vertices, from the triangles around each.
 void FinishCurvedVertices(const Scene& scene, const SurfaceSet& surfaces, const Surface& surface, size_t first,
@@ -53,6 +102,67 @@ SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces) {
     if (!surface.planar) FinishCurvedVertices(scene, surfaces, surface, first, mesh);
   }
   return mesh;
+}
+
+std::array<double, 2> BarycentricsIn(const Scene& scene, uint32_t t, const Point3d& p) {
+  const Point3d a = ToPoint3d(scene.Corner(t, 0));
+  const Point3d e1 = Minus(ToPoint3d(scene.Corner(t, 1)), a), e2 = Minus(ToPoint3d(scene.Corner(t, 2)), a);
+  const Point3d d = Minus(p, a);
+  const double d11 = Dot3(e1, e1), d12 = Dot3(e1, e2), d22 = Dot3(e2, e2), d1 = Dot3(d, e1), d2 = Dot3(d, e2);
+  const double det = d11 * d22 - d12 * d12;
+  return {(d22 * d1 - d12 * d2) / det, (d11 * d2 - d12 * d1) / det};
+}
+
+SurfacePointSampler::SurfacePointSampler(const Scene& scene, const SurfaceSet& surfaces, const SplitMesh& base)
+    : scene_(scene), surfaces_(surfaces), base_(base), splitFace_(SplitFaceOfTriangle(scene, surfaces)) {}
+
+SurfacePoint SurfacePointSampler::Interpolated(uint32_t surface, uint32_t triangle, const std::array<double, 2>& b) const {
+  const Surface& s = surfaces_.surfaces[surface];
+  SurfacePoint a;
+  a.surface = surface;
+  if (scene_.materials[s.material].albedoTexture >= 0)
+    a.texcoord = Interpolate({scene_.Texcoord(triangle, 0), scene_.Texcoord(triangle, 1), scene_.Texcoord(triangle, 2)}, b);
+  a.uv = Interpolate(surfaces_.cornerUv[triangle], b);
+  if (s.planar) {
+    a.normal = s.chart.frame.n;
+    return a;
+  }
+  const auto& face = base_.faces[splitFace_[triangle]];
+  a.normal = NormalFrom(Interpolate<Vector3>(
+      {AsVector(base_.normals[face[0]]), AsVector(base_.normals[face[1]]), AsVector(base_.normals[face[2]])}, b));
+  a.areaRatio = Interpolate<float>({base_.uvAreaRatio[face[0]], base_.uvAreaRatio[face[1]], base_.uvAreaRatio[face[2]]}, b);
+  return a;
+}
+
+SurfacePoint SurfacePointSampler::At(uint32_t surface, uint32_t triangle, const Point3d& p) const {
+  SurfacePoint a = Interpolated(surface, triangle, BarycentricsIn(scene_, triangle, p));
+  a.position = {float(p[0]), float(p[1]), float(p[2])};
+  const Surface& s = surfaces_.surfaces[surface];
+  if (s.planar) a.uv = s.chart.ToUv(a.position);
+  return a;
+}
+
+SurfacePoint SurfacePointSampler::AtChartPoint(uint32_t surface, Point2 uv) const {
+  uint32_t best = surfaces_.surfaces[surface].triangles.front();
+  Point2 nearest = uv;
+  double bestDistance2 = INFINITY;
+  for (uint32_t t : surfaces_.surfaces[surface].triangles) {
+    const std::array<Point2, 3>& c = surfaces_.cornerUv[t];
+    if (BarycentricsInChart(c, uv).inside) {
+      best = t, nearest = uv, bestDistance2 = 0;
+      break;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const Point2 q = NearestOnSegment(uv, c[k], c[(k + 1) % 3]);
+      if (const double d2 = Distance2(q, uv); d2 < bestDistance2) best = t, nearest = q, bestDistance2 = d2;
+    }
+  }
+  std::array<double, 2> b = BarycentricsInChart(surfaces_.cornerUv[best], nearest).b;
+  b = {std::clamp(b[0], 0.0, 1.0), std::clamp(b[1], 0.0, 1.0 - std::clamp(b[0], 0.0, 1.0))};
+  SurfacePoint a = Interpolated(surface, best, b);
+  a.uv = nearest;
+  a.position = scene_.PointAt(best, float(b[0]), float(b[1]));
+  return a;
 }
 
 }  // namespace pb

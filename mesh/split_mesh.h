@@ -16,6 +16,16 @@
 
 namespace pb {
 
+// A point on a surface.
+struct SurfacePoint {
+  uint32_t surface = 0;
+  Point3 position;        // local [m] (Scene::ToWorld gives world coordinates)
+  Normal3 normal;         // the chart's normal on planar surfaces; the input's smooth normals, interpolated, on curved
+  Point2 uv;              // chart position [m]
+  Point2 texcoord;        // texture coordinates on textured surfaces, else (0, 0)
+  float areaRatio = 1;    // (u,v) area per surface area: 1 on planar surfaces, interpolated from the vertices on curved
+};
+
 struct SplitMesh {
   std::array<double, 3> origin{0, 0, 0};  // Scene::origin: world = origin + position [m]
   std::vector<Point3> positions;          // local [m]
@@ -36,9 +46,37 @@ struct SplitMesh {
     uvAreaRatio.push_back(areaRatio);
     return uint32_t(positions.size() - 1);
   }
+  SurfacePoint Point(size_t v) const {
+    return {surface[v], positions[v], normals[v], uv[v], texcoord[v], uvAreaRatio[v]};
+  }
 };
 
 // Vertices are ordered by surface, then by first use; faces by surface, then by scene order.
 SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces);
+
+// Barycentrics (b1, b2) of point p (local [m], double precision) in scene triangle t; p need not lie inside it.
+using Point3d = std::array<double, 3>;
+std::array<double, 2> BarycentricsIn(const Scene& scene, uint32_t t, const Point3d& p);
+
+// Evaluates SurfacePoint anywhere on the scene's surfaces. `base` is SplitBySurface(scene, surfaces): it holds
+// the input's per-corner normals and area ratios, which points on curved surfaces interpolate on their triangle.
+class SurfacePointSampler {
+ public:
+  SurfacePointSampler(const Scene& scene, const SurfaceSet& surfaces, const SplitMesh& base);
+  // The point at position p of `surface`, on (or in the plane of) scene triangle `triangle`. On planar surfaces
+  // the chart is the plane's own projection, so p need not lie inside the triangle (as after decimation).
+  SurfacePoint At(uint32_t surface, uint32_t triangle, const Point3d& p) const;
+  // The point of `surface` at chart position uv; off the surface, the surface's nearest point in the chart.
+  // Linear in the surface's triangle count.
+  SurfacePoint AtChartPoint(uint32_t surface, Point2 uv) const;
+
+ private:
+  SurfacePoint Interpolated(uint32_t surface, uint32_t triangle, const std::array<double, 2>& b) const;
+
+  const Scene& scene_;
+  const SurfaceSet& surfaces_;
+  const SplitMesh& base_;
+  std::vector<uint32_t> splitFace_;  // scene triangle -> its face in `base`
+};
 
 }  // namespace pb

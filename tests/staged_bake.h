@@ -1,5 +1,5 @@
-// A bake run stage by stage up to the estimate (trace, bin, regions, bandwidths, estimators, the base mesh), for
-// tests that refine the mesh or evaluate the estimator at chosen points.
+// A bake run stage by stage up to the estimate (trace, bin, the irradiance field, the base mesh), for tests that
+// refine the mesh or evaluate the field at chosen points.
 #pragma once
 
 #include <optional>
@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "baker/2_bin_photons.h"
-#include "baker/3_estimate_irradiance.h"
+#include "baker/3_irradiance_field.h"
 #include "baker/4_refine_mesh.h"
 #include "baker/5_write_ply.h"
 #include "mesh/split_mesh.h"
@@ -15,13 +15,18 @@
 
 namespace pb::test {
 
+// The irradiance field of `bins`, with h chosen per surface when `automatic`.
+inline IrradianceField FieldOf(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings,
+                               bool automatic = false) {
+  StageClock clock;
+  return BuildIrradianceField(scene, bins, settings, automatic, clock);
+}
+
 struct StagedBake {
   TracedScene traced;
   PhotonHits hits;
   SurfaceBins bins;
-  SurfaceRegions regions;
-  std::vector<float> bandwidths;
-  SurfaceEstimators estimators;
+  IrradianceField field;
   BakedMesh base;
   float exposure;
 
@@ -31,21 +36,27 @@ struct StagedBake {
       : traced(objPath),
         hits(traced.Trace(photons, seed)),
         bins(BinPhotons(traced.surfaces, hits)),
-        regions(BuildRegions(traced.surfaces)),
-        bandwidths(SurfaceBandwidths(regions, bins, settings, false)),
-        estimators(BuildEstimators(regions, bins, settings, bandwidths)),
-        base(EstimateIrradiance(traced.scene, traced.surfaces, estimators, SplitBySurface(traced.scene, traced.surfaces),
-                                Log(true))),
+        field(FieldOf(traced, bins, settings)),
+        base(EstimateIrradiance(field, SplitBySurface(traced.scene, traced.surfaces), Log(true))),
         exposure(DisplayExposure(base, displayExposure)) {}
 
+  RefinedMesh Refine(const RefineSettings& settings) const {
+    return RefineMesh({field, base.mesh, exposure}, settings, Log(true));
+  }
   BakedMesh Refine(const RefineSettings& settings, RefineReport& report) const {
-    return RefineMesh({traced.scene, traced.surfaces, estimators, bandwidths, base.mesh, exposure}, settings, report,
-                      Log(true));
+    RefinedMesh refined = Refine(settings);
+    report = std::move(refined.report);
+    return std::move(refined.mesh);
   }
 
-  // The light of surface s at a point of a planar surface, straight from its estimator.
-  PointLight LightOnPlane(uint32_t s, Point3 p) const {
-    return LightAt(traced.scene, traced.surfaces, estimators, s, traced.surfaces.surfaces[s].chart.ToUv(p), {}, 1.0f);
+  // The light of surface s at a point of a planar surface, straight from the field.
+  SurfaceLight LightOnPlane(uint32_t s, Point3 p) const {
+    SurfacePoint point;
+    point.surface = s;
+    point.position = p;
+    point.normal = traced.surfaces.surfaces[s].chart.frame.n;
+    point.uv = traced.surfaces.surfaces[s].chart.ToUv(p);
+    return field.Light(point);
   }
 };
 

@@ -75,6 +75,10 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
           },
           "EFFECTS", "effects"))
       ->capture_default_str();
+  app.add_option("--max-bounces", o.maxBounces,
+                 "scattering events a photon may undergo after its first hit; 0 = direct light only; range 0-10000; "
+                 "the default is unlimited in practice (Russian roulette ends paths)")
+      ->capture_default_str();
   app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
                                             "this folder (surface_N.exr; README, 'Irradiance maps')");
   app.add_option("--texel", o.texel, "texel side of --maps [m]; range > 0, typical 0.005-0.05")->capture_default_str();

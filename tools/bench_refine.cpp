@@ -26,18 +26,16 @@ void BM_RefineAdaptive(benchmark::State& state) {
   settings.adaptive = true;
   settings.tolerance = float(state.range(0)) / 1000.0f;
   for (auto _ : state) {
-    pb::RefineReport report;
-    const pb::BakedMesh mesh = Box().Refine(settings, report);
-    Report(state, mesh, report);
+    const pb::RefinedMesh refined = Box().Refine(settings);
+    Report(state, refined.mesh, refined.report);
   }
 }
 BENCHMARK(BM_RefineAdaptive)->Arg(40)->Arg(20)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SubdivideUniform(benchmark::State& state) {
   for (auto _ : state) {
-    pb::RefineReport report;
-    const pb::BakedMesh mesh = Box().Refine({.subdivide = int(state.range(0))}, report);
-    Report(state, mesh, report);
+    const pb::RefinedMesh refined = Box().Refine({.subdivide = int(state.range(0))});
+    Report(state, refined.mesh, refined.report);
   }
 }
 BENCHMARK(BM_SubdivideUniform)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -14,26 +14,21 @@
 #include <atomic>
 #include <optional>
 
+#include "baker/0_prepare_scene.h"
 #include "baker/1_trace_photons.h"
 #include "baker/threads.h"
 #include "estimators/emission.h"
 #include "estimators/lambertian.h"
-#include "mesh/obj_loader.h"
 
 namespace {
 
 std::string g_scenePath = PB_SOURCE_DIR "/data/box/box.obj";
 
-struct Fixture {
-  pb::Scene scene;
-  pb::SurfaceSet surfaces;
-  std::vector<pb::AreaLight> lights;
-  pb::TransportPlan plan;
-  std::optional<pb::RayScene> rays;
-  Fixture()
-      : scene(pb::LoadObj(g_scenePath).scene), surfaces(pb::BuildSurfaces(scene)),
-        lights(pb::CollectLights(scene, surfaces)), plan(pb::PlanTransport(scene, surfaces, lights, {})) {
-    rays.emplace(scene);
+struct Fixture : pb::PreparedScene {
+  Fixture() : pb::PreparedScene(Prepare()) {}
+  static pb::PreparedScene Prepare() {
+    pb::StageClock clock;
+    return pb::PrepareScene(pb::SceneSettings{g_scenePath}, clock);
   }
   static const Fixture& Get() {
     static const Fixture f;
@@ -86,7 +81,7 @@ void BM_TracePhotons(benchmark::State& state) {
   const pb::Log quiet(true);
   uint64_t rays = 0, photons = 0;
   for (auto _ : state) {
-    const pb::PhotonHits hits = pb::TracePhotons(f.scene, f.lights, *f.rays, f.plan, {kPhotons, 7, 10000}, quiet);
+    const pb::PhotonHits hits = pb::TracePhotons(f, {kPhotons, 7}, quiet);
     rays += hits.stats.hits + hits.stats.escaped;
     photons += hits.stats.emitted;
   }
@@ -102,7 +97,7 @@ void BM_TraceEffects(benchmark::State& state) {
       pb::PlanTransport(f.scene, f.surfaces, f.lights, pb::ParseEffectOverrides(state.range(0) ? "all" : "auto"));
   const pb::Log quiet(true);
   uint64_t photons = 0;
-  for (auto _ : state) photons += pb::TracePhotons(f.scene, f.lights, *f.rays, plan, {kPhotons, 7, 10000}, quiet).stats.emitted;
+  for (auto _ : state) photons += pb::TracePhotons(f.scene, f.lights, *f.rays, plan, {kPhotons, 7}, quiet).stats.emitted;
   state.counters["photons/s"] = benchmark::Counter(double(photons), benchmark::Counter::kIsRate);
 }
 

@@ -5,33 +5,30 @@
 
 #include <cmath>
 
-#include "baker/1_trace_photons.h"
 #include "baker/2_bin_photons.h"
-#include "baker/3_estimate_irradiance.h"
-#include "mesh/obj_loader.h"
+#include "baker/3_irradiance_field.h"
 #include "mesh/split_mesh.h"
 #include "tests/lambert.h"
 #include "tests/test_scenes.h"
+#include "tests/traced_scene.h"
 
 namespace pb {
 namespace {
 
 TEST(AutoBandwidth, LandsWithinAFactorOfTwoOfTheScannedOptimum) {
   const std::string dir = test::TempDirectory("auto-bandwidth");
-  const Scene scene = LoadObj(test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 80)).scene;
-  const SurfaceSet surfaces = BuildSurfaces(scene);
-  const RayScene rays(scene);
+  const test::TracedScene prepared(test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 80));
+  const Scene& scene = prepared.scene;
+  const SurfaceSet& surfaces = prepared.surfaces;
   const Log quiet(true);
-  const std::vector<AreaLight> lights = CollectLights(scene, surfaces);
-  const TransportPlan plan = PlanTransport(scene, surfaces, lights, {});
-  const PhotonHits hits = TracePhotons(scene, lights, rays, plan, {1'000'000, 5, 10000}, quiet);
+  const PhotonHits hits = prepared.Trace(1'000'000, 5);
   const SurfaceBins bins = BinPhotons(surfaces, hits);
-  const SurfaceRegions regions = BuildRegions(surfaces);
+  const SurfaceRegions& regions = prepared.regions;
   const EstimatorSettings settings;
 
   const auto relativeRmse = [&](const std::vector<float>& h) {
-    const BakedMesh baked = EstimateIrradiance(scene, surfaces, BuildEstimators(regions, bins, settings, h),
-                                               SplitBySurface(scene, surfaces), quiet);
+    const IrradianceField field(prepared, std::make_unique<PhotonIrradiance>(prepared, bins, settings, h));
+    const BakedMesh baked = EstimateIrradiance(field, SplitBySurface(scene, surfaces), quiet);
     double sum = 0;
     int n = 0;
     for (size_t v = 0; v < baked.mesh.VertexCount(); ++v) {

@@ -71,7 +71,7 @@ TEST(TransportPlan, BlackReceiversStopAtTheFirstHit) {
   const TransportPlan plan = s.Plan();
   EXPECT_FALSE(plan.On(Effect::kInterreflection));
   EXPECT_NE(plan.Describe(Effect::kInterreflection).find("every surface is black"), std::string::npos);
-  const PhotonHits hits = TracePhotons(s.scene, s.lights, s.rays, plan, {20000, 3, 10000}, Log(true));
+  const PhotonHits hits = TracePhotons(s.scene, s.lights, *s.rays, plan, {20000, 3}, Log(true));
   EXPECT_EQ(hits.stats.diffuseBounces, 0u);
   EXPECT_EQ(hits.stats.hits + hits.stats.escaped, hits.stats.emitted) << "one hit or an escape per photon";
   EXPECT_EQ(hits.stats.absorbed, hits.stats.hits);
@@ -139,7 +139,7 @@ TEST(Effects, MirrorImageMatchesTheClosedForm) {
   ASSERT_TRUE(plan.On(Effect::kReflection));
   ASSERT_TRUE(plan.On(Effect::kCaustics));
   constexpr uint64_t kPhotons = 1'000'000;
-  const PhotonHits hits = TracePhotons(s.scene, s.lights, s.rays, plan, {kPhotons, 21, 10000}, Log(true));
+  const PhotonHits hits = TracePhotons(s.scene, s.lights, *s.rays, plan, {kPhotons, 21}, Log(true));
   EXPECT_GT(hits.stats.mirrorReflections, kPhotons / 4);
   EXPECT_GT(hits.stats.causticHits, 0u);
 
@@ -193,7 +193,7 @@ TEST(Effects, ClosedBoxWithGlassSphereConservesEnergy) {
   const TransportPlan plan = s.Plan();
   ASSERT_TRUE(plan.On(Effect::kRefraction));
   constexpr uint64_t kPhotons = 1'000'000;
-  const PhotonHits hits = TracePhotons(s.scene, s.lights, s.rays, plan, {kPhotons, 8, 10000}, Log(true));
+  const PhotonHits hits = TracePhotons(s.scene, s.lights, *s.rays, plan, {kPhotons, 8}, Log(true));
   const TraceStats& t = hits.stats;
   EXPECT_GT(t.refractions, kPhotons / 20);
   EXPECT_GT(t.fresnelReflections, 0u);

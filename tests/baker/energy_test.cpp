@@ -6,6 +6,8 @@
 // - No photon escapes a closed box: a leak through a corner would show here (bound stated below).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "baker/bake.h"
 #include "tests/test_scenes.h"
 
@@ -30,6 +32,33 @@ TEST(Energy, ClosedBoxAbsorbsWhatItEmits) {
   EXPECT_EQ(r.trace.truncated, 0u);
   // Every photon ends by absorption or escape.
   EXPECT_EQ(r.trace.absorbed + r.trace.escaped, r.trace.emitted);
+}
+
+// --max-bounces N: in a closed box whose every surface (the light too) has albedo rho, survival = rho keeps each
+// hit's flux at Phi / n, and the flux that reaches surfaces is Phi (1 + rho + ... + rho^N): the stored hits per
+// photon are (1 - rho^(N+1)) / (1 - rho). Per photon their count is a geometric variable cut at N + 1, of variance
+// at most rho / (1 - rho)^2; the bound is 5 sigma of the mean. The cut photons' flux joins the forbidden flux, so
+// emitted = absorbed + escaped + forbidden still holds.
+TEST(Energy, BounceLimitStoresTheTruncatedNeumannSeries) {
+  const std::string dir = test::TempDirectory("energy-bounces");
+  const double rho = 0.5;
+  BakeOptions o;
+  o.scenePath = test::WriteClosedBox(dir, 1.0f, float(rho), 0.2f, 10.0f);
+  o.outputPath = dir + "/out.ply";
+  o.photons = 200'000;
+  const double sigma = std::sqrt(rho / ((1 - rho) * (1 - rho)) / double(o.photons));
+  for (uint32_t bounces : {0u, 1u, 3u, kDefaultMaxBounces}) {
+    o.maxBounces = bounces;
+    const BakeReport r = Bake(o, Log(true));
+    const double expected = (1 - std::pow(rho, bounces + 1.0)) / (1 - rho);
+    EXPECT_NEAR(double(r.trace.hits) / double(r.trace.emitted), expected, 5 * sigma) << bounces << " bounces";
+    const TraceStats& t = r.trace;
+    const double balanceSigma = std::sqrt(rho / ((1 - rho) * double(o.photons)));  // the absorbed tally's, above
+    EXPECT_NEAR((t.powerAbsorbed.g + t.powerEscaped.g + t.powerForbidden.g) / t.powerEmitted.g, 1.0, 5 * balanceSigma)
+        << bounces << " bounces";
+    if (bounces < 3) EXPECT_GT(t.truncated, 0u);
+    if (bounces == kDefaultMaxBounces) EXPECT_EQ(t.truncated, 0u);
+  }
 }
 
 TEST(Energy, PhotonsSplitAcrossLightsInProportionToPower) {

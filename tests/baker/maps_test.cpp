@@ -3,13 +3,13 @@
 #include <gtest/gtest.h>
 
 #include "baker/2_bin_photons.h"
-#include "baker/3_estimate_irradiance.h"
+#include "baker/3_irradiance_field.h"
 #include "baker/bake.h"
 #include "baker/image_io.h"
 #include "mesh/errors.h"
 #include "mesh/obj_loader.h"
 #include "tests/test_scenes.h"
-#include "tests/traced_scene.h"
+#include "tests/staged_bake.h"
 
 namespace pb {
 namespace {
@@ -41,9 +41,8 @@ TEST(IrradianceMaps, RoundTripMatchesTheEstimatorAtTexelCentres) {
   const test::TracedScene traced(o.scenePath);
   const PhotonHits hits = traced.Trace(o.photons, o.seed, o.maxBounces);
   const SurfaceBins bins = BinPhotons(traced.surfaces, hits);
-  const SurfaceRegions regions = BuildRegions(traced.surfaces);
-  const SurfaceEstimators estimators =
-      BuildEstimators(regions, bins, o.estimator, SurfaceBandwidths(regions, bins, o.estimator, false));
+  const SurfaceRegions& regions = traced.regions;
+  const IrradianceField field = test::FieldOf(traced, bins, o.estimator);
 
   const uint32_t floor = 0;  // the floor is written first
   std::vector<std::pair<std::string, std::string>> attributes;
@@ -59,7 +58,7 @@ TEST(IrradianceMaps, RoundTripMatchesTheEstimatorAtTexelCentres) {
   for (int j = 0; j < map.height; ++j)
     for (int i = 0; i < map.width; ++i) {
       const Point2 uv{b.lo.u + (float(i) + 0.5f) * o.texel, b.lo.v + (float(j) + 0.5f) * o.texel};
-      const Rgb expected = estimators[floor]->Estimate(uv);
+      const Rgb expected = field.Photons().ChartDensity(floor, uv);  // a planar chart: per surface area too
       ASSERT_EQ(map.At(i, j).g, expected.g) << i << "," << j;
       sum += map.At(i, j).g;
     }

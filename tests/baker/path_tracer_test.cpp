@@ -26,11 +26,11 @@ struct Fixture : test::TracedScene {
   using TracedScene::TracedScene;
   PhotonMap Photons(uint64_t n, const std::vector<AreaLight>& from) const {
     const TransportPlan plan = PlanTransport(scene, surfaces, from, {});
-    return BuildPhotonMap(scene, TracePhotons(scene, from, rays, plan, {n, 99, 10000}, Log(true)));
+    return BuildPhotonMap(scene, TracePhotons(scene, from, *rays, plan, {n, 99}, Log(true)));
   }
   RenderedImage Render(const PathSettings& s, const PhotonMap* map, const Camera& camera, int size, uint32_t spp,
                        uint64_t seed) const {
-    const PathTracer tracer(scene, rays, map, s);
+    const PathTracer tracer(scene, *rays, map, s);
     return RenderImage(tracer, s, PinholeCamera(camera, size, size), size, size, spp, seed, Log(true));
   }
 };

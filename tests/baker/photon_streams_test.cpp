@@ -52,7 +52,7 @@ PhotonHits ExtendedStore(const test::TracedScene& s, const std::vector<uint64_t>
   PhotonHits store = s.Trace(steps[0], seed);
   ExpectStoreFluxIsLightFlux(s, store);
   for (size_t i = 1; i < steps.size(); ++i) {
-    EXPECT_TRUE(ExtendPhotons(store, s.scene, s.lights, s.rays, s.Plan(), {steps[i], seed, 10'000}, Log(true)));
+    EXPECT_TRUE(ExtendPhotons(store, s, {steps[i], seed}, Log(true)));
     ExpectStoreFluxIsLightFlux(s, store);
   }
   return store;
@@ -86,7 +86,7 @@ TEST(PhotonStreams, AnInterruptedExtensionKeepsAPrefixOfEachStreamAndResumesExac
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
       RequestInterrupt();
     });
-    const bool complete = ExtendPhotons(store, box.scene, box.lights, box.rays, box.Plan(), {1'500'000, 3, 10'000}, Log(true));
+    const bool complete = ExtendPhotons(store, box, {1'500'000, 3}, Log(true));
     ctrlC.join();
     EXPECT_FALSE(complete) << "1.5M photons took under 10 ms";
   }
@@ -101,7 +101,7 @@ TEST(PhotonStreams, AnInterruptedExtensionKeepsAPrefixOfEachStreamAndResumesExac
   EXPECT_EQ(next, store.emitted);
   EXPECT_EQ(hits, store.stats.hits);
   ExpectStoreFluxIsLightFlux(box, store);
-  ASSERT_TRUE(ExtendPhotons(store, box.scene, box.lights, box.rays, box.Plan(), {1'500'000, 3, 10'000}, Log(true)));
+  ASSERT_TRUE(ExtendPhotons(store, box, {1'500'000, 3}, Log(true)));
   ExpectSameStore(store, box.Trace(1'500'000, 3));
 }
 

@@ -72,8 +72,7 @@ BakedMesh UniformMesh(const test::StagedBake& bake, int level) {
   const Scene& scene = bake.traced.scene;
   const SurfaceSet& surfaces = bake.traced.surfaces;
   const HalfEdgeMesh fine = SubdivideUniform(BuildHalfEdgeMesh(scene, surfaces), level);
-  return EstimateIrradiance(scene, surfaces, bake.estimators, ToSplitMesh(fine, scene, surfaces, bake.base.mesh),
-                            Log(true));
+  return EstimateIrradiance(bake.field, ToSplitMesh(fine, scene, surfaces, bake.base.mesh), Log(true));
 }
 
 std::string ShadowScene(const std::string& name) {
@@ -219,8 +218,7 @@ TEST(Refine, ANoisierEstimateThanTheToleranceIsWarnedAbout) {
   for (const auto& [photons, tolerance, warned] : {std::tuple{20'000, 0.01f, true}, std::tuple{2'000'000, 0.03f, false}}) {
     const test::StagedBake bake(obj, photons, {.bandwidth = 0.05f}, kShadowExposure);
     const std::vector<std::string> warnings =
-        NoiseWarnings(bake.traced.scene, bake.traced.surfaces, bake.bins, bake.bandwidths, {.bandwidth = 0.05f},
-                      bake.exposure, tolerance);
+        NoiseWarnings(bake.field, bake.bins, bake.exposure, tolerance);
     EXPECT_EQ(!warnings.empty(), warned) << photons << " photons";
     for (const std::string& w : warnings) EXPECT_NE(w.find("(floor): the estimate's noise"), std::string::npos) << w;
   }

@@ -7,6 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -34,6 +38,62 @@ TEST(BakeCli, HelpDocumentsEveryOptionWithUnits) {
                            "--ascii", "--exposure", "typical", "W/(m^2 sr)", "--refine", "--tolerance",
                            "--max-vertices", "--subdivide"})
     EXPECT_NE(run.output.find(text), std::string::npos) << text << "\n" << run.output;
+}
+
+std::set<std::string> Matches(const std::string& text, const std::regex& pattern, int group) {
+  std::set<std::string> found;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), pattern); it != std::sregex_iterator(); ++it)
+    found.insert((*it)[group]);
+  return found;
+}
+
+std::string Lines(const std::set<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += " " + n;
+  return s;
+}
+
+// Every option the README's table and --help document is one the command line takes, and every option it takes
+// is documented in both. (--max-bounces was once documented in both and refused by the parser.)
+TEST(BakeCli, EveryDocumentedOptionIsACommandLineOption) {
+  const BakeRun help = RunBake("--help");
+  ASSERT_EQ(help.status, 0);
+  // Defined: the option column of --help, "  -o,--output TEXT ..." or "  --h TEXT ...".
+  const std::set<std::string> defined = Matches(help.output, std::regex(R"(\n  (?:-\w,)?(--[a-z][a-z-]*))"), 1);
+  ASSERT_GT(defined.size(), 20u) << help.output;
+  // Mentioned anywhere in --help's text.
+  for (const std::string& name : Matches(help.output, std::regex(R"((--[a-z][a-z-]*))"), 1))
+    EXPECT_TRUE(defined.count(name)) << name << " is mentioned in --help but is not an option";
+  // The README's table of options, in its section "Using `bake`".
+  std::ifstream file(PB_SOURCE_DIR "/README.md");
+  const std::string readme((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const size_t begin = readme.find("## Using `bake`"), end = readme.find("\n## ", begin + 1);
+  ASSERT_NE(begin, std::string::npos);
+  const std::string section = readme.substr(begin, end - begin);
+  std::set<std::string> table = Matches(section, std::regex(R"(\n\| `(?:-\w, )?(--[a-z][a-z-]*))"), 1);
+  table.insert("--help");
+  EXPECT_EQ(table, defined) << "README:" << Lines(table) << "\n--help:" << Lines(defined);
+  for (const std::string& name : Matches(section, std::regex(R"((--[a-z][a-z-]*))"), 1))
+    EXPECT_TRUE(defined.count(name)) << name << " is mentioned in the README's section on bake but is not an option";
+}
+
+// Each numeric option is checked against its documented range before any work is done.
+TEST(BakeCli, OutOfRangeOptionsAreRefusedBeforeAnyWork) {
+  const std::string dir = test::TempDirectory("cli-ranges");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 4, 8);
+  for (const auto& [option, name] : std::vector<std::pair<std::string, std::string>>{
+           {"--h 0", "--h"}, {"--h -1", "--h"}, {"--k 1", "--k"}, {"--photons 0", "--photons"},
+           {"--scale 0", "--scale"}, {"--max-bounces 10001", "--max-bounces"}, {"--exposure 0", "--exposure"},
+           {"--texel 0", "--texel"}, {"--texel 1e-9 --maps " + dir, "--texel"}, {"--tolerance 1", "--tolerance"},
+           {"--subdivide 9", "--subdivide"}, {"--max-vertices 2", "--max-vertices"},
+           {"--target-noise 0", "--target-noise"}, {"--target-noise 0.1 --max-photons 10", "--max-photons"}}) {
+    // 4e8 photons would take minutes: a refusal in moments shows that nothing was traced first.
+    const std::string photons = name == "--photons" ? "" : " --photons 400000000 ";
+    const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply " + photons + option);
+    EXPECT_EQ(run.status, 1) << option << "\n" << run.output;
+    EXPECT_NE(run.output.find(name + ": error:"), std::string::npos) << option << "\n" << run.output;
+    EXPECT_TRUE(NoOutputIn(dir)) << option;
+  }
 }
 
 TEST(BakeCli, BadInputFailsWithFileLineAndLeavesNoOutput) {

@@ -1,0 +1,58 @@
+#include "baker/0_prepare_scene.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include "mesh/errors.h"
+#include "mesh/obj_loader.h"
+
+namespace pb {
+namespace {
+
+std::vector<Triangle2> ChartTriangles(const SurfaceSet& surfaces, const Surface& surface) {
+  std::vector<Triangle2> triangles;
+  triangles.reserve(surface.triangles.size());
+  for (uint32_t t : surface.triangles) triangles.push_back(surfaces.cornerUv[t]);
+  return triangles;
+}
+
+std::string RecentringNote(const Scene& scene) {
+  return fmt::format("{}: note: the scene lies far from the origin; it is traced about ({:.6g}, {:.6g}, {:.6g}) m "
+                     "for float precision, and written back in world coordinates",
+                     scene.path, scene.origin[0], scene.origin[1], scene.origin[2]);
+}
+
+void RequireLight(const Scene& scene, const std::vector<AreaLight>& lights) {
+  if (lights.empty()) throw InputError(scene.path, 0, "scene has no light: no face uses a material with Ke > 0");
+}
+
+}  // namespace
+
+SurfaceRegions BuildRegions(const SurfaceSet& surfaces) {
+  SurfaceRegions regions(surfaces.surfaces.size());
+  tbb::parallel_for(size_t(0), regions.size(), [&](size_t s) {
+    regions[s] = std::make_unique<SurfaceRegion>(ChartTriangles(surfaces, surfaces.surfaces[s]));
+  });
+  return regions;
+}
+
+PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock) {
+  PreparedScene p{std::move(scene)};
+  if (p.scene.Recentred()) p.warnings.push_back(RecentringNote(p.scene));
+  p.surfaces = clock.Time("surfaces", [&] { return BuildSurfaces(p.scene); });
+  p.lights = CollectLights(p.scene, p.surfaces);
+  RequireLight(p.scene, p.lights);
+  p.plan = clock.Time("plan", [&] { return PlanTransport(p.scene, p.surfaces, p.lights, effects); });
+  p.rays = clock.Time("bvh", [&] { return std::make_unique<RayScene>(p.scene); });
+  p.regions = clock.Time("regions", [&] { return BuildRegions(p.surfaces); });
+  return p;
+}
+
+PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock) {
+  LoadedScene loaded = clock.Time("load", [&] { return LoadObj(settings.path, {settings.scale}); });
+  PreparedScene p = PrepareScene(std::move(loaded.scene), settings.effects, clock);
+  p.warnings.insert(p.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
+  return p;
+}
+
+}  // namespace pb

@@ -1,0 +1,111 @@
+#include "baker/3_irradiance_field.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "estimators/bandwidth.h"
+
+namespace pb {
+
+std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
+                                     const EstimatorSettings& settings, bool automatic) {
+  std::vector<float> h(regions.size(), settings.bandwidth);
+  if (!automatic) return h;
+  tbb::parallel_for(size_t(0), regions.size(), [&](size_t s) {
+    h[s] = ChooseBandwidth(settings.kind, settings.kernel, *regions[s], bins.Uv(s), bins.Power(s));
+  });
+  return h;
+}
+
+PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins,
+                                   const EstimatorSettings& settings, std::vector<float> bandwidths)
+    : settings_(settings), bandwidths_(std::move(bandwidths)), estimators_(bins.SurfaceCount()) {
+  tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
+    EstimatorSettings own = settings;
+    own.bandwidth = bandwidths_[s];
+    estimators_[s] = MakeDensityEstimator(own, *scene.regions[s], bins.Uv(s), bins.Power(s));
+  });
+}
+
+IrradianceSample PhotonIrradiance::WithNoise(const SurfacePoint& p) const {
+  const DensityEstimator::WithNoise e = estimators_[p.surface]->EstimateWithNoise(p.uv);
+  return {PerSurfaceArea(e.irradiance, p), e.relativeNoise};
+}
+
+double PhotonIrradiance::UniformNoise(uint32_t s, uint64_t hits, double area) const {
+  EstimatorSettings own = settings_;
+  own.bandwidth = bandwidths_[s];
+  return UniformRelativeNoise(own, double(hits) / area);
+}
+
+IrradianceField::IrradianceField(const PreparedScene& scene, std::unique_ptr<PhotonIrradiance> photons)
+    : scene_(&scene), photons_(photons.get()) {
+  contributions_.push_back(std::move(photons));
+}
+
+Rgb IrradianceField::Irradiance(const SurfacePoint& p) const {
+  Rgb sum = contributions_.front()->At(p);
+  for (size_t i = 1; i < contributions_.size(); ++i) sum = sum + contributions_[i]->At(p);
+  return sum;
+}
+
+SurfaceLight IrradianceField::LightWith(const SurfacePoint& p, Rgb irradiance) const {
+  const Material& material = scene_->scene.materials[scene_->surfaces.surfaces[p.surface].material];
+  return {irradiance, scene_->scene.AlbedoAtTexcoord(material, p.texcoord), material.emission};
+}
+
+SurfaceLight IrradianceField::Light(const SurfacePoint& p) const { return LightWith(p, Irradiance(p)); }
+
+SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
+  // Independent contributions: their variances add, sigma_i = relative noise_i x luminance_i.
+  IrradianceSample total = contributions_.front()->WithNoise(p);
+  if (contributions_.size() > 1) {
+    double variance = std::pow(total.relativeNoise * Luminance(total.irradiance), 2);
+    for (size_t i = 1; i < contributions_.size(); ++i) {
+      const IrradianceSample c = contributions_[i]->WithNoise(p);
+      total.irradiance = total.irradiance + c.irradiance;
+      variance += std::pow(c.relativeNoise * Luminance(c.irradiance), 2);
+    }
+    const double mean = Luminance(total.irradiance);
+    total.relativeNoise = mean > 0 ? std::sqrt(variance) / mean : 0.0;
+  }
+  SurfaceLight light = LightWith(p, total.irradiance);
+  light.relativeNoise = total.relativeNoise;
+  return light;
+}
+
+IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins,
+                                     const EstimatorSettings& settings, bool automaticBandwidth, StageClock& clock) {
+  std::vector<float> bandwidths =
+      clock.Time("bandwidth", [&] { return SurfaceBandwidths(scene.regions, bins, settings, automaticBandwidth); });
+  return clock.Time("estimators", [&] {
+    return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, settings, std::move(bandwidths)));
+  });
+}
+
+BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise) {
+  BakedMesh baked;
+  const size_t n = mesh.VertexCount();
+  baked.irradiance.resize(n);
+  baked.albedo.resize(n);
+  baked.emitted.resize(n);
+  if (withNoise) baked.irradianceNoise.assign(n, 0.0);
+  Progress progress(log, "estimate irradiance", n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t v = r.begin(); v != r.end(); ++v) {
+      const SurfacePoint p = mesh.Point(v);
+      const SurfaceLight light = withNoise ? field.LightWithNoise(p) : field.Light(p);
+      baked.irradiance[v] = light.irradiance;
+      baked.albedo[v] = light.albedo;
+      baked.emitted[v] = light.emitted;
+      if (withNoise) baked.irradianceNoise[v] = light.relativeNoise;
+    }
+    progress.Advance(r.size());
+  });
+  baked.mesh = std::move(mesh);
+  return baked;
+}
+
+}  // namespace pb

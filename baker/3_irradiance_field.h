@@ -1,0 +1,118 @@
+// Stage 3: the irradiance field, what the estimate hands on. It answers, for any point of any surface
+// (mesh/split_mesh.h, SurfacePoint), the light there:
+//   H  irradiance [W/m^2] per unit surface area, the sum of the field's contributions;
+//   R  diffuse reflectance (Kd, times its texture at the point), dimensionless;
+//   Le emitted radiance [W/(m^2 sr)];
+//   L = Le + R H / pi [W/(m^2 sr)], the radiance a viewer sees;
+//   the predicted relative noise of H's luminance (sigma / mean, dimensionless; the smoothing bias is not in it).
+// Vertices, refinement, maps, noise warnings and --target-noise all ask the field; nothing else converts a photon
+// density in a chart to irradiance per unit surface area (PerSurfaceArea, below).
+//
+// Today H has one contribution: the photons' density estimate on the point's own surface (kernel, histogram or k
+// nearest; estimators/density_estimator.h), with its own bandwidth h [m] per surface. The field is a sum so that
+// other contributions join it as they come (direct light sampled at the point, with the photons then carrying only
+// the rest); their noises add in variance.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "baker/0_prepare_scene.h"
+#include "baker/2_bin_photons.h"
+#include "baker/baked_mesh.h"
+#include "baker/progress.h"
+#include "baker/stage_clock.h"
+#include "estimators/density_estimator.h"
+#include "mesh/split_mesh.h"
+
+namespace pb {
+
+// A density per unit (u,v) area of p's chart, as a density per unit surface area: times the chart's local area
+// ratio at p (exactly 1 on planar charts). The one place this conversion is made.
+inline Rgb PerSurfaceArea(Rgb perChartArea, const SurfacePoint& p) { return perChartArea * p.areaRatio; }
+
+// One term of H at a surface point: its irradiance [W/m^2] and the relative noise of its luminance.
+struct IrradianceSample {
+  Rgb irradiance;
+  double relativeNoise = 0;
+};
+
+class IrradianceContribution {
+ public:
+  virtual ~IrradianceContribution() = default;
+  virtual std::string_view Name() const = 0;
+  virtual Rgb At(const SurfacePoint& p) const = 0;
+  // The same irradiance as At(p), bit for bit, and its predicted noise.
+  virtual IrradianceSample WithNoise(const SurfacePoint& p) const = 0;
+};
+
+// h per surface [m]: settings.bandwidth everywhere, or, when `automatic`, chosen per surface from its photons.
+std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
+                                     const EstimatorSettings& settings, bool automatic);
+
+// The photons' contribution: on each surface, the density estimate of the photons binned on its front side
+// (stage 2), with that surface's h, edge-corrected over its region. Estimators are built in parallel; they copy
+// the photons and refer to the prepared scene's regions.
+class PhotonIrradiance final : public IrradianceContribution {
+ public:
+  PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings,
+                   std::vector<float> bandwidths);
+  std::string_view Name() const override { return "photons"; }
+  Rgb At(const SurfacePoint& p) const override { return PerSurfaceArea(ChartDensity(p.surface, p.uv), p); }
+  IrradianceSample WithNoise(const SurfacePoint& p) const override;
+
+  // The estimate on surface s at chart position uv, per unit chart area [W/m^2 of (u,v)].
+  Rgb ChartDensity(uint32_t s, Point2 uv) const { return estimators_[s]->Estimate(uv); }
+  float Bandwidth(uint32_t s) const { return bandwidths_[s]; }
+  const std::vector<float>& Bandwidths() const { return bandwidths_; }
+  // The relative noise of an estimate on surface s if its `hits` photons, of equal flux, were spread evenly
+  // over its `area` [m^2] (estimators/density_estimator.h, UniformRelativeNoise).
+  double UniformNoise(uint32_t s, uint64_t hits, double area) const;
+
+ private:
+  EstimatorSettings settings_;
+  std::vector<float> bandwidths_;
+  std::vector<std::unique_ptr<DensityEstimator>> estimators_;
+};
+
+// The light at a point: H, R, Le and the relative noise of H (0 unless asked for).
+struct SurfaceLight {
+  Rgb irradiance, albedo, emitted;
+  double relativeNoise = 0;
+  Rgb Radiance() const { return OutgoingRadiance(emitted, albedo, irradiance); }
+};
+
+class IrradianceField {
+ public:
+  // `scene` must outlive the field.
+  IrradianceField(const PreparedScene& scene, std::unique_ptr<PhotonIrradiance> photons);
+
+  Rgb Irradiance(const SurfacePoint& p) const;
+  SurfaceLight Light(const SurfacePoint& p) const;
+  // The same light, bit for bit, with the noise of H.
+  SurfaceLight LightWithNoise(const SurfacePoint& p) const;
+  // R and Le at p with H given (refinement's cached irradiance grid).
+  SurfaceLight LightWith(const SurfacePoint& p, Rgb irradiance) const;
+
+  const PhotonIrradiance& Photons() const { return *photons_; }
+  // The scale below which H has no detail, on surface s [m]: its photon bandwidth.
+  float Bandwidth(uint32_t s) const { return photons_->Bandwidth(s); }
+  const PreparedScene& Prepared() const { return *scene_; }
+
+ private:
+  const PreparedScene* scene_;
+  const PhotonIrradiance* photons_;
+  std::vector<std::unique_ptr<IrradianceContribution>> contributions_;  // photons first
+};
+
+// The field of the photons in `bins`: bandwidths ("bandwidth") and estimators ("estimators") timed on `clock`.
+IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins,
+                                     const EstimatorSettings& settings, bool automaticBandwidth, StageClock& clock);
+
+// H, R and Le at every vertex of `mesh`, in parallel; with `withNoise`, also each vertex's relative noise
+// (BakedMesh::irradianceNoise), from the same queries: H is the same bit for bit either way.
+BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise = false);
+
+}  // namespace pb

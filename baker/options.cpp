@@ -1,0 +1,52 @@
+#include "baker/options.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "baker/0_plan_transport.h"
+#include "mesh/errors.h"
+
+namespace pb {
+namespace {
+
+bool FinitePositive(double x) { return x > 0 && std::isfinite(x); }
+
+void Require(bool ok, const char* option, const std::string& rule) {
+  if (!ok) throw InputError(option, 0, rule);
+}
+
+// knn's noise does not fall with more photons (estimators/density_estimator.h, UniformRelativeNoise): a target
+// below it can never be met.
+void RequireReachableNoise(const EstimatorSettings& e, float target) {
+  if (e.kind != EstimatorKind::kNearest) return;
+  const double floor = UniformRelativeNoise(e, INFINITY);
+  if (target >= floor) return;
+  throw InputError("--target-noise", 0,
+                   fmt::format("knn's noise is 1/sqrt(k - 2) = {:.3f} for --k {}, whatever the photon count: raise "
+                               "--k to {} or more, or use the kernel estimator",
+                               floor, e.neighbours, uint32_t(std::ceil(2 + 1 / (double(target) * target)))));
+}
+
+}  // namespace
+
+void BakeOptions::Validate() const {
+  Require(FinitePositive(estimator.bandwidth), "--h", "must be a finite length > 0 m");
+  Require(estimator.neighbours >= 2, "--k", "must be at least 2");
+  Require(photons >= 1 && photons <= (uint64_t(1) << 40), "--photons", "must lie in [1, 2^40]");
+  Require(FinitePositive(scale), "--scale", "must be a finite number > 0");
+  Require(maxBounces <= kDefaultMaxBounces, "--max-bounces", fmt::format("must lie in [0, {}]", kDefaultMaxBounces));
+  Require(!exposure || FinitePositive(*exposure), "--exposure", "must be a finite number > 0");
+  Require(FinitePositive(texel), "--texel", "must be a finite length > 0 m");
+  Require(refine.tolerance > 0 && refine.tolerance < 1, "--tolerance", "must lie in (0, 1)");
+  Require(refine.subdivide >= 0 && refine.subdivide <= 8, "--subdivide", "must lie in [0, 8]");
+  Require(refine.maxVertices >= 3, "--max-vertices", "must be at least 3");
+  Require(!targetNoise || (*targetNoise > 0 && *targetNoise < 1), "--target-noise", "must lie in (0, 1)");
+  Require(!targetNoise || maxPhotons >= photons, "--max-photons",
+          "must be at least --photons, the first round of --target-noise");
+  Require(maxPhotons <= (uint64_t(1) << 40), "--max-photons", "must be at most 2^40");
+  if (targetNoise) RequireReachableNoise(estimator, *targetNoise);
+  ParseEffectOverrides(effectsText);
+}
+
+}  // namespace pb
