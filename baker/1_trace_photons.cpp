@@ -30,63 +30,63 @@ class PhotonTracer {
       : scene_(scene), rays_(rays), maxBounces_(maxBounces), reflection_(plan.On(Effect::kReflection)),
         refraction_(plan.On(Effect::kRefraction)), caustics_(plan.On(Effect::kCaustics)) {}
 
-  // Traces one photon from `light`, appending its hits to `block`. `power` is its attenuation: 1 at emission.
+  // Traces one photon from `light`, appending its hits to `block`. `attenuation` is the fraction of its flux it still carries: 1 at emission.
   void Trace(const AreaLight& light, Rng& rng, Block& block) const {
-    Rgb power{1, 1, 1};
+    Rgb attenuation{1, 1, 1};
     const EmissionSample e = SampleEmission(scene_, light, rng);
-    block.stats.powerEmitted.Add(power);
+    block.stats.fluxEmitted.Add(attenuation);
     ++block.stats.emitted;
     Point3 origin = rays_.SpawnPoint(e.position, e.normal);
     Vector3 direction = e.direction;
     bool afterSpecular = false;
     for (uint32_t bounce = 0; bounce <= maxBounces_; ++bounce) {
       const auto hit = rays_.Intersect(origin, direction);
-      if (!hit) return Escape(power, block.stats);
+      if (!hit) return Escape(attenuation, block.stats);
       const Normal3 front = scene_.FrontNormal(hit->triangle);
       const bool onFront = Dot(direction, front) < 0;
       const Normal3 side = onFront ? front : -front;  // the side the photon arrived on
       const Material& material = scene_.MaterialOf(hit->triangle);
       if (kSpecular && afterSpecular && !material.IsSpecular()) {
-        if (!caustics_) return Forbid(power, block.stats);
+        if (!caustics_) return Forbid(attenuation, block.stats);
         ++block.stats.causticHits;
       }
-      block.hits.emplace_back(power, -direction, hit->triangle, onFront, hit->b1, hit->b2);
+      block.hits.emplace_back(attenuation, -direction, hit->triangle, onFront, hit->b1, hit->b2);
       const Rgb albedo = scene_.AlbedoAt(material, hit->triangle, hit->b1, hit->b2);
-      if constexpr (!kInterreflect && !kSpecular) return StopAtFirstSurface(albedo, power, block.stats);
+      if constexpr (!kInterreflect && !kSpecular) return StopAtFirstSurface(albedo, attenuation, block.stats);
       const float uEvent = rng.Uniform();
       const Point2 uDirection = rng.Uniform2();
       const ScatterSample s = kSpecular ? SampleScatter(material, albedo, -direction, front, TransportMode::kImportance,
                                                         uEvent, uDirection)
                                         : ScatterDiffuse(albedo, side, uEvent, uDirection);
-      block.stats.powerAbsorbed.Add(power * s.expectedAbsorbed);
+      block.stats.fluxAbsorbed.Add(attenuation * s.expectedAbsorbed);
       if (s.Absorbed()) {
         ++block.stats.absorbed;
         return;
       }
-      power = power * s.weight;
-      if (!Allowed(s.event)) return Forbid(power, block.stats);
+      attenuation = attenuation * s.weight;
+      if (!Allowed(s.event)) return Forbid(attenuation, block.stats);
       Count(s.event, block.stats);
       origin = rays_.SpawnPoint(scene_.PointAt(hit->triangle, hit->b1, hit->b2), s.transmitted ? -side : side);
       direction = s.wi;
       afterSpecular = s.Specular();
     }
     ++block.stats.truncated;
-    block.stats.powerForbidden.Add(power);
+    block.stats.fluxForbidden.Add(attenuation);
   }
 
  private:
-  static void Escape(Rgb power, TraceStats& stats) {
+  static void Escape(Rgb attenuation, TraceStats& stats) {
     ++stats.escaped;
-    stats.powerEscaped.Add(power);
+    stats.fluxEscaped.Add(attenuation);
   }
-  static void Forbid(Rgb power, TraceStats& stats) {
+  static void Forbid(Rgb attenuation, TraceStats& stats) {
     ++stats.forbidden;
-    stats.powerForbidden.Add(power);
+    stats.fluxForbidden.Add(attenuation);
   }
   // Without interreflection: the absorbed and the forbidden (reflected) parts are tallied in expectation.
-  static void StopAtFirstSurface(Rgb albedo, Rgb power, TraceStats& stats) {
-    stats.powerAbsorbed.Add(power * (Rgb{1, 1, 1} - albedo));
-    stats.powerForbidden.Add(power * albedo);
+  static void StopAtFirstSurface(Rgb albedo, Rgb attenuation, TraceStats& stats) {
+    stats.fluxAbsorbed.Add(attenuation * (Rgb{1, 1, 1} - albedo));
+    stats.fluxForbidden.Add(attenuation * albedo);
     ++(albedo.IsBlack() ? stats.absorbed : stats.forbidden);
   }
   bool Allowed(ScatterEvent event) const {
@@ -127,7 +127,7 @@ struct WorkItem {
   uint64_t from = 0;    // photons [from, range.end) are traced now
 };
 
-std::vector<WorkItem> PlanWork(const PhotonHits& store, const std::vector<uint64_t>& target) {
+std::vector<WorkItem> PlanWork(const PhotonStore& store, const std::vector<uint64_t>& target) {
   std::vector<WorkItem> work;
   size_t next = store.blocks.size();
   for (size_t b = 0; b < store.blocks.size(); ++b) {
@@ -173,7 +173,7 @@ std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<AreaLight>& 
 }
 
 // Moves the store's blocks out, for tracing to continue in them.
-std::vector<Block> TakeBlocks(PhotonHits& store, size_t total) {
+std::vector<Block> TakeBlocks(PhotonStore& store, size_t total) {
   std::vector<Block> blocks(total);
   for (size_t b = 0; b < store.blocks.size(); ++b) {
     blocks[b].hits = std::move(store.blocks[b]);
@@ -184,7 +184,7 @@ std::vector<Block> TakeBlocks(PhotonHits& store, size_t total) {
 
 // Puts the blocks back, ordered by light, then photon, keeping for each light only the traced prefix of its stream
 // (after an interruption, a block traced beyond an untraced one is dropped).
-void StoreBlocks(PhotonHits& store, std::vector<Block>& blocks, const std::vector<WorkItem>& work,
+void StoreBlocks(PhotonStore& store, std::vector<Block>& blocks, const std::vector<WorkItem>& work,
                  const std::vector<bool>& done) {
   std::vector<BlockRange> ranges(store.ranges);
   ranges.resize(blocks.size());
@@ -232,13 +232,13 @@ void TraceStats::Add(const TraceStats& b, Rgb flux) {
     to.g += double(flux.g) * from.g;
     to.b += double(flux.b) * from.b;
   };
-  add(powerEmitted, b.powerEmitted);
-  add(powerAbsorbed, b.powerAbsorbed);
-  add(powerEscaped, b.powerEscaped);
-  add(powerForbidden, b.powerForbidden);
+  add(fluxEmitted, b.fluxEmitted);
+  add(fluxAbsorbed, b.fluxAbsorbed);
+  add(fluxEscaped, b.fluxEscaped);
+  add(fluxForbidden, b.fluxForbidden);
 }
 
-void PhotonHits::Summarise() {
+void PhotonStore::Summarise() {
   std::vector<TraceStats> perLight(emitted.size());
   for (size_t b = 0; b < blocks.size(); ++b)
     perLight[ranges[b].light].Add(blockStats[b]);  // in block order: the sums do not depend on threads
@@ -246,7 +246,7 @@ void PhotonHits::Summarise() {
   for (size_t l = 0; l < emitted.size(); ++l) stats.Add(perLight[l], PhotonFlux(l));
 }
 
-bool ExtendPhotons(PhotonHits& store, const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
+bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
                    const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
   std::vector<uint64_t> target = AllocatePhotons(lights, settings.photons, plan.lightReaches);
   for (size_t l = 0; l < lights.size(); ++l) target[l] = std::max(target[l], store.emitted[l]);
@@ -268,26 +268,26 @@ bool ExtendPhotons(PhotonHits& store, const Scene& scene, const std::vector<Area
   return std::find(done.begin(), done.end(), false) == done.end();
 }
 
-PhotonHits EmptyPhotonStore(const std::vector<AreaLight>& lights) {
-  PhotonHits store;
+PhotonStore EmptyPhotonStore(const std::vector<AreaLight>& lights) {
+  PhotonStore store;
   store.emitted.assign(lights.size(), 0);
   for (const AreaLight& light : lights) store.lightPower.push_back(light.Power());
   store.Summarise();
   return store;
 }
 
-PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
+PhotonStore TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
                         const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
-  PhotonHits store = EmptyPhotonStore(lights);
+  PhotonStore store = EmptyPhotonStore(lights);
   ExtendPhotons(store, scene, lights, rays, plan, settings, log);
   return store;
 }
 
-PhotonHits TracePhotons(const PreparedScene& scene, const TraceSettings& settings, const Log& log) {
+PhotonStore TracePhotons(const PreparedScene& scene, const TraceSettings& settings, const Log& log) {
   return TracePhotons(scene.scene, scene.lights, *scene.rays, scene.plan, settings, log);
 }
 
-bool ExtendPhotons(PhotonHits& store, const PreparedScene& scene, const TraceSettings& settings, const Log& log) {
+bool ExtendPhotons(PhotonStore& store, const PreparedScene& scene, const TraceSettings& settings, const Log& log) {
   return ExtendPhotons(store, scene.scene, scene.lights, *scene.rays, scene.plan, settings, log);
 }
 

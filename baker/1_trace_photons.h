@@ -84,11 +84,11 @@ struct BlockRange {
   bool Full() const { return end - first == kBlockPhotons; }
 };
 
-// What happened to photons. In a block the power sums are in attenuation units (each photon leaves its light
-// carrying 1 per channel); PhotonHits::stats holds them in watts.
+// What happened to photons. In a block the flux sums are in attenuation units (each photon leaves its light
+// carrying 1 per channel); PhotonStore::stats holds them in watts.
 struct TraceStats {
   uint64_t emitted = 0;    // photons leaving lights
-  uint64_t hits = 0;       // PhotonHits stored
+  uint64_t hits = 0;       // PhotonStore stored
   uint64_t absorbed = 0;   // photons ended by Russian roulette
   uint64_t escaped = 0;    // photons that left the scene
   uint64_t forbidden = 0;  // photons dropped because their next event is an effect the plan turned off
@@ -96,19 +96,19 @@ struct TraceStats {
   // Events, by kind. A purely diffuse scene has only diffuse bounces.
   uint64_t diffuseBounces = 0, mirrorReflections = 0, fresnelReflections = 0, refractions = 0;
   uint64_t causticHits = 0;  // hits stored on a diffuse surface right after a specular event (L..S D)
-  RgbSum powerEmitted;       // [W], sum of the photons' initial flux
-  RgbSum powerAbsorbed;      // [W], sum over events of the flux the material absorbs on average
-  RgbSum powerEscaped;       // [W]
-  RgbSum powerForbidden;     // [W], flux dropped by forbidden effects and by the bounce limit
+  RgbSum fluxEmitted;       // [W], sum of the photons' initial flux
+  RgbSum fluxAbsorbed;      // [W], sum over events of the flux the material absorbs on average
+  RgbSum fluxEscaped;       // [W]
+  RgbSum fluxForbidden;     // [W], flux dropped by forbidden effects and by the bounce limit
   uint64_t SpecularEvents() const { return mirrorReflections + fresnelReflections + refractions; }
-  // Adds `block`'s counts, and its power sums times `flux` per channel (1 to add like units).
+  // Adds `block`'s counts, and its flux sums times `flux` per channel (1 to add like units).
   void Add(const TraceStats& block, Rgb flux = {1, 1, 1});
 };
 
 // The photon store: the hits of all photons by attenuation, kept in the per-block arrays they were traced into
 // (no merged copy: merging 10^7 hits cost a zero-filled allocation and a page fault per 4 KiB). Blocks are
 // ordered by light, then by photon.
-struct PhotonHits {
+struct PhotonStore {
   std::vector<HitBlock> blocks;
   std::vector<BlockRange> ranges;       // ranges[b]: the photons of blocks[b]
   std::vector<TraceStats> blockStats;   // blockStats[b]: in attenuation units, summed in photon order
@@ -119,7 +119,7 @@ struct PhotonHits {
   // Phi_l / N_l [W]: the flux of one photon of light l, and of a hit of attenuation 1.
   Rgb PhotonFlux(size_t light) const { return emitted[light] ? lightPower[light] / float(emitted[light]) : Rgb{}; }
 
-  // Visits every hit, in store order, with the flux [W] it brought: visit(const PhotonHit&, Rgb power).
+  // Visits every hit, in store order, with the flux [W] it brought: visit(const PhotonHit&, Rgb flux).
   template <typename F>
   void ForEach(F&& visit) const {
     for (size_t b = 0; b < blocks.size(); ++b) {
@@ -132,20 +132,20 @@ struct PhotonHits {
 };
 
 // A store of no photons for these lights.
-PhotonHits EmptyPhotonStore(const std::vector<AreaLight>& lights);
+PhotonStore EmptyPhotonStore(const std::vector<AreaLight>& lights);
 
 // Traces settings.photons photons into a new store.
-PhotonHits TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
+PhotonStore TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
                         const TransportPlan& plan, const TraceSettings& settings, const Log& log);
 
 // Extends `store` (traced with the same scene, plan, seed and maxBounces) so that each light has emitted
 // max(N_l, its share of settings.photons) photons; Summarise()s it. Stops early, keeping every light's photons a
 // prefix of its stream, when InterruptRequested() (baker/interrupt.h); returns false then.
-bool ExtendPhotons(PhotonHits& store, const Scene& scene, const std::vector<AreaLight>& lights,
+bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<AreaLight>& lights,
                    const RayScene& rays, const TransportPlan& plan, const TraceSettings& settings, const Log& log);
 
 // The same for a prepared scene: its lights, ray scene and plan.
-PhotonHits TracePhotons(const PreparedScene& scene, const TraceSettings& settings, const Log& log);
-bool ExtendPhotons(PhotonHits& store, const PreparedScene& scene, const TraceSettings& settings, const Log& log);
+PhotonStore TracePhotons(const PreparedScene& scene, const TraceSettings& settings, const Log& log);
+bool ExtendPhotons(PhotonStore& store, const PreparedScene& scene, const TraceSettings& settings, const Log& log);
 
 }  // namespace pb

@@ -2,7 +2,7 @@
 
 namespace pb {
 
-SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonHits& hits) {
+SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits) {
   const size_t surfaceCount = surfaces.surfaces.size();
   SurfaceBins bins;
   bins.start.assign(surfaceCount + 1, 0);
@@ -16,13 +16,13 @@ SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonHits& hits) {
   });
   for (size_t s = 1; s <= surfaceCount; ++s) bins.start[s] += bins.start[s - 1];
   bins.uv.resize(bins.start.back());
-  bins.power.resize(bins.start.back());
+  bins.flux.resize(bins.start.back());
   std::vector<uint32_t> cursor(bins.start.begin(), bins.start.end() - 1);
-  hits.ForEach([&](const PhotonHit& hit, Rgb power) {
+  hits.ForEach([&](const PhotonHit& hit, Rgb flux) {
     if (!hit.OnFront()) return;
     const uint32_t slot = cursor[surfaces.surfaceOfTriangle[hit.Triangle()]]++;
     bins.uv[slot] = surfaces.UvAt(hit.Triangle(), hit.b1, hit.b2);
-    bins.power[slot] = power;
+    bins.flux[slot] = flux;
   });
   return bins;
 }

@@ -1,6 +1,10 @@
 // Stage 2: photon hits grouped per surface (the paper's "hits are binned per surface"). Only hits on a
 // surface's front side are kept for estimation: that side is the one the display mesh shows. Hits on back sides
 // are counted per surface. Arrays are structure-of-arrays in surface order: (u,v) [m] and flux [W].
+//
+// Words for a photon's light, used alike in every file: its "attenuation" is the dimensionless fraction of its
+// emitted flux that it still carries (1 at emission); its "flux" [W] is Phi_l / N_l times that; a light's
+// "power" Phi [W] is what all its photons share (AreaLight::Power).
 #pragma once
 
 #include <cstdint>
@@ -14,22 +18,22 @@ namespace pb {
 struct SurfaceBins {
   std::vector<uint32_t> start;  // surface s owns entries [start[s], start[s+1])
   std::vector<Point2> uv;       // chart position [m]
-  std::vector<Rgb> power;       // flux [W]
+  std::vector<Rgb> flux;        // [W]
   std::vector<uint64_t> backHits;  // per surface: hits on its back side, not estimated
 
   size_t SurfaceCount() const { return start.size() - 1; }
   uint64_t FrontHits(size_t s) const { return start[s + 1] - start[s]; }
   std::span<const Point2> Uv(size_t s) const { return {uv.data() + start[s], start[s + 1] - start[s]}; }
-  std::span<const Rgb> Power(size_t s) const { return {power.data() + start[s], start[s + 1] - start[s]}; }
+  std::span<const Rgb> Flux(size_t s) const { return {flux.data() + start[s], start[s + 1] - start[s]}; }
   // The flux [W] that reached surface s's front side, summed in hit order.
   Rgb FrontFlux(size_t s) const {
-    RgbSum flux;
-    for (const Rgb& p : Power(s)) flux.Add(p);
-    return flux.ToRgb();
+    RgbSum sum;
+    for (const Rgb& p : Flux(s)) sum.Add(p);
+    return sum.ToRgb();
   }
 };
 
 // Stable: within a surface, hits keep their trace order, so sums over them are reproducible.
-SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonHits& hits);
+SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits);
 
 }  // namespace pb

@@ -14,7 +14,7 @@ std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const Surfac
   std::vector<float> h(regions.size(), settings.bandwidth);
   if (!automatic) return h;
   tbb::parallel_for(size_t(0), regions.size(), [&](size_t s) {
-    h[s] = ChooseBandwidth(settings.kind, settings.kernel, *regions[s], bins.Uv(s), bins.Power(s));
+    h[s] = ChooseBandwidth(settings.kind, settings.kernel, *regions[s], bins.Uv(s), bins.Flux(s));
   });
   return h;
 }
@@ -25,7 +25,7 @@ PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins
   tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
     EstimatorSettings own = settings;
     own.bandwidth = bandwidths_[s];
-    estimators_[s] = MakeDensityEstimator(own, *scene.regions[s], bins.Uv(s), bins.Power(s));
+    estimators_[s] = MakeDensityEstimator(own, *scene.regions[s], bins.Uv(s), bins.Flux(s));
   });
 }
 

@@ -25,6 +25,7 @@
 #include "baker/progress.h"
 #include "baker/stage_clock.h"
 #include "estimators/density_estimator.h"
+#include "mesh/errors.h"
 #include "mesh/split_mesh.h"
 
 namespace pb {
@@ -64,7 +65,10 @@ class PhotonIrradiance final : public IrradianceContribution {
   IrradianceSample WithNoise(const SurfacePoint& p) const override;
 
   // The estimate on surface s at chart position uv, per unit chart area [W/m^2 of (u,v)].
-  Rgb ChartDensity(uint32_t s, Point2 uv) const { return estimators_[s]->Estimate(uv); }
+  Rgb ChartDensity(uint32_t s, Point2 uv) const {
+    PB_DCHECK_LT(s, estimators_.size());
+    return estimators_[s]->Estimate(uv);
+  }
   float Bandwidth(uint32_t s) const { return bandwidths_[s]; }
   const std::vector<float>& Bandwidths() const { return bandwidths_; }
   // The relative noise of an estimate on surface s if its `hits` photons, of equal flux, were spread evenly

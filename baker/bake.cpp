@@ -64,7 +64,7 @@ std::vector<std::string> BandwidthWarnings(const IrradianceField& field, const S
 
 // Stages 1 to 3: the photons, binned per surface, the irradiance field they give, and the light at every vertex.
 struct Lit {
-  PhotonHits photons;
+  PhotonStore photons;
   SurfaceBins bins;
   std::optional<IrradianceField> field;
   BakedMesh baked;

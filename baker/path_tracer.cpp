@@ -41,7 +41,7 @@ PathTracer::Direction PathTracer::SampleByPhotons(Point3 p, Normal3 side, Rgb al
   for (size_t i = 0; i < found; ++i) {
     const MapPhoton& photon = (*photons_)[scratch.indices[i]];
     if (Dot(photon.normal, side) < kSameSurfaceCosine) continue;  // light that reached another surface
-    map.Add(frame.ToLocal(photon.wi), Luminance(photon.power) * brdf);  // ignored unless in the hemisphere
+    map.Add(frame.ToLocal(photon.wi), Luminance(photon.flux) * brdf);  // ignored unless in the hemisphere
   }
   map.Finish(settings_.floorFraction);
   const ImportanceSample s = map.Sample(u, settings_.warp);

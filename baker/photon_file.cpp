@@ -32,7 +32,7 @@ void VisitStats(Stats& s, F&& field) {
   for (auto* count : {&s.emitted, &s.hits, &s.absorbed, &s.escaped, &s.forbidden, &s.truncated, &s.diffuseBounces,
                       &s.mirrorReflections, &s.fresnelReflections, &s.refractions, &s.causticHits})
     field(*count);
-  for (auto* sum : {&s.powerEmitted, &s.powerAbsorbed, &s.powerEscaped, &s.powerForbidden}) {
+  for (auto* sum : {&s.fluxEmitted, &s.fluxAbsorbed, &s.fluxEscaped, &s.fluxForbidden}) {
     field(sum->r);
     field(sum->g);
     field(sum->b);
@@ -100,7 +100,7 @@ struct Header {
   uint32_t lights = 0, blocks = 0;
 };
 
-void WriteHeader(Writer& w, const PhotonOrigin& o, const PhotonHits& store) {
+void WriteHeader(Writer& w, const PhotonOrigin& o, const PhotonStore& store) {
   w.Bytes(kMagic, sizeof kMagic);
   w.Put(kVersion);
   w.Put(uint32_t(sizeof(PhotonHit)));
@@ -159,7 +159,7 @@ void CheckOrigin(const std::string& path, const PhotonOrigin& file, const Photon
 
 // Each light's blocks cover photons [0, N_l) of its stream, in order: a file that passed its CRC but not this was
 // not written by WritePhotonFile.
-void CheckBlocks(const std::string& path, const PhotonHits& store) {
+void CheckBlocks(const std::string& path, const PhotonStore& store) {
   std::vector<uint64_t> next(store.emitted.size(), 0);
   uint32_t previousLight = 0;
   for (const BlockRange& r : store.ranges) {
@@ -207,7 +207,7 @@ uint32_t SimulatedEffects(const TransportPlan& plan) {
   return bits;
 }
 
-void WritePhotonFile(const std::string& path, const PhotonHits& store, const PhotonOrigin& origin) {
+void WritePhotonFile(const std::string& path, const PhotonStore& store, const PhotonOrigin& origin) {
   WriteFileAtomically(path, [&](std::ostream& out) {
     Writer w(out);
     WriteHeader(w, origin, store);
@@ -227,13 +227,13 @@ void WritePhotonFile(const std::string& path, const PhotonHits& store, const Pho
   });
 }
 
-PhotonHits ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower) {
+PhotonStore ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open photon file: " + std::string(std::strerror(errno)));
   Reader r(in, path);
   const Header h = ReadHeader(r, path);
   if (h.lights > (1u << 20) || h.blocks > (1u << 30)) throw InputError(path, 0, "photon file is corrupt: implausible header");
-  PhotonHits store;
+  PhotonStore store;
   store.lightPower.resize(h.lights);
   store.emitted.resize(h.lights);
   for (uint32_t l = 0; l < h.lights; ++l) {

@@ -34,9 +34,9 @@ uint32_t SceneHash(const Scene& scene);
 // Bit e set when the plan simulates Effect e.
 uint32_t SimulatedEffects(const TransportPlan& plan);
 
-void WritePhotonFile(const std::string& path, const PhotonHits& store, const PhotonOrigin& origin);
+void WritePhotonFile(const std::string& path, const PhotonStore& store, const PhotonOrigin& origin);
 
 // The store in `path`, after every check above; `lightPower` is this scene's Phi_l, one per light.
-PhotonHits ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower);
+PhotonStore ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower);
 
 }  // namespace pb

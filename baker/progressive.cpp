@@ -44,17 +44,17 @@ double WeightedPercentile(const std::vector<double>& noise, const std::vector<do
 
 }  // namespace
 
-PhotonHits OpenPhotonStore(const BakeOptions& o, const PreparedScene& scene, ProgressiveReport& report) {
+PhotonStore OpenPhotonStore(const BakeOptions& o, const PreparedScene& scene, ProgressiveReport& report) {
   report.target = o.targetNoise;
-  PhotonHits empty = EmptyPhotonStore(scene.lights);
+  PhotonStore empty = EmptyPhotonStore(scene.lights);
   if (o.resumePath.empty()) return empty;
-  PhotonHits store = ReadPhotonFile(o.resumePath, OriginOf(o, scene), empty.lightPower);
+  PhotonStore store = ReadPhotonFile(o.resumePath, OriginOf(o, scene), empty.lightPower);
   report.resumedFrom = o.resumePath;
   report.resumedPhotons = store.stats.emitted;
   return store;
 }
 
-void GrowPhotonStore(PhotonHits& store, uint64_t photons, const BakeOptions& o, const PreparedScene& scene,
+void GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& o, const PreparedScene& scene,
                      ProgressiveReport& report, const Log& log) {
   if (!ExtendPhotons(store, scene, {photons, o.seed, o.maxBounces}, log)) {
     report.interrupted = true;
@@ -63,7 +63,7 @@ void GrowPhotonStore(PhotonHits& store, uint64_t photons, const BakeOptions& o, 
   }
 }
 
-void SavePhotonStore(const PhotonHits& store, const BakeOptions& o, const PreparedScene& scene,
+void SavePhotonStore(const PhotonStore& store, const BakeOptions& o, const PreparedScene& scene,
                      ProgressiveReport& report) {
   if (o.savePhotonsPath.empty()) return;
   WritePhotonFile(o.savePhotonsPath, store, OriginOf(o, scene));

@@ -43,12 +43,12 @@ struct ProgressiveReport {
 };
 
 // An empty store for the scene's lights, or --resume's (every check of baker/photon_file.h passed).
-PhotonHits OpenPhotonStore(const BakeOptions& options, const PreparedScene& scene, ProgressiveReport& report);
+PhotonStore OpenPhotonStore(const BakeOptions& options, const PreparedScene& scene, ProgressiveReport& report);
 // Grows the store to `photons` over all lights (counts never shrink); notes an interruption in the report.
-void GrowPhotonStore(PhotonHits& store, uint64_t photons, const BakeOptions& options, const PreparedScene& scene,
+void GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& options, const PreparedScene& scene,
                      ProgressiveReport& report, const Log& log);
 // Writes --save-photons, when given.
-void SavePhotonStore(const PhotonHits& store, const BakeOptions& options, const PreparedScene& scene,
+void SavePhotonStore(const PhotonStore& store, const BakeOptions& options, const PreparedScene& scene,
                      ProgressiveReport& report);
 
 // The bake's noise: the weighted 95th percentile above, from each vertex's sigma_H / H (BakedMesh::irradianceNoise,

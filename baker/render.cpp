@@ -116,12 +116,12 @@ void WriteRenderReport(const std::string& path, const RenderReport& r) {
 
 }  // namespace
 
-PhotonMap BuildPhotonMap(const Scene& scene, const PhotonHits& hits) {
+PhotonMap BuildPhotonMap(const Scene& scene, const PhotonStore& hits) {
   std::vector<MapPhoton> photons;
   photons.reserve(hits.stats.hits);
-  hits.ForEach([&](const PhotonHit& h, Rgb power) {
+  hits.ForEach([&](const PhotonHit& h, Rgb flux) {
     const Normal3 front = scene.FrontNormal(h.Triangle());
-    photons.push_back({scene.PointAt(h.Triangle(), h.b1, h.b2), h.Wi(), power, h.OnFront() ? front : -front});
+    photons.push_back({scene.PointAt(h.Triangle(), h.b1, h.b2), h.Wi(), flux, h.OnFront() ? front : -front});
   });
   return PhotonMap(std::move(photons));
 }
@@ -166,7 +166,7 @@ RenderReport Render(const RenderOptions& o, const Log& log) {
   cameraData = InLocalCoordinates(cameraData, scene.scene);
   std::optional<PhotonMap> photonMap;
   if (o.path.sampling == DirectionSampling::kPhotons) {
-    const PhotonHits hits = clock.Time("trace photons", [&] {
+    const PhotonStore hits = clock.Time("trace photons", [&] {
       return TracePhotons(scene, {o.photons, o.seed, kDefaultMaxBounces}, log);
     });
     photonMap.emplace(clock.Time("photon map", [&] { return BuildPhotonMap(scene.scene, hits); }));

@@ -54,7 +54,7 @@ struct RenderReport {
 };
 
 // The photon map of every stored hit: its world position, incoming direction and flux.
-PhotonMap BuildPhotonMap(const Scene& scene, const PhotonHits& hits);
+PhotonMap BuildPhotonMap(const Scene& scene, const PhotonStore& hits);
 
 // Renders `spp` samples per pixel with `tracer`; pixel i draws from Rng(SplitMix64(seed ^ c), i), a family of
 // streams apart from the photons' Rng(seed, i).

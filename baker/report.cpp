@@ -69,10 +69,10 @@ nlohmann::json TraceJson(const TraceStats& t) {
                       {"caustic_hits", t.causticHits}}},
           {"record_bytes", sizeof(PhotonHit)},
           {"store_bytes", t.hits * sizeof(PhotonHit)},
-          {"power_emitted_W", Json(t.powerEmitted)},
-          {"power_absorbed_W", Json(t.powerAbsorbed)},
-          {"power_escaped_W", Json(t.powerEscaped)},
-          {"power_forbidden_W", Json(t.powerForbidden)}};
+          {"power_emitted_W", Json(t.fluxEmitted)},
+          {"power_absorbed_W", Json(t.fluxAbsorbed)},
+          {"power_escaped_W", Json(t.fluxEscaped)},
+          {"power_forbidden_W", Json(t.fluxForbidden)}};
 }
 
 // The chart counts, then one row per surface, up to kRows rows.
@@ -188,11 +188,11 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   s += fmt::format("  events    {} diffuse, {} mirror, {} Fresnel reflections, {} refractions; {} caustic hits\n",
                    t.diffuseBounces, t.mirrorReflections, t.fresnelReflections, t.refractions, t.causticHits);
   s += fmt::format("  store     {} B per hit, {:.1f} MiB\n", sizeof(PhotonHit), t.hits * sizeof(PhotonHit) / 1048576.0);
-  const double out = t.powerAbsorbed.Mean() + t.powerEscaped.Mean() + t.powerForbidden.Mean();
-  const double balance = t.powerEmitted.Mean() > 0 ? out / t.powerEmitted.Mean() - 1.0 : 0.0;
+  const double out = t.fluxAbsorbed.Mean() + t.fluxEscaped.Mean() + t.fluxForbidden.Mean();
+  const double balance = t.fluxEmitted.Mean() > 0 ? out / t.fluxEmitted.Mean() - 1.0 : 0.0;
   s += fmt::format("  flux      emitted {:.5g} W = absorbed {:.5g} W + escaped {:.5g} W + forbidden {:.5g} W"
-                   "  (balance {:+.3f}%)\n", t.powerEmitted.Mean(), t.powerAbsorbed.Mean(), t.powerEscaped.Mean(),
-                   t.powerForbidden.Mean(), 100.0 * balance);
+                   "  (balance {:+.3f}%)\n", t.fluxEmitted.Mean(), t.fluxAbsorbed.Mean(), t.fluxEscaped.Mean(),
+                   t.fluxForbidden.Mean(), 100.0 * balance);
   s += ProgressiveLines(r.progressive, t.emitted);
   s += SurfaceTable(r);
   s += "  seconds  ";

@@ -66,7 +66,7 @@ struct BakeResults {
   const BakeOptions& options;
   unsigned threads;
   const PreparedScene& scene;
-  const PhotonHits& photons;
+  const PhotonStore& photons;
   const SurfaceBins& bins;
   const IrradianceField& field;
   const BakedMesh& mesh;  // the written mesh

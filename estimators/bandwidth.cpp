@@ -21,7 +21,7 @@ struct Pilot {
   double H(int i, int j) const { return flux[Index(i, j)] / area[Index(i, j)]; }
 };
 
-Pilot BuildPilot(const SurfaceRegion& region, std::span<const Point2> uv, std::span<const Rgb> power) {
+Pilot BuildPilot(const SurfaceRegion& region, std::span<const Point2> uv, std::span<const Rgb> flux) {
   Pilot p;
   const Bounds2& b = region.Bounds();
   p.side = std::max(double(b.hi.u) - b.lo.u, double(b.hi.v) - b.lo.v);
@@ -32,7 +32,7 @@ Pilot BuildPilot(const SurfaceRegion& region, std::span<const Point2> uv, std::s
   const auto cellOf = [&](float c, float lo) { return std::clamp(int((c - lo) / p.side), 0, p.n - 1); };
   for (size_t k = 0; k < uv.size(); ++k) {
     const int c = p.Index(cellOf(uv[k].u, b.lo.u), cellOf(uv[k].v, b.lo.v));
-    const double phi = Luminance(power[k]);
+    const double phi = Luminance(flux[k]);
     p.flux[c] += phi, p.flux2[c] += phi * phi;
   }
   p.area = region.GridOverlapAreas(b.lo, float(p.side), p.n, p.n);
@@ -71,13 +71,13 @@ PilotIntegrals Integrate(const Pilot& p, double surfaceArea) {
 }  // namespace
 
 float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
-                      std::span<const Rgb> power) {
+                      std::span<const Rgb> flux) {
   const double area = std::max(region.Area(), 1e-30), n = double(uv.size());
   const double hMax = 0.25 * std::sqrt(area);
   if (n < kPilotPhotonsPerCell * 9) return float(std::min(hMax, std::sqrt(kFallbackPhotons * area / (M_PI * std::max(n, 1.0)))));
   const double hMin = std::sqrt(kMinPhotons * area / (M_PI * n));
   const KernelMoments m = kind == EstimatorKind::kHistogram ? KernelMoments{1.0, 1.0 / 12.0} : MomentsOf(kernel);
-  const PilotIntegrals I = Integrate(BuildPilot(region, uv, power), area);
+  const PilotIntegrals I = Integrate(BuildPilot(region, uv, flux), area);
   if (I.stencils == 0 || !(I.curvature > 0)) return float(hMax);
   const double h = std::pow(2 * m.roughness * I.variance / (m.moment2 * m.moment2 * I.curvature), 1.0 / 6.0);
   return float(std::clamp(h, hMin, std::max(hMin, hMax)));

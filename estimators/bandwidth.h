@@ -24,6 +24,6 @@
 namespace pb {
 
 float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
-                      std::span<const Rgb> power);
+                      std::span<const Rgb> flux);
 
 }  // namespace pb

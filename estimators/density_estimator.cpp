@@ -10,15 +10,15 @@
 
 namespace pb {
 std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& region,
-                                                       std::span<const Point2> uv, std::span<const Rgb> power) {
+                                                       std::span<const Point2> uv, std::span<const Rgb> flux) {
   const SurfaceRegion* correction = settings.edgeCorrection ? &region : nullptr;
   switch (settings.kind) {
     case EstimatorKind::kKernel:
-      return std::make_unique<KernelEstimator>(uv, power, settings.bandwidth, settings.kernel, correction);
+      return std::make_unique<KernelEstimator>(uv, flux, settings.bandwidth, settings.kernel, correction);
     case EstimatorKind::kHistogram:
-      return std::make_unique<HistogramEstimator>(uv, power, settings.bandwidth, region, settings.edgeCorrection);
+      return std::make_unique<HistogramEstimator>(uv, flux, settings.bandwidth, region, settings.edgeCorrection);
     case EstimatorKind::kNearest:
-      return std::make_unique<NearestEstimator>(uv, power, settings.neighbours, region, settings.edgeCorrection);
+      return std::make_unique<NearestEstimator>(uv, flux, settings.neighbours, region, settings.edgeCorrection);
   }
   return nullptr;
 }

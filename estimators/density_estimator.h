@@ -75,7 +75,7 @@ double UniformRelativeNoise(const EstimatorSettings& settings, double photonsPer
 
 // `region` must outlive the estimator; the photon arrays are copied.
 std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& region,
-                                                       std::span<const Point2> uv, std::span<const Rgb> power);
+                                                       std::span<const Point2> uv, std::span<const Rgb> flux);
 
 std::optional<EstimatorKind> ParseEstimator(std::string_view name);
 std::string EstimatorName(EstimatorKind kind);

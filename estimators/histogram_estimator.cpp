@@ -13,11 +13,11 @@ constexpr double kMaxBucketsPerPhoton = 4.0;
 constexpr double kMinBucketBudget = 1 << 12, kMaxBucketBudget = 1 << 22;
 }  // namespace
 
-HistogramEstimator::HistogramEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h,
+HistogramEstimator::HistogramEstimator(std::span<const Point2> uv, std::span<const Rgb> flux, float h,
                                        const SurfaceRegion& region, bool edgeCorrection)
     : h_(h), lo_(region.Bounds().lo) {
   PB_CHECK(h > 0 && std::isfinite(h), "bucket side is positive and finite");
-  PB_CHECK(uv.size() == power.size(), "one flux per photon");
+  PB_CHECK_EQ(uv.size(), flux.size());  // one flux per photon
   const Bounds2& b = region.Bounds();
   if (region.Triangles().empty()) return;
   const double su = double(b.hi.u) - b.lo.u, sv = double(b.hi.v) - b.lo.v;
@@ -30,8 +30,8 @@ HistogramEstimator::HistogramEstimator(std::span<const Point2> uv, std::span<con
   for (size_t i = 0; i < uv.size(); ++i) {
     const int iu = std::clamp(int(std::floor((uv[i].u - lo_.u) / h_)), 0, nu_ - 1);
     const int iv = std::clamp(int(std::floor((uv[i].v - lo_.v) / h_)), 0, nv_ - 1);
-    sums[Bucket(iu, iv)].Add(power[i], 1.0f);
-    luminanceSquares_[Bucket(iu, iv)] += double(Luminance(power[i])) * Luminance(power[i]);
+    sums[Bucket(iu, iv)].Add(flux[i], 1.0f);
+    luminanceSquares_[Bucket(iu, iv)] += double(Luminance(flux[i])) * Luminance(flux[i]);
   }
   flux_.resize(sums.size());
   for (size_t i = 0; i < sums.size(); ++i) flux_[i] = sums[i].ToRgb();

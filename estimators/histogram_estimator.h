@@ -14,7 +14,7 @@ namespace pb {
 
 class HistogramEstimator final : public DensityEstimator {
  public:
-  HistogramEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h, const SurfaceRegion& region,
+  HistogramEstimator(std::span<const Point2> uv, std::span<const Rgb> flux, float h, const SurfaceRegion& region,
                      bool edgeCorrection);
 
   // For x on a line between buckets, the bucket with the most surface area among those touching x.

@@ -35,7 +35,8 @@ bool Descend(float& u, double q) {
 
 ImportanceMap::ImportanceMap(int rows, int cols, bool sphere)
     : rows_(rows), cols_(cols), sphere_(sphere), importance_(size_t(rows) * size_t(cols), 0.0) {
-  PB_CHECK(rows >= 1 && cols >= 1, "an importance map has at least one region");
+  PB_CHECK_GE(rows, 1);  // an importance map has at least one region
+  PB_CHECK_GE(cols, 1);
   Finish(1.0f);  // uniform until built
 }
 

@@ -13,12 +13,12 @@ constexpr double kMaxCellsPerPhoton = 4.0;
 constexpr double kMinCellBudget = 1 << 12;
 }  // namespace
 
-KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h, Kernel kernel,
+KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> flux, float h, Kernel kernel,
                                  const SurfaceRegion* correction)
     : h_(h), kernel_(kernel), correction_(correction),
       minimumMass_(correction ? MinimumKernelMass(correction->Area(), kernel, h) : kMinEdgeMass) {
   PB_CHECK(h > 0 && std::isfinite(h), "bandwidth is positive and finite");
-  PB_CHECK(uv.size() == power.size(), "one flux per photon");
+  PB_CHECK_EQ(uv.size(), flux.size());  // one flux per photon
   if (uv.empty()) return;
   Bounds2 bounds;
   for (const Point2& p : uv) bounds.Extend(p);
@@ -41,11 +41,11 @@ KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb
   for (size_t c = 1; c < cellStart_.size(); ++c) cellStart_[c] += cellStart_[c - 1];
   std::vector<uint32_t> cursor(cellStart_.begin(), cellStart_.end() - 1);
   uv_.resize(uv.size());
-  power_.resize(uv.size());
+  photonFlux_.resize(uv.size());
   for (size_t i = 0; i < uv.size(); ++i) {
     const uint32_t slot = cursor[cellOf[i]]++;
     uv_[slot] = uv[i];
-    power_[slot] = power[i];
+    photonFlux_[slot] = flux[i];
   }
 }
 
@@ -108,9 +108,9 @@ Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile, NoiseSums& noise) con
       const float t2 = LengthSquared(uv_[i] - x) * inverseH2;
       if (t2 >= 1.0f) continue;
       const float k = profile(t2);
-      cell += power_[i] * k;
+      cell += photonFlux_[i] * k;
       if constexpr (kNoise) {
-        const float w = Luminance(power_[i]) * k;
+        const float w = Luminance(photonFlux_[i]) * k;
         cellSum += w;
         cellSquares += w * w;
       }

@@ -22,7 +22,7 @@ class KernelEstimator final : public DensityEstimator {
  public:
   // h: bandwidth [m], > 0. The photon arrays are copied, reordered by cell. `correction`: the surface's region
   // for boundary correction (must outlive this), or null for none.
-  KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> power, float h, Kernel kernel,
+  KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> flux, float h, Kernel kernel,
                   const SurfaceRegion* correction);
 
   // H at chart point x [W/m^2]. Sums in a fixed order, so the result is reproducible bit for bit.
@@ -56,7 +56,7 @@ class KernelEstimator final : public DensityEstimator {
   int nu_ = 0, nv_ = 0;
   std::vector<uint32_t> cellStart_;  // CSR: photons of cell c are [cellStart_[c], cellStart_[c+1])
   std::vector<Point2> uv_;
-  std::vector<Rgb> power_;
+  std::vector<Rgb> photonFlux_;
 };
 
 }  // namespace pb

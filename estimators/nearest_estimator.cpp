@@ -23,17 +23,17 @@ struct NearestEstimator::Tree {
   explicit Tree(const std::vector<Point2>& uv) : points{&uv}, index(2, points, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
 };
 
-NearestEstimator::NearestEstimator(std::span<const Point2> uv, std::span<const Rgb> power, uint32_t k,
+NearestEstimator::NearestEstimator(std::span<const Point2> uv, std::span<const Rgb> flux, uint32_t k,
                                    const SurfaceRegion& region, bool edgeCorrection)
-    : k_(k), region_(region), edgeCorrection_(edgeCorrection), uv_(uv.begin(), uv.end()), power_(power.begin(), power.end()) {
-  PB_CHECK(k >= 2, "k-nearest-neighbour estimation needs k >= 2");
-  PB_CHECK(uv.size() == power.size(), "one flux per photon");
+    : k_(k), region_(region), edgeCorrection_(edgeCorrection), uv_(uv.begin(), uv.end()), photonFlux_(flux.begin(), flux.end()) {
+  PB_CHECK_GE(k, 2u);
+  PB_CHECK_EQ(uv.size(), flux.size());  // one flux per photon
   if (uv_.size() >= k_) {
     tree_ = std::make_unique<Tree>(uv_);
     return;
   }
   RgbSum total;
-  for (const Rgb& p : power_) total.Add(p);
+  for (const Rgb& p : photonFlux_) total.Add(p);
   if (region.Area() > 0) surfaceMean_ = total.ToRgb() * float(1.0 / region.Area());
 }
 
@@ -49,10 +49,10 @@ size_t NearestEstimator::Search(Point2 x, std::vector<uint32_t>& index, std::vec
 double NearestEstimator::RelativeNoise(Point2 x) const {
   std::vector<uint32_t> index;
   std::vector<float> distance2;
-  const size_t found = tree_ ? Search(x, index, distance2) : power_.size();
+  const size_t found = tree_ ? Search(x, index, distance2) : photonFlux_.size();
   double sum = 0, squares = 0;
   for (size_t i = 0; i < found; ++i) {
-    const double w = Luminance(power_[tree_ ? index[i] : i]);
+    const double w = Luminance(photonFlux_[tree_ ? index[i] : i]);
     sum += w;
     squares += w * w;
   }
@@ -66,7 +66,7 @@ Rgb NearestEstimator::Estimate(Point2 x) const {
   std::vector<float> distance2;
   const size_t found = Search(x, index, distance2);
   RgbSum flux;
-  for (size_t i = 0; i < found; ++i) flux.Add(power_[index[i]]);
+  for (size_t i = 0; i < found; ++i) flux.Add(photonFlux_[index[i]]);
   const double r = std::sqrt(double(distance2[found - 1]));
   const double fraction =
       edgeCorrection_ ? std::max(region_.KernelMass(x, Kernel::kUniform, r),

@@ -18,7 +18,7 @@ namespace pb {
 
 class NearestEstimator final : public DensityEstimator {
  public:
-  NearestEstimator(std::span<const Point2> uv, std::span<const Rgb> power, uint32_t k, const SurfaceRegion& region,
+  NearestEstimator(std::span<const Point2> uv, std::span<const Rgb> flux, uint32_t k, const SurfaceRegion& region,
                    bool edgeCorrection);
   ~NearestEstimator() override;
 
@@ -33,7 +33,7 @@ class NearestEstimator final : public DensityEstimator {
   const SurfaceRegion& region_;
   bool edgeCorrection_;
   std::vector<Point2> uv_;
-  std::vector<Rgb> power_;
+  std::vector<Rgb> photonFlux_;
   Rgb surfaceMean_;             // total flux / surface area: the answer when there are fewer than k photons
   std::unique_ptr<Tree> tree_;  // nanoflann 2-d tree over uv_
 };

@@ -15,7 +15,7 @@ namespace pb {
 struct MapPhoton {
   Point3 position;  // [m]
   Vector3 wi;       // unit, toward where the photon came from
-  Rgb power;        // [W]
+  Rgb flux;         // [W]
   Normal3 normal;   // unit normal of the side of the surface it arrived on
 };
 

@@ -216,7 +216,7 @@ void LoadMtl(const std::string& path, const Line& mtllibLine, std::vector<Materi
       if (illum != float(int(illum)) || illum < 0) line.Fail("illum takes a whole number 0-10");
       current->illum = int(illum);
     } else if (k.rfind("map_", 0) == 0 || k == "bump" || k == "disp" || k == "refl") {
-      warnings.push_back(line.Warning("'" + k + "' is ignored (textures are not used yet)"));
+      warnings.push_back(line.Warning("'" + k + "' is ignored (of the texture maps, only map_Kd, the albedo, is used)"));
     } else {
       line.Fail("unknown MTL statement '" + k + "'");
     }

@@ -1,7 +1,8 @@
 // Loads a triangle Scene from Wavefront OBJ + MTL. Positions are multiplied by `scale` to give metres.
 //
 // Supported: v, vn, vt, f (any polygon, fan-triangulated; v, v/t, v//n, v/t/n; negative indices), o, g, s,
-// mtllib, usemtl; in MTL: newmtl, Kd, Ke, Ka, Ks, Ns, Ni, d, Tr, Tf, illum, and map_* (warned, not used yet).
+// mtllib, usemtl; in MTL: newmtl, Kd, Ke, Ka, Ks, Ns, Ni, d, Tr, Tf, illum, map_Kd (a PNG albedo), and the other
+// map_* statements (warned, ignored).
 //
 // Reflectance above 0.99 in any channel (Kd, or Kd + Ks for a mirror) is scaled down to 0.99 with a warning: a
 // surface that absorbs nothing would never end a path in a closed scene.

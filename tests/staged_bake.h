@@ -24,7 +24,7 @@ inline IrradianceField FieldOf(const PreparedScene& scene, const SurfaceBins& bi
 
 struct StagedBake {
   TracedScene traced;
-  PhotonHits hits;
+  PhotonStore hits;
   SurfaceBins bins;
   IrradianceField field;
   BakedMesh base;

@@ -17,7 +17,7 @@ struct TracedScene : PreparedScene {
   TransportPlan Plan(const std::string& effects = "auto") const {
     return PlanTransport(scene, surfaces, lights, ParseEffectOverrides(effects));
   }
-  PhotonHits Trace(uint64_t photons, uint64_t seed, uint32_t maxBounces = kDefaultMaxBounces) const {
+  PhotonStore Trace(uint64_t photons, uint64_t seed, uint32_t maxBounces = kDefaultMaxBounces) const {
     return TracePhotons(*this, {photons, seed, maxBounces}, Log(true));
   }
 

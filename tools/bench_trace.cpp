@@ -81,7 +81,7 @@ void BM_TracePhotons(benchmark::State& state) {
   const pb::Log quiet(true);
   uint64_t rays = 0, photons = 0;
   for (auto _ : state) {
-    const pb::PhotonHits hits = pb::TracePhotons(f, {kPhotons, 7}, quiet);
+    const pb::PhotonStore hits = pb::TracePhotons(f, {kPhotons, 7}, quiet);
     rays += hits.stats.hits + hits.stats.escaped;
     photons += hits.stats.emitted;
   }

@@ -21,7 +21,7 @@ TEST(AutoBandwidth, LandsWithinAFactorOfTwoOfTheScannedOptimum) {
   const Scene& scene = prepared.scene;
   const SurfaceSet& surfaces = prepared.surfaces;
   const Log quiet(true);
-  const PhotonHits hits = prepared.Trace(1'000'000, 5);
+  const PhotonStore hits = prepared.Trace(1'000'000, 5);
   const SurfaceBins bins = BinPhotons(surfaces, hits);
   const SurfaceRegions& regions = prepared.regions;
   const EstimatorSettings settings;

@@ -71,7 +71,7 @@ TEST(TransportPlan, BlackReceiversStopAtTheFirstHit) {
   const TransportPlan plan = s.Plan();
   EXPECT_FALSE(plan.On(Effect::kInterreflection));
   EXPECT_NE(plan.Describe(Effect::kInterreflection).find("every surface is black"), std::string::npos);
-  const PhotonHits hits = TracePhotons(s.scene, s.lights, *s.rays, plan, {20000, 3}, Log(true));
+  const PhotonStore hits = TracePhotons(s.scene, s.lights, *s.rays, plan, {20000, 3}, Log(true));
   EXPECT_EQ(hits.stats.diffuseBounces, 0u);
   EXPECT_EQ(hits.stats.hits + hits.stats.escaped, hits.stats.emitted) << "one hit or an escape per photon";
   EXPECT_EQ(hits.stats.absorbed, hits.stats.hits);
@@ -87,7 +87,7 @@ TEST(TransportPlan, ALightThatFacesAwayFromEverythingGetsNoPhotons) {
   EXPECT_EQ(r.lights[1].photons, 0u);
   EXPECT_NE(r.lights[1].note.find("behind its emitting side"), std::string::npos) << r.lights[1].note;
   EXPECT_EQ(r.lights[0].note, "");
-  EXPECT_NEAR(r.trace.powerEmitted.g, M_PI, 1e-5) << "only the reaching light's flux is emitted";
+  EXPECT_NEAR(r.trace.fluxEmitted.g, M_PI, 1e-5) << "only the reaching light's flux is emitted";
 
   const std::string away = test::WriteFloorWithLamps(test::TempDirectory("all-away"), 0.5f, 1.0f, {{0, 1, 0, 1, 1, false}});
   EXPECT_THROW(QuietBake(away, dir + "/out.ply", 10000), InputError);
@@ -139,7 +139,7 @@ TEST(Effects, MirrorImageMatchesTheClosedForm) {
   ASSERT_TRUE(plan.On(Effect::kReflection));
   ASSERT_TRUE(plan.On(Effect::kCaustics));
   constexpr uint64_t kPhotons = 1'000'000;
-  const PhotonHits hits = TracePhotons(s.scene, s.lights, *s.rays, plan, {kPhotons, 21}, Log(true));
+  const PhotonStore hits = TracePhotons(s.scene, s.lights, *s.rays, plan, {kPhotons, 21}, Log(true));
   EXPECT_GT(hits.stats.mirrorReflections, kPhotons / 4);
   EXPECT_GT(hits.stats.causticHits, 0u);
 
@@ -177,8 +177,8 @@ TEST(Effects, ForbiddenReflectionIsTalliedNotLost) {
   EXPECT_FALSE(r.plan.On(Effect::kCaustics)) << "caustics need a specular effect";
   EXPECT_EQ(r.trace.mirrorReflections, 0u);
   EXPECT_GT(r.trace.forbidden, 0u);
-  const double out = r.trace.powerAbsorbed.g + r.trace.powerEscaped.g + r.trace.powerForbidden.g;
-  EXPECT_NEAR(out / r.trace.powerEmitted.g, 1.0, 0.01);  // the mirror's Ks 0.9: forbidden, its 0.1: absorbed
+  const double out = r.trace.fluxAbsorbed.g + r.trace.fluxEscaped.g + r.trace.fluxForbidden.g;
+  EXPECT_NEAR(out / r.trace.fluxEmitted.g, 1.0, 0.01);  // the mirror's Ks 0.9: forbidden, its 0.1: absorbed
   EXPECT_EQ(r.trace.absorbed + r.trace.escaped + r.trace.forbidden, r.trace.emitted);
 }
 
@@ -193,19 +193,19 @@ TEST(Effects, ClosedBoxWithGlassSphereConservesEnergy) {
   const TransportPlan plan = s.Plan();
   ASSERT_TRUE(plan.On(Effect::kRefraction));
   constexpr uint64_t kPhotons = 1'000'000;
-  const PhotonHits hits = TracePhotons(s.scene, s.lights, *s.rays, plan, {kPhotons, 8}, Log(true));
+  const PhotonStore hits = TracePhotons(s.scene, s.lights, *s.rays, plan, {kPhotons, 8}, Log(true));
   const TraceStats& t = hits.stats;
   EXPECT_GT(t.refractions, kPhotons / 20);
   EXPECT_GT(t.fresnelReflections, 0u);
   EXPECT_GT(t.causticHits, 0u);
   EXPECT_EQ(t.escaped, 0u) << "light leaks out of the box or through the glass";
   EXPECT_EQ(t.truncated, 0u);
-  EXPECT_NEAR(t.powerAbsorbed.g / t.powerEmitted.g, 1.0, 0.005);
+  EXPECT_NEAR(t.fluxAbsorbed.g / t.fluxEmitted.g, 1.0, 0.005);
   double diffuseFlux = 0;
-  hits.ForEach([&](const PhotonHit& h, Rgb power) {
-    if (!s.scene.MaterialOf(h.Triangle()).IsSpecular()) diffuseFlux += power.g;
+  hits.ForEach([&](const PhotonHit& h, Rgb flux) {
+    if (!s.scene.MaterialOf(h.Triangle()).IsSpecular()) diffuseFlux += flux.g;
   });
-  EXPECT_NEAR(diffuseFlux * (1 - rho) / t.powerEmitted.g, 1.0, 0.005);
+  EXPECT_NEAR(diffuseFlux * (1 - rho) / t.fluxEmitted.g, 1.0, 0.005);
 }
 
 }  // namespace

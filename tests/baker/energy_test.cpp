@@ -25,9 +25,9 @@ TEST(Energy, ClosedBoxAbsorbsWhatItEmits) {
   ASSERT_EQ(r.lights.size(), 1u);
   const double phi = M_PI * 10.0 * 0.2 * 0.2;  // pi Ke A [W]
   EXPECT_NEAR(r.lights[0].power.g, phi, 1e-5 * phi);
-  EXPECT_NEAR(r.trace.powerEmitted.g, phi, 1e-6 * phi) << "photon flux must sum to the light's Phi";
+  EXPECT_NEAR(r.trace.fluxEmitted.g, phi, 1e-6 * phi) << "photon flux must sum to the light's Phi";
   EXPECT_EQ(r.trace.emitted, o.photons);
-  EXPECT_NEAR(r.trace.powerAbsorbed.g / r.trace.powerEmitted.g, 1.0, 0.005);
+  EXPECT_NEAR(r.trace.fluxAbsorbed.g / r.trace.fluxEmitted.g, 1.0, 0.005);
   EXPECT_LE(r.trace.escaped, o.photons / 100000) << "light leaks out of a closed box";
   EXPECT_EQ(r.trace.truncated, 0u);
   // Every photon ends by absorption or escape.
@@ -54,7 +54,7 @@ TEST(Energy, BounceLimitStoresTheTruncatedNeumannSeries) {
     EXPECT_NEAR(double(r.trace.hits) / double(r.trace.emitted), expected, 5 * sigma) << bounces << " bounces";
     const TraceStats& t = r.trace;
     const double balanceSigma = std::sqrt(rho / ((1 - rho) * double(o.photons)));  // the absorbed tally's, above
-    EXPECT_NEAR((t.powerAbsorbed.g + t.powerEscaped.g + t.powerForbidden.g) / t.powerEmitted.g, 1.0, 5 * balanceSigma)
+    EXPECT_NEAR((t.fluxAbsorbed.g + t.fluxEscaped.g + t.fluxForbidden.g) / t.fluxEmitted.g, 1.0, 5 * balanceSigma)
         << bounces << " bounces";
     if (bounces < 3) EXPECT_GT(t.truncated, 0u);
     if (bounces == kDefaultMaxBounces) EXPECT_EQ(t.truncated, 0u);
@@ -78,7 +78,7 @@ TEST(Energy, PhotonsSplitAcrossLightsInProportionToPower) {
   EXPECT_EQ(r.lights[0].photons, 25000u);
   EXPECT_EQ(r.lights[1].photons, 75000u);
   EXPECT_EQ(r.trace.emitted, 100'000u);
-  EXPECT_NEAR(r.trace.powerEmitted.g, M_PI * (1.0 + 3.0), 1e-5);
+  EXPECT_NEAR(r.trace.fluxEmitted.g, M_PI * (1.0 + 3.0), 1e-5);
 }
 
 }  // namespace

@@ -39,7 +39,7 @@ TEST(IrradianceMaps, RoundTripMatchesTheEstimatorAtTexelCentres) {
 
   // The same estimators, rebuilt from the same photons.
   const test::TracedScene traced(o.scenePath);
-  const PhotonHits hits = traced.Trace(o.photons, o.seed, o.maxBounces);
+  const PhotonStore hits = traced.Trace(o.photons, o.seed, o.maxBounces);
   const SurfaceBins bins = BinPhotons(traced.surfaces, hits);
   const SurfaceRegions& regions = traced.regions;
   const IrradianceField field = test::FieldOf(traced, bins, o.estimator);

@@ -23,7 +23,7 @@ void ExpectSameSum(const RgbSum& a, const RgbSum& b, const char* what) {
 }
 
 // Byte-identical hits, identical ranges, and stats equal to the last bit.
-void ExpectSameStore(const PhotonHits& a, const PhotonHits& b) {
+void ExpectSameStore(const PhotonStore& a, const PhotonStore& b) {
   ASSERT_EQ(a.emitted, b.emitted);
   ASSERT_EQ(a.blocks.size(), b.blocks.size());
   for (size_t k = 0; k < a.blocks.size(); ++k) {
@@ -36,20 +36,20 @@ void ExpectSameStore(const PhotonHits& a, const PhotonHits& b) {
   }
   EXPECT_EQ(a.stats.hits, b.stats.hits);
   EXPECT_EQ(a.stats.absorbed, b.stats.absorbed);
-  ExpectSameSum(a.stats.powerEmitted, b.stats.powerEmitted, "emitted");
-  ExpectSameSum(a.stats.powerAbsorbed, b.stats.powerAbsorbed, "absorbed");
-  ExpectSameSum(a.stats.powerEscaped, b.stats.powerEscaped, "escaped");
+  ExpectSameSum(a.stats.fluxEmitted, b.stats.fluxEmitted, "emitted");
+  ExpectSameSum(a.stats.fluxAbsorbed, b.stats.fluxAbsorbed, "absorbed");
+  ExpectSameSum(a.stats.fluxEscaped, b.stats.fluxEscaped, "escaped");
 }
 
 // The flux the store's photons left their lights with is the lights' total flux.
-void ExpectStoreFluxIsLightFlux(const test::TracedScene& s, const PhotonHits& store) {
+void ExpectStoreFluxIsLightFlux(const test::TracedScene& s, const PhotonStore& store) {
   double phi = 0;
   for (const AreaLight& light : s.lights) phi += light.Power().g;
-  EXPECT_NEAR(store.stats.powerEmitted.g, phi, 1e-6 * phi);
+  EXPECT_NEAR(store.stats.fluxEmitted.g, phi, 1e-6 * phi);
 }
 
-PhotonHits ExtendedStore(const test::TracedScene& s, const std::vector<uint64_t>& steps, uint64_t seed) {
-  PhotonHits store = s.Trace(steps[0], seed);
+PhotonStore ExtendedStore(const test::TracedScene& s, const std::vector<uint64_t>& steps, uint64_t seed) {
+  PhotonStore store = s.Trace(steps[0], seed);
   ExpectStoreFluxIsLightFlux(s, store);
   for (size_t i = 1; i < steps.size(); ++i) {
     EXPECT_TRUE(ExtendPhotons(store, s, {steps[i], seed}, Log(true)));
@@ -62,7 +62,7 @@ TEST(PhotonStreams, ExtendingTheBoxEqualsTracingAtOnce) {
   const test::TracedScene box(PB_SOURCE_DIR "/data/box/box.obj");
   ASSERT_EQ(box.lights.size(), 2u);
   // 100k leaves each light a partial block, which 250k continues in place.
-  const PhotonHits extended = ExtendedStore(box, {100'000, 250'000, 400'000}, 5);
+  const PhotonStore extended = ExtendedStore(box, {100'000, 250'000, 400'000}, 5);
   ExpectSameStore(extended, box.Trace(400'000, 5));
 }
 
@@ -72,14 +72,14 @@ TEST(PhotonStreams, ExtendingTwoLightsOfVeryDifferentPowerEqualsTracingAtOnce) {
   // photons of 100k (a partial first block), then 997 of 400k.
   const test::TracedScene s(test::WriteFloorWithLamps(dir, 0.5f, 2.0f, {{-1.0f, -0.95f, 0, 0.05f, 1}, {0, 1, 0, 1, 1}}));
   ASSERT_EQ(s.lights.size(), 2u);
-  const PhotonHits extended = ExtendedStore(s, {100'000, 400'000}, 7);
+  const PhotonStore extended = ExtendedStore(s, {100'000, 400'000}, 7);
   EXPECT_LT(extended.emitted[0] * 300, extended.emitted[1]);
   ExpectSameStore(extended, s.Trace(400'000, 7));
 }
 
 TEST(PhotonStreams, AnInterruptedExtensionKeepsAPrefixOfEachStreamAndResumesExactly) {
   const test::TracedScene box(PB_SOURCE_DIR "/data/box/box.obj");
-  PhotonHits store = box.Trace(100'000, 3);
+  PhotonStore store = box.Trace(100'000, 3);
   {
     const InterruptScope scope;
     std::thread ctrlC([] {

@@ -46,11 +46,11 @@ void ExpectResumeEqualsOneBake(const std::string& scene, const std::string& dir,
   EXPECT_EQ(b.progressive.resumedPhotons, a.trace.emitted);
   double phi = 0;
   for (const LightReport& l : b.lights) phi += l.power.g;
-  EXPECT_NEAR(b.trace.powerEmitted.g, phi, 1e-6 * phi) << "the store's flux is the lights' after resuming";
+  EXPECT_NEAR(b.trace.fluxEmitted.g, phi, 1e-6 * phi) << "the store's flux is the lights' after resuming";
 
   const BakeReport c = Bake(Options(scene, dir + "/once.ply", n2), Log(true));
   EXPECT_EQ(b.trace.emitted, c.trace.emitted);
-  EXPECT_EQ(b.trace.powerAbsorbed.g, c.trace.powerAbsorbed.g);
+  EXPECT_EQ(b.trace.fluxAbsorbed.g, c.trace.fluxAbsorbed.g);
   EXPECT_TRUE(test::ReadBytes(dir + "/resumed.ply") == test::ReadBytes(dir + "/once.ply"))
       << "resuming " << n1 << " -> " << n2 << " photons changed the bytes";
 }

@@ -108,11 +108,11 @@ TEST(Stability, WhiteFurnaceIsCappedAndMatchesItsClosedForm) {
   // Every hit keeps the photon's flux (grey albedo, survival = albedo), and the number of hits per photon is
   // geometric with mean 1 / (1 - rho): the hit flux sums to Phi / (1 - rho), relative sd sqrt(rho / N) = 0.7%.
   constexpr uint64_t kPhotons = 20000;
-  const PhotonHits hits = traced.Trace(kPhotons, 4, 100000);
+  const PhotonStore hits = traced.Trace(kPhotons, 4, 100000);
   const double rho = 0.99;
   double flux = 0;
-  hits.ForEach([&](const PhotonHit&, Rgb power) { flux += power.g; });
-  EXPECT_NEAR(flux * (1 - rho) / hits.stats.powerEmitted.g, 1.0, 5 * std::sqrt(rho / kPhotons));
+  hits.ForEach([&](const PhotonHit&, Rgb f) { flux += f.g; });
+  EXPECT_NEAR(flux * (1 - rho) / hits.stats.fluxEmitted.g, 1.0, 5 * std::sqrt(rho / kPhotons));
   EXPECT_EQ(hits.stats.truncated, 0u);
   EXPECT_EQ(hits.stats.escaped, 0u);
 }
@@ -125,10 +125,10 @@ TEST(Stability, ALightFlushWithTheCeilingNeitherLeaksNorShadowsItself) {
   const std::string dir = test::TempDirectory("flush-light");
   const test::TracedScene traced(test::WriteClosedBox(dir, 1.0f, 0.5f, 0.2f, 10.0f, 0, 1.5f, 0.0f));
   constexpr uint64_t kPhotons = 200000;
-  const PhotonHits hits = traced.Trace(kPhotons, 6);
+  const PhotonStore hits = traced.Trace(kPhotons, 6);
   double flux = 0;
-  hits.ForEach([&](const PhotonHit&, Rgb power) { flux += power.g; });
-  EXPECT_NEAR(flux * 0.5 / hits.stats.powerEmitted.g, 1.0, 5 * std::sqrt(0.5 / kPhotons));
+  hits.ForEach([&](const PhotonHit&, Rgb f) { flux += f.g; });
+  EXPECT_NEAR(flux * 0.5 / hits.stats.fluxEmitted.g, 1.0, 5 * std::sqrt(0.5 / kPhotons));
   EXPECT_EQ(hits.stats.escaped, 0u) << "light leaks out of the box";
 }
 
@@ -227,7 +227,7 @@ TEST(Stability, ALightCuttingThroughTheFloorLightsItAsItsUpperPartWould) {
   const test::TracedScene traced(dir + "/c.obj");
   const Scene& scene = traced.scene;
   constexpr uint64_t kPhotons = 1'000'000;
-  const PhotonHits hits = traced.Trace(kPhotons, 9);
+  const PhotonStore hits = traced.Trace(kPhotons, 9);
   const test::FloorCells cells{4, 8, 0.25, 0.0, -1.0};
   std::vector<double> observed(cells.Count(), 0.0);
   uint64_t wrongSide = 0;

@@ -128,15 +128,15 @@ TEST(Texture, AUniformlyTexturedClosedBoxKeepsItsClosedForm) {
   test::WriteText(box, faced);
   const test::TracedScene traced(box);
   constexpr uint64_t kPhotons = 200000;
-  const PhotonHits hits = traced.Trace(kPhotons, 2);
+  const PhotonStore hits = traced.Trace(kPhotons, 2);
   // The light has Kd 0.5 too, so every diffuse surface reflects rho; the texel decodes to about 0.503.
   const double rho = traced.scene.textures.at(0).maximum.g;
   ASSERT_NEAR(rho, SrgbToLinear(188), 1e-6);
   double flux = 0;
-  hits.ForEach([&](const PhotonHit&, Rgb power) { flux += power.g; });
+  hits.ForEach([&](const PhotonHit&, Rgb f) { flux += f.g; });
   // The light's own Kd is 0.5, not rho: the closed form then holds to about |rho - 0.5| x (light's share of hits),
   // well inside the noise bound below.
-  EXPECT_NEAR(flux * (1 - rho) / hits.stats.powerEmitted.g, 1.0, 5 * std::sqrt(rho / kPhotons) + 0.01);
+  EXPECT_NEAR(flux * (1 - rho) / hits.stats.fluxEmitted.g, 1.0, 5 * std::sqrt(rho / kPhotons) + 0.01);
 }
 
 }  // namespace
