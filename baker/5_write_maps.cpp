@@ -23,7 +23,7 @@ GridSize TexelGrid(const Bounds2& b, float texel) {
 
 std::string Vec(double x, double y, double z) { return fmt::format("{:.9g} {:.9g} {:.9g}", x, y, z); }
 
-void WriteSurfaceMap(const std::string& path, float texel, const IrradianceField& field,
+void WriteSurfaceMap(OutputFiles& outputs, const std::string& path, float texel, const IrradianceField& field,
                      const SurfacePointSampler& sampler, uint32_t s) {
   const Scene& scene = field.Prepared().scene;
   const Surface& surface = field.Prepared().surfaces.surfaces[s];
@@ -44,7 +44,7 @@ void WriteSurfaceMap(const std::string& path, float texel, const IrradianceField
   const SurfaceChart& chart = surface.chart;
   const std::array<double, 3> o = scene.ToWorld(chart.origin);
   const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
-  WriteExr(path, image,
+  WriteExr(outputs, path, image,
            {{"quantity", "irradiance"},
             {"units", "W/m^2, linear Rec.709 RGB; A: fraction of the texel on the surface"},
             {"surface", std::to_string(s)},
@@ -71,7 +71,7 @@ void CheckMapTexels(float texel, const SurfaceRegions& regions) {
   }
 }
 
-MapsWritten WriteIrradianceMaps(const std::string& directory, float texel, const IrradianceField& field,
+MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,
                                 const SplitMesh& base, const Log& log) {
   const PreparedScene& prepared = field.Prepared();
   const SurfaceSet& surfaces = prepared.surfaces;
@@ -87,7 +87,7 @@ MapsWritten WriteIrradianceMaps(const std::string& directory, float texel, const
   const SurfacePointSampler sampler(prepared.scene, surfaces, base);
   Progress progress(log, "irradiance maps", surfaces.surfaces.size());
   tbb::parallel_for(size_t(0), surfaces.surfaces.size(), [&](size_t s) {
-    WriteSurfaceMap(written.paths[s], texel, field, sampler, uint32_t(s));
+    WriteSurfaceMap(outputs, written.paths[s], texel, field, sampler, uint32_t(s));
     progress.Advance(1);
   });
   return written;

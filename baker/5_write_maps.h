@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "baker/atomic_file.h"
 #include "baker/3_irradiance_field.h"
 #include "baker/progress.h"
 #include "mesh/split_mesh.h"
@@ -33,7 +34,7 @@ struct MapsWritten {
 void CheckMapTexels(float texel, const SurfaceRegions& regions);
 
 // `base` is SplitBySurface of the field's scene.
-MapsWritten WriteIrradianceMaps(const std::string& directory, float texel, const IrradianceField& field,
+MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,
                                 const SplitMesh& base, const Log& log);
 
 }  // namespace pb

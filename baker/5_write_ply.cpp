@@ -95,11 +95,11 @@ float DisplayExposure(const BakedMesh& baked, std::optional<float> user) {
   return AutoExposure(radiance);
 }
 
-float WritePly(const std::string& path, const BakedMesh& baked, const PlyOptions& options) {
+float WritePly(OutputFiles& outputs, const std::string& path, const BakedMesh& baked, const PlyOptions& options) {
   const float exposure = DisplayExposure(baked, options.exposure);
   const std::string header = Header(baked, options.ascii, exposure);
   const std::string body = Body(baked, options.ascii, exposure);
-  WriteFileAtomically(path, [&](std::ostream& out) {
+  outputs.Write(path, [&](std::ostream& out) {
     out.write(header.data(), std::streamsize(header.size()));
     out.write(body.data(), std::streamsize(body.size()));
   });

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "baker/atomic_file.h"
 #include "baker/baked_mesh.h"
 
 namespace pb {
@@ -21,6 +22,6 @@ struct PlyOptions {
 float DisplayExposure(const BakedMesh& baked, std::optional<float> user);
 
 // Returns the exposure used. Written atomically (baker/atomic_file.h).
-float WritePly(const std::string& path, const BakedMesh& baked, const PlyOptions& options);
+float WritePly(OutputFiles& outputs, const std::string& path, const BakedMesh& baked, const PlyOptions& options);
 
 }  // namespace pb

@@ -1,39 +1,173 @@
 #include "baker/atomic_file.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
+#include <filesystem>
+#include <optional>
+#include <streambuf>
 
 #include "mesh/errors.h"
 
 namespace pb {
+namespace {
 
-void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  const std::string temporary = path + ".tmp-" + std::to_string(getpid());
+std::string ErrnoText() { return std::strerror(errno); }
+
+// An output stream buffer over a file descriptor, so that the file opened with O_EXCL | O_NOFOLLOW is the one
+// written (std::ofstream would open the path again).
+class DescriptorBuffer : public std::streambuf {
+ public:
+  explicit DescriptorBuffer(int fd) : fd_(fd) { setp(buffer_, buffer_ + sizeof buffer_); }
+  ~DescriptorBuffer() override { sync(); }
+  int sync() override { return Drain() ? 0 : -1; }
+  // OpenEXR asks for the position and seeks back to write its offset tables.
+  pos_type seekoff(off_type offset, std::ios_base::seekdir dir, std::ios_base::openmode) override {
+    if (!Drain()) return pos_type(off_type(-1));
+    const int whence = dir == std::ios_base::beg ? SEEK_SET : dir == std::ios_base::cur ? SEEK_CUR : SEEK_END;
+    const off_t at = ::lseek(fd_, off_t(offset), whence);
+    return at < 0 ? pos_type(off_type(-1)) : pos_type(off_type(at));
+  }
+  pos_type seekpos(pos_type position, std::ios_base::openmode mode) override {
+    return seekoff(off_type(position), std::ios_base::beg, mode);
+  }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!Drain()) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) sputc(traits_type::to_char_type(c));
+    return traits_type::not_eof(c);
+  }
+
+ private:
+  bool Drain() {
+    for (char* p = pbase(); p < pptr();) {
+      const ssize_t n = ::write(fd_, p, size_t(pptr() - p));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      p += n;
+    }
+    setp(buffer_, buffer_ + sizeof buffer_);
+    return true;
+  }
+  int fd_;
+  char buffer_[1 << 16];
+};
+
+std::string DirectoryOf(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+}
+
+// Creates a new temporary file beside `path`; returns its name and descriptor.
+std::pair<std::string, int> CreateTemporary(const std::string& path) {
+  static std::atomic<uint64_t> counter{0};
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const std::string name = path + ".tmp-" + std::to_string(getpid()) + "-" + std::to_string(counter++);
+    const int fd = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd >= 0) return {name, fd};
+    if (errno != EEXIST) throw InputError(path, 0, "cannot create output file: " + ErrnoText());
+  }
+  throw InputError(path, 0, "cannot create output file: 100 temporary names in use");
+}
+
+void SyncDirectory(const std::string& directory) {
+  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);  // best effort: some file systems refuse to sync directories
+  ::close(fd);
+}
+
+// The file a path names, for comparing paths: (device, inode) when it exists, else its resolved path.
+struct FileIdentity {
+  std::optional<std::pair<dev_t, ino_t>> node;
+  std::string resolved;
+  bool operator==(const FileIdentity& o) const { return node || o.node ? node == o.node : resolved == o.resolved; }
+};
+FileIdentity IdentityOf(const std::string& path) {
+  FileIdentity id;
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) id.node = std::pair{st.st_dev, st.st_ino};
+  std::error_code error;
+  id.resolved = std::filesystem::weakly_canonical(path, error).string();
+  if (error) id.resolved = path;
+  return id;
+}
+
+}  // namespace
+
+OutputFiles::~OutputFiles() {
+  for (const Staged& s : staged_) std::remove(s.temporary.c_str());
+}
+
+void OutputFiles::Write(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  const auto [temporary, fd] = CreateTemporary(path);
   try {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(path, 0, "cannot create output file: " + std::string(std::strerror(errno)));
-    write(out);
-    out.flush();
-    if (!out) throw InputError(path, 0, "write failed: " + std::string(std::strerror(errno)));
-    out.close();
-    if (std::rename(temporary.c_str(), path.c_str()) != 0)
-      throw InputError(path, 0, "cannot move output into place: " + std::string(std::strerror(errno)));
+    {
+      DescriptorBuffer buffer(fd);
+      std::ostream out(&buffer);
+      write(out);
+      out.flush();
+      if (!out) throw InputError(path, 0, "write failed: " + ErrnoText());
+    }
+    if (::fsync(fd) != 0) throw InputError(path, 0, "write failed: " + ErrnoText());
+    if (::close(fd) != 0) throw InputError(path, 0, "write failed: " + ErrnoText());
   } catch (...) {
+    ::close(fd);
     std::remove(temporary.c_str());
     throw;
   }
+  const std::lock_guard lock(mutex_);
+  staged_.push_back({temporary, path});
+}
+
+void OutputFiles::Commit() {
+  std::vector<std::string> directories;
+  for (const Staged& s : staged_) {
+    if (std::rename(s.temporary.c_str(), s.path.c_str()) != 0)
+      throw InputError(s.path, 0, "cannot move output into place: " + ErrnoText());
+    directories.push_back(DirectoryOf(s.path));
+  }
+  staged_.clear();
+  for (const std::string& d : directories) SyncDirectory(d);
+}
+
+void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  OutputFiles file;
+  file.Write(path, write);
+  file.Commit();
 }
 
 void RequireWritableLocation(const std::string& path) {
   if (path.empty()) throw InputError("<output>", 0, "no output path given");
-  const size_t slash = path.find_last_of('/');
-  const std::string directory = slash == std::string::npos ? "." : path.substr(0, slash + 1);
-  if (access(directory.c_str(), W_OK) != 0)
-    throw InputError(path, 0, "cannot write here: " + std::string(std::strerror(errno)));
+  if (path.back() == '/') throw InputError(path, 0, "is a directory; name a file to write");
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) throw InputError(path, 0, "is a directory; name a file to write");
+    if (!S_ISREG(st.st_mode))
+      throw InputError(path, 0, "is not a regular file (a device, FIFO or socket); it would be replaced by one");
+  }
+  if (::access(DirectoryOf(path).c_str(), W_OK) != 0) throw InputError(path, 0, "cannot write here: " + ErrnoText());
+}
+
+void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>& outputs,
+                          const std::vector<std::pair<std::string, std::string>>& inputs) {
+  std::vector<std::pair<std::string, FileIdentity>> seen;  // (option, identity) of outputs so far
+  for (const auto& [option, path] : outputs) {
+    if (path.empty()) continue;
+    const FileIdentity id = IdentityOf(path);
+    for (const auto& [other, otherId] : seen)
+      if (otherId == id) throw InputError(path, 0, option + " and " + other + " name the same file");
+    for (const auto& [input, inputPath] : inputs)
+      if (!inputPath.empty() && IdentityOf(inputPath) == id)
+        throw InputError(path, 0, option + " would overwrite the input " + input + " (" + inputPath + ")");
+    seen.emplace_back(option, id);
+  }
 }
 
 }  // namespace pb

@@ -1,18 +1,52 @@
-// Writes an output file so that readers never see it half-written: the bytes go to "<path>.tmp-<pid>" in the
-// same directory, are flushed, and the file is renamed over `path` only when complete. On any failure the
-// temporary file is removed, an existing file at `path` is left untouched, and an InputError names the path.
+// A run's outputs as one transaction (README, "Exit status"): readers never see a half-written file, and a run
+// that fails anywhere leaves every earlier output as it was.
+//
+// OutputFiles::Write stages one output: its bytes go to a new temporary file "<path>.tmp-<pid>-<n>" in the
+// output's own directory, created with O_CREAT | O_EXCL | O_NOFOLLOW (a file or symlink planted at that name is
+// never followed or overwritten), written through the descriptor and fsync'ed. Commit() renames every staged file
+// over its path, in the order staged, once all of them are complete, and syncs their directories. Destroying
+// an OutputFiles that was not committed removes its temporaries. An InputError names the path that failed.
 #pragma once
 
 #include <functional>
+#include <mutex>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace pb {
 
+class OutputFiles {
+ public:
+  OutputFiles() = default;
+  OutputFiles(const OutputFiles&) = delete;
+  OutputFiles& operator=(const OutputFiles&) = delete;
+  ~OutputFiles();
+
+  // Stages `path`; safe to call from several threads at once.
+  void Write(const std::string& path, const std::function<void(std::ostream&)>& write);
+  // Renames every staged file into place.
+  void Commit();
+
+ private:
+  struct Staged {
+    std::string temporary, path;
+  };
+  std::mutex mutex_;
+  std::vector<Staged> staged_;
+};
+
+// One file as a transaction of its own.
 void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
-// Throws an InputError naming `path` unless its directory exists and is writable. Called before long work,
-// so that a typo in an output path fails in a second, not after the bake.
+// Throws an InputError naming `path` unless it can be an output: its directory exists and is writable, and
+// nothing but a regular file is there now (not a directory, a device such as /dev/null, or a FIFO). Called
+// before long work, so that a typo in an output path fails in a second, not after the bake.
 void RequireWritableLocation(const std::string& path);
+
+// Throws an InputError when two of `outputs`, or an output and one of `inputs`, name the same file (compared
+// after resolving ".", "..", symlinks and hard links). Empty paths are skipped.
+void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>& outputs,
+                          const std::vector<std::pair<std::string, std::string>>& inputs);
 
 }  // namespace pb

@@ -24,11 +24,15 @@
 namespace pb {
 namespace {
 
+// Each output can be written, none names another or an input (--save-photons may name the --resume file).
 void ValidateOutputs(const BakeOptions& o) {
   RequireWritableLocation(o.outputPath);
   if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
   if (!o.mapsDirectory.empty()) RequireWritableLocation(o.mapsDirectory + "/surface_0.exr");
   if (!o.savePhotonsPath.empty()) RequireWritableLocation(o.savePhotonsPath);
+  RequireDistinctFiles({{"-o", o.outputPath}, {"--report", o.reportPath}, {"--save-photons", o.savePhotonsPath}},
+                       {{"the scene", o.scenePath}});
+  RequireDistinctFiles({{"-o", o.outputPath}, {"--report", o.reportPath}}, {{"--resume", o.resumePath}});
 }
 
 // What the driver records as the stages run: seconds per stage and the warnings shown.
@@ -81,7 +85,8 @@ void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, S
 }
 
 // Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/progressive.h); then --save-photons.
-Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, StageClock& clock, const Log& log) {
+Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs, StageClock& clock,
+                     const Log& log) {
   const InterruptScope interrupt;
   Lit lit;
   lit.photons = clock.Time("trace", [&] { return OpenPhotonStore(o, scene, lit.progress); });
@@ -101,7 +106,7 @@ Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, StageCloc
     }
     photons = NextRoundPhotons(photons, noise, *o.targetNoise, o.maxPhotons);
   }
-  clock.Time("save photons", [&] { SavePhotonStore(lit.photons, o, scene, lit.progress); });
+  clock.Time("save photons", [&] { SavePhotonStore(outputs, lit.photons, o, scene, lit.progress); });
   return lit;
 }
 
@@ -109,7 +114,7 @@ SceneSettings SceneOf(const BakeOptions& o) { return {o.scenePath, o.scale, Pars
 
 }  // namespace
 
-BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
+BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs) {
   o.Validate();
   const ThreadScope threads(o.threads);
   Journal journal;
@@ -118,14 +123,14 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
   const PreparedScene scene = PrepareScene(SceneOf(o), clock);
   journal.Warn(scene.warnings, log);
   if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions);
-  Lit lit = TraceAndEstimate(scene, o, clock, log);
+  Lit lit = TraceAndEstimate(scene, o, outputs, clock, log);
   const IrradianceField& field = *lit.field;
   journal.Warn(BandwidthWarnings(field, lit.bins, o.estimator.kind), log);
   const float exposure = DisplayExposure(lit.baked, o.exposure);
 
   MapsWritten maps;
   if (!o.mapsDirectory.empty())
-    maps = clock.Time("maps", [&] { return WriteIrradianceMaps(o.mapsDirectory, o.texel, field, lit.baked.mesh, log); });
+    maps = clock.Time("maps", [&] { return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, lit.baked.mesh, log); });
   RefineReport refine;
   if (o.refine.adaptive) journal.Warn(NoiseWarnings(field, lit.bins, exposure, o.refine.tolerance), log);
   if (o.refine.Enabled()) {
@@ -140,14 +145,25 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
   return {std::move(report), std::move(lit.baked)};
 }
 
+BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
+  OutputFiles outputs;
+  BakeResult result = BakeMesh(o, log, outputs);
+  outputs.Commit();
+  return result;
+}
+
 BakeReport Bake(const BakeOptions& o, const Log& log) {
   o.Validate();
   ValidateOutputs(o);
-  BakeResult result = BakeMesh(o, log);
+  OutputFiles outputs;
+  BakeResult result = BakeMesh(o, log, outputs);
   BakeReport& report = result.report;
   StageClock clock(report.stageSeconds);
-  clock.Time("write", [&] { return WritePly(o.outputPath, result.mesh, {o.asciiPly, report.exposure}); });
-  if (!o.reportPath.empty()) WriteReportJson(o.reportPath, report);
+  clock.Time("write", [&] {
+    WritePly(outputs, o.outputPath, result.mesh, {o.asciiPly, report.exposure});
+    if (!o.reportPath.empty()) WriteReportJson(outputs, o.reportPath, report);
+    outputs.Commit();
+  });
   return report;
 }
 

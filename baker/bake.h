@@ -2,13 +2,15 @@
 // vertices -> (refine the mesh) -> write PLY (and the JSON report). Throws InputError for bad input before any output is written.
 #pragma once
 
+#include "baker/atomic_file.h"
 #include "baker/options.h"
 #include "baker/progress.h"
 #include "baker/report.h"
 
 namespace pb {
 
-// The whole bake: BakeMesh, then the PLY and the JSON report.
+// The whole bake: BakeMesh, then the PLY and the JSON report. Every output is one transaction
+// (baker/atomic_file.h): none is renamed into place until all are written.
 BakeReport Bake(const BakeOptions& options, const Log& log);
 
 // Everything before writing the PLY: the report (all but the write time) and the baked
@@ -18,6 +20,9 @@ struct BakeResult {
   BakeReport report;
   BakedMesh mesh;
 };
+// Irradiance maps and the photon file (--maps, --save-photons) are staged in `outputs`; the overload without it
+// commits them itself.
+BakeResult BakeMesh(const BakeOptions& options, const Log& log, OutputFiles& outputs);
 BakeResult BakeMesh(const BakeOptions& options, const Log& log);
 
 }  // namespace pb

@@ -18,7 +18,7 @@
 namespace pb {
 namespace {
 
-// OpenEXR's output stream over the std::ostream that WriteFileAtomically provides.
+// OpenEXR's output stream over the std::ostream that OutputFiles::Write provides.
 class ExrStream : public Imf::OStream {
  public:
   ExrStream(std::ostream& out, const std::string& name) : Imf::OStream(name.c_str()), out_(out) {}
@@ -45,9 +45,9 @@ void PngFlush(png_structp) {}
 
 }  // namespace
 
-void WriteExr(const std::string& path, const Image& image,
+void WriteExr(OutputFiles& outputs, const std::string& path, const Image& image,
               const std::vector<std::pair<std::string, std::string>>& attributes, const std::vector<float>* alpha) {
-  WriteFileAtomically(path, [&](std::ostream& out) {
+  outputs.Write(path, [&](std::ostream& out) {
     Imf::Header header(image.width, image.height);
     for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
     if (alpha) header.channels().insert("A", Imf::Channel(Imf::FLOAT));
@@ -93,13 +93,13 @@ Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::s
   }
 }
 
-void WritePng(const std::string& path, const Image& image, float exposure) {
+void WritePng(OutputFiles& outputs, const std::string& path, const Image& image, float exposure) {
   std::vector<uint8_t> rgb(size_t(image.width) * size_t(image.height) * 3);
   for (size_t i = 0; i < image.pixels.size(); ++i) {
     const std::array<uint8_t, 3> c = ToneMap(image.pixels[i], exposure);
     std::copy(c.begin(), c.end(), rgb.begin() + std::ptrdiff_t(3 * i));
   }
-  WriteFileAtomically(path, [&](std::ostream& out) {
+  outputs.Write(path, [&](std::ostream& out) {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
     png_infop info = png_create_info_struct(png);
     if (!png || !info || setjmp(png_jmpbuf(png))) {

@@ -1,13 +1,14 @@
 // Images of the path tracer: linear RGB radiance L [W/(m^2 sr)] per pixel, written as
 //   OpenEXR: 32-bit float channels R, G, B, with header attributes naming the quantity and its units;
 //   PNG: 8-bit sRGB of Reinhard(exposure * L) (baker/tone_map.h), for viewing.
-// Both are written atomically (baker/atomic_file.h): a reader never sees a half-written image.
+// Both are staged in the run's OutputFiles (baker/atomic_file.h): a reader never sees a half-written image.
 #pragma once
 
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "baker/atomic_file.h"
 #include "mesh/color.h"
 
 namespace pb {
@@ -23,13 +24,13 @@ struct Image {
 
 // Extra string attributes go into the EXR header beside "quantity" and "units" (radiance unless the attributes
 // name another). With `alpha` (one value per pixel) the image also gets an A channel.
-void WriteExr(const std::string& path, const Image& image,
+void WriteExr(OutputFiles& outputs, const std::string& path, const Image& image,
               const std::vector<std::pair<std::string, std::string>>& attributes = {},
               const std::vector<float>* alpha = nullptr);
 // For tests and tools; InputError on failure. With `attributes`, also returns the header's string attributes;
 // with `alpha`, the A channel (one value per pixel, row-major; 1 where the file has none).
 Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes = nullptr,
               std::vector<float>* alpha = nullptr);
-void WritePng(const std::string& path, const Image& image, float exposure);
+void WritePng(OutputFiles& outputs, const std::string& path, const Image& image, float exposure);
 
 }  // namespace pb

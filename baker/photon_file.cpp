@@ -207,8 +207,8 @@ uint32_t SimulatedEffects(const TransportPlan& plan) {
   return bits;
 }
 
-void WritePhotonFile(const std::string& path, const PhotonStore& store, const PhotonOrigin& origin) {
-  WriteFileAtomically(path, [&](std::ostream& out) {
+void WritePhotonFile(OutputFiles& outputs, const std::string& path, const PhotonStore& store, const PhotonOrigin& origin) {
+  outputs.Write(path, [&](std::ostream& out) {
     Writer w(out);
     WriteHeader(w, origin, store);
     for (size_t l = 0; l < store.emitted.size(); ++l) {

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <string>
 
+#include "baker/atomic_file.h"
 #include "baker/0_plan_transport.h"
 #include "baker/1_trace_photons.h"
 #include "mesh/scene.h"
@@ -34,7 +35,7 @@ uint32_t SceneHash(const Scene& scene);
 // Bit e set when the plan simulates Effect e.
 uint32_t SimulatedEffects(const TransportPlan& plan);
 
-void WritePhotonFile(const std::string& path, const PhotonStore& store, const PhotonOrigin& origin);
+void WritePhotonFile(OutputFiles& outputs, const std::string& path, const PhotonStore& store, const PhotonOrigin& origin);
 
 // The store in `path`, after every check above; `lightPower` is this scene's Phi_l, one per light.
 PhotonStore ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower);

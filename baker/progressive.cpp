@@ -63,10 +63,10 @@ void GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& o,
   }
 }
 
-void SavePhotonStore(const PhotonStore& store, const BakeOptions& o, const PreparedScene& scene,
+void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeOptions& o, const PreparedScene& scene,
                      ProgressiveReport& report) {
   if (o.savePhotonsPath.empty()) return;
-  WritePhotonFile(o.savePhotonsPath, store, OriginOf(o, scene));
+  WritePhotonFile(outputs, o.savePhotonsPath, store, OriginOf(o, scene));
   report.savedTo = o.savePhotonsPath;
 }
 

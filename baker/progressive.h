@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "baker/atomic_file.h"
 #include "baker/0_prepare_scene.h"
 #include "baker/1_trace_photons.h"
 #include "baker/baked_mesh.h"
@@ -48,7 +49,7 @@ PhotonStore OpenPhotonStore(const BakeOptions& options, const PreparedScene& sce
 void GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& options, const PreparedScene& scene,
                      ProgressiveReport& report, const Log& log);
 // Writes --save-photons, when given.
-void SavePhotonStore(const PhotonStore& store, const BakeOptions& options, const PreparedScene& scene,
+void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeOptions& options, const PreparedScene& scene,
                      ProgressiveReport& report);
 
 // The bake's noise: the weighted 95th percentile above, from each vertex's sigma_H / H (BakedMesh::irradianceNoise,

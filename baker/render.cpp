@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "baker/0_prepare_scene.h"
-#include "baker/atomic_file.h"
+#include "baker/json_file.h"
 #include "baker/stage_clock.h"
 #include "baker/threads.h"
 #include "baker/tone_map.h"
@@ -35,6 +35,8 @@ void ValidateOptions(const RenderOptions& o) {
   if (o.exposure && !(*o.exposure > 0)) throw InputError("--exposure", 0, "must be > 0");
   RequireWritableLocation(o.outputPath);
   if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
+  RequireDistinctFiles({{"-o", o.outputPath}, {"--report", o.reportPath}},
+                       {{"the scene", o.scenePath}, {"--camera", o.cameraPath}});
 }
 
 std::string WithSuffix(const std::string& exrPath, const std::string& suffix, const std::string& extension) {
@@ -94,7 +96,7 @@ std::vector<std::pair<std::string, std::string>> ExrAttributes(const RenderOptio
           {"seed", std::to_string(o.seed)}};
 }
 
-void WriteRenderReport(const std::string& path, const RenderReport& r) {
+void WriteRenderReport(OutputFiles& outputs, const std::string& path, const RenderReport& r) {
   nlohmann::json j;
   j["scene"] = r.options.scenePath;
   j["sampling"] = SamplingName(r.options.path.sampling);
@@ -110,8 +112,7 @@ void WriteRenderReport(const std::string& path, const RenderReport& r) {
                            {"rays", image.stats.rays}, {"importance_maps", image.stats.importanceMaps},
                            {"importance_thread_seconds", image.stats.importanceSeconds}});
   j["outputs"] = r.outputs;
-  const std::string text = j.dump(2) + "\n";
-  WriteFileAtomically(path, [&](std::ostream& out) { out << text; });
+  WriteJsonFile(outputs, path, j);
 }
 
 }  // namespace
@@ -183,23 +184,25 @@ RenderReport Render(const RenderOptions& o, const Log& log) {
 
   const Image& last = report.images.back().second.mean;
   report.exposure = o.exposure ? *o.exposure : AutoExposure(last.pixels);
+  OutputFiles outputs;
   clock.Time("write", [&] {
     std::vector<const Image*> strip;
     for (const auto& [spp, image] : report.images) {
       const std::string suffix = o.sppSweep.empty() ? "" : fmt::format("_spp{}", spp);
       const std::string exr = WithSuffix(o.outputPath, suffix, ".exr"), png = WithSuffix(o.outputPath, suffix, ".png");
-      WriteExr(exr, image.mean, ExrAttributes(o, spp));
-      WritePng(png, image.mean, report.exposure);
+      WriteExr(outputs, exr, image.mean, ExrAttributes(o, spp));
+      WritePng(outputs, png, image.mean, report.exposure);
       report.outputs.insert(report.outputs.end(), {exr, png});
       strip.push_back(&image.mean);
     }
     if (!o.sppSweep.empty()) {
       const std::string path = WithSuffix(o.outputPath, "_strip", ".png");
-      WritePng(path, StripOf(strip), report.exposure);
+      WritePng(outputs, path, StripOf(strip), report.exposure);
       report.outputs.push_back(path);
     }
   });
-  if (!o.reportPath.empty()) WriteRenderReport(o.reportPath, report);
+  if (!o.reportPath.empty()) WriteRenderReport(outputs, o.reportPath, report);
+  outputs.Commit();
   return report;
 }
 

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "baker/atomic_file.h"
+#include "baker/json_file.h"
 
 namespace pb {
 namespace {
@@ -208,7 +208,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   log.Info(s);
 }
 
-void WriteReportJson(const std::string& path, const BakeReport& r) {
+void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeReport& r) {
   nlohmann::json j;
   j["options"] = OptionsJson(r.options);
   j["threads"] = r.threads;
@@ -240,8 +240,7 @@ void WriteReportJson(const std::string& path, const BakeReport& r) {
   if (r.refine.ran) j["refine"] = RefineJson(r);
   j["maps"] = {{"paths", r.maps.paths}, {"texels", r.maps.texels}, {"texel_m", r.options.texel}};
   j["warnings"] = r.warnings;
-  const std::string text = j.dump(2) + "\n";
-  WriteFileAtomically(path, [&](std::ostream& out) { out << text; });
+  WriteJsonFile(outputs, path, j);
 }
 
 }  // namespace pb

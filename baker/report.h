@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "baker/atomic_file.h"
 #include "baker/0_prepare_scene.h"
 #include "baker/1_trace_photons.h"
 #include "baker/2_bin_photons.h"
@@ -80,6 +81,6 @@ struct BakeResults {
 BakeReport DescribeBake(const BakeResults& results);
 
 void PrintSummary(const BakeReport& report, const Log& log);
-void WriteReportJson(const std::string& path, const BakeReport& report);
+void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeReport& report);
 
 }  // namespace pb

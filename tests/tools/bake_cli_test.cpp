@@ -2,6 +2,7 @@
 // error, --help that documents units, and byte-identical output for 1 and 2 threads.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -14,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "baker/atomic_file.h"
 #include "tests/ply_reader.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
@@ -279,6 +281,98 @@ TEST(BakeCli, ABakeKilledWhileWritingPhotonsLeavesThePreviousFileIntact) {
   EXPECT_NE(killed.status, 0);
   EXPECT_TRUE(test::ReadBytes(dir + "/s.photons") == before) << "the previous photon file changed";
   EXPECT_EQ(RunBake(PB_SOURCE_DIR "/data/box/box.obj -q -o " + dir + "/again.ply --resume " + dir + "/s.photons").status, 0);
+}
+
+bool NoTemporariesIn(const std::string& dir) {
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.path().filename().string().find(".tmp-") != std::string::npos) return false;
+  return true;
+}
+
+// All outputs are one transaction: a bake whose PLY cannot be written (a 1 MB file-size limit, with SIGXFSZ
+// ignored so that write() fails with EFBIG) after its photon file and maps were complete replaces none of them.
+TEST(BakeCli, ALateFailureReplacesNoOutput) {
+  const std::string dir = test::TempDirectory("cli-transaction");
+  std::filesystem::create_directories(dir + "/maps");
+  const std::string common = PB_SOURCE_DIR "/data/box/box.obj -q -o " + dir + "/out.ply --save-photons " + dir +
+                             "/s.photons --report " + dir + "/r.json --maps " + dir + "/maps --texel 0.1";
+  ASSERT_EQ(RunBake(common + " --photons 2000").status, 0);
+  const std::vector<std::string> files = {"/out.ply", "/s.photons", "/r.json", "/maps/surface_0.exr"};
+  std::vector<std::string> before;
+  for (const std::string& f : files) before.push_back(test::ReadBytes(dir + f));
+  // 3000 photons make a photon file of about 0.2 MB; three levels of subdivision a PLY of about 7 MB.
+  const BakeRun failed = test::RunTool("bash -c \"trap '' XFSZ; ulimit -f 1024; exec " + std::string(PB_BAKE_EXE) +
+                                       " " + common + " --photons 3000 --subdivide 3\"", "");
+  EXPECT_EQ(failed.status, 1) << failed.output;
+  EXPECT_NE(failed.output.find("out.ply: error: write failed"), std::string::npos) << failed.output;
+  for (size_t i = 0; i < files.size(); ++i)
+    EXPECT_TRUE(test::ReadBytes(dir + files[i]) == before[i]) << files[i] << " was replaced by a failed bake";
+  EXPECT_TRUE(NoTemporariesIn(dir) && NoTemporariesIn(dir + "/maps")) << "a failed bake left temporary files";
+}
+
+// Outputs that collide with each other or with an input, a directory as -o, and a device as an output are
+// refused before any work, and nothing is written.
+TEST(BakeCli, CollidingOrNonRegularOutputsAreRefusedAtOnce) {
+  const std::string dir = test::TempDirectory("cli-collisions");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 4, 8);
+  const std::string sceneBytes = test::ReadBytes(scene);
+  ASSERT_EQ(RunBake(scene + " -q -o " + dir + "/keep.ply --photons 1000 --save-photons " + dir + "/s.photons").status, 0);
+  const std::string keepBytes = test::ReadBytes(dir + "/keep.ply");
+  struct Case {
+    std::string arguments, expected;
+  };
+  const std::vector<Case> cases = {
+      {"-o " + scene, "-o would overwrite the input the scene"},
+      {"-o " + dir + "/x.ply --report " + dir + "/x.ply", "--report and -o name the same file"},
+      {"-o " + dir + "/keep.ply --save-photons " + dir + "/./keep.ply", "--save-photons and -o name the same file"},
+      {"-o " + dir + "/y.ply --report " + dir + "/s.photons --resume " + dir + "/s.photons",
+       "--report would overwrite the input --resume"},
+      {"-o " + dir, "is a directory"},
+      {"-o " + dir + "/", "is a directory"},
+      {"-o /dev/null", "is not a regular file"},
+  };
+  for (const Case& c : cases) {
+    const BakeRun run = RunBake(scene + " --photons 400000000 " + c.arguments);
+    EXPECT_EQ(run.status, 1) << c.arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find(c.expected), std::string::npos) << c.arguments << "\n" << run.output;
+  }
+  EXPECT_TRUE(test::ReadBytes(scene) == sceneBytes);
+  EXPECT_TRUE(test::ReadBytes(dir + "/keep.ply") == keepBytes);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.ply"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/y.ply"));
+  // --save-photons may name the --resume file: the photons are read before the new file is written.
+  EXPECT_EQ(RunBake(scene + " -q -o " + dir + "/z.ply --photons 2000 --resume " + dir + "/s.photons --save-photons " +
+                    dir + "/s.photons").status, 0);
+}
+
+// A planted symlink at a temporary file's name is never followed: the temporary is created with O_EXCL |
+// O_NOFOLLOW, so the bake takes another name and the symlink's target is untouched.
+TEST(BakeCli, APlantedSymlinkIsNotFollowed) {
+  const std::string dir = test::TempDirectory("cli-symlink");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 4, 8);
+  test::WriteText(dir + "/victim", "precious");
+  OutputFiles outputs;
+  // The temporary names a fresh process tries first for out.ply: "<path>.tmp-<pid>-<n>" for n = 0, 1, ... (ctest
+  // runs each test in a process of its own).
+  for (int n = 0; n < 50; ++n)
+    std::filesystem::create_symlink(dir + "/victim", dir + "/out.ply.tmp-" + std::to_string(getpid()) + "-" + std::to_string(n));
+  outputs.Write(dir + "/out.ply", [](std::ostream& out) { out << "new"; });
+  outputs.Commit();
+  EXPECT_EQ(test::ReadBytes(dir + "/victim"), "precious");
+  EXPECT_EQ(test::ReadBytes(dir + "/out.ply"), "new");
+}
+
+// Text from scene files in any encoding: a Latin-1 material name ("Terraind\xe6k") is written to the JSON report
+// as U+FFFD, not an abort after the PLY was replaced.
+TEST(BakeCli, ANonUtf8NameIsReplacedInTheReport) {
+  const std::string dir = test::TempDirectory("cli-latin1");
+  test::WriteText(dir + "/m.mtl", "newmtl Terraind\xe6k\nKd 0.5 0.5 0.5\nnewmtl lamp\nKe 1 1 1\n");
+  test::WriteText(dir + "/s.obj", "mtllib m.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nusemtl Terraind\xe6k\n"
+                                  "f 1 4 3 2\nv 0 1 0\nv 0.2 1 0\nv 0.2 1 0.2\nv 0 1 0.2\nusemtl lamp\nf 5 6 7 8\n");
+  const BakeRun run = RunBake(dir + "/s.obj -q -o " + dir + "/out.ply --photons 1000 --report " + dir + "/r.json");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const nlohmann::json r = nlohmann::json::parse(test::ReadBytes(dir + "/r.json"));
+  EXPECT_EQ(r.at("surfaces").at(0).at("material").get<std::string>(), "Terraind\xef\xbf\xbdk");
 }
 
 TEST(BakeCli, ResumeAndTargetNoiseAreReported) {
