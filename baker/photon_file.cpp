@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -131,15 +133,81 @@ Header ReadHeader(Reader& r, const std::string& path) {
   return h;
 }
 
-// Refuses a file whose length is not what its header promises, before the records are read.
-void CheckLength(const std::string& path, const Header& h, const std::vector<uint64_t>& blockHits) {
-  uint64_t expected = kHeaderBytes + h.lights * kLightBytes + h.blocks * kBlockBytes + kTrailerBytes;
-  for (uint64_t n : blockHits) expected += n * sizeof(PhotonHit);
-  const uint64_t actual = std::filesystem::file_size(path);
-  if (actual < expected)
-    throw InputError(path, 0, fmt::format("photon file is truncated: {} bytes of the {} its header describes", actual, expected));
+[[noreturn]] void Truncated(const std::string& path, uint64_t actual, uint64_t expected) {
+  throw InputError(path, 0, fmt::format("photon file is truncated: {} bytes of the {} its header describes", actual,
+                                        expected));
+}
+
+// The file's length, refusing anything but a regular file (a pipe, a device such as /dev/zero, a directory).
+uint64_t RegularFileSize(const std::string& path) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (error) throw InputError(path, 0, "cannot open photon file: " + error.message());
+  if (!std::filesystem::is_regular_file(status))
+    throw InputError(path, 0, "is not a regular file; --resume reads a photon file written by --save-photons");
+  return std::filesystem::file_size(path);
+}
+
+// The bytes up to the first record, from the header's counts; checked against the file's length before the
+// light and block tables are allocated. Counts are 32-bit, so nothing here overflows.
+uint64_t TableBytes(const std::string& path, const Header& h, uint64_t actual) {
+  const uint64_t bytes = kHeaderBytes + uint64_t(h.lights) * kLightBytes + uint64_t(h.blocks) * kBlockBytes;
+  if (bytes + kTrailerBytes > actual) Truncated(path, actual, bytes + kTrailerBytes);
+  return bytes;
+}
+
+// Refuses a file whose length is not what its header promises, before the records are read. The hit counts come
+// from the file, so their sum is bounded as it goes, never allowed to wrap.
+void CheckLength(const std::string& path, uint64_t tableBytes, const std::vector<uint64_t>& blockHits, uint64_t actual) {
+  uint64_t expected = tableBytes + kTrailerBytes;
+  for (uint64_t n : blockHits) {
+    if (n > (actual - std::min(actual, expected)) / sizeof(PhotonHit))
+      throw InputError(path, 0, fmt::format("photon file is truncated: its blocks declare more records than its {} "
+                                            "bytes hold", actual));
+    expected += n * sizeof(PhotonHit);
+  }
+  if (actual < expected) Truncated(path, actual, expected);
   if (actual > expected)
     throw InputError(path, 0, fmt::format("photon file has {} bytes past the {} its header describes", actual - expected, expected));
+}
+
+[[noreturn]] void Corrupt(const std::string& path, const std::string& what) {
+  throw InputError(path, 0, "photon file is corrupt: " + what);
+}
+
+// A block's statistics, in attenuation units: its photons each end once (absorbed, escaped, forbidden or
+// truncated), its hits are its records, and its flux sums are finite and non-negative.
+void CheckBlockStats(const std::string& path, const BlockRange& range, uint64_t hits, const TraceStats& s) {
+  const uint64_t photons = range.end - range.first;
+  if (s.emitted != photons || s.hits != hits)
+    Corrupt(path, fmt::format("a block of {} photons and {} hits counts {} and {}", photons, hits, s.emitted, s.hits));
+  const uint64_t ends[] = {s.absorbed, s.escaped, s.forbidden, s.truncated};
+  uint64_t ended = 0;
+  for (uint64_t e : ends) ended = e > photons - std::min(photons, ended) ? ~uint64_t(0) : ended + e;
+  if (ended != photons) Corrupt(path, "a block's photons do not each end once");
+  bool finite = true;
+  for (const RgbSum* sum : {&s.fluxEmitted, &s.fluxAbsorbed, &s.fluxEscaped, &s.fluxForbidden})
+    for (double c : {sum->r, sum->g, sum->b}) finite = finite && std::isfinite(c) && c >= 0;
+  if (!finite) Corrupt(path, "a block's flux sums are not finite and non-negative");
+}
+
+// A record names a triangle of this scene, with a finite non-negative attenuation and barycentrics inside it
+// (to float rounding).
+bool ValidHit(const PhotonHit& hit, size_t triangles) {
+  constexpr float kSlack = 1e-4f;
+  const Rgb& a = hit.attenuation;
+  const bool attenuation = std::isfinite(a.r) && std::isfinite(a.g) && std::isfinite(a.b) && a.r >= 0 && a.g >= 0 && a.b >= 0;
+  const bool inside = hit.b1 >= -kSlack && hit.b2 >= -kSlack && hit.b1 + hit.b2 <= 1 + kSlack;  // false for NaN
+  return hit.Triangle() < triangles && attenuation && inside;
+}
+
+void CheckHits(const std::string& path, const PhotonStore& store, size_t triangles) {
+  for (const HitBlock& block : store.blocks)
+    for (const PhotonHit& hit : block)
+      if (!ValidHit(hit, triangles))
+        Corrupt(path, fmt::format("a hit on triangle {} of {}, attenuation ({}, {}, {}), barycentrics ({}, {})",
+                                  hit.Triangle(), triangles, hit.attenuation.r, hit.attenuation.g, hit.attenuation.b,
+                                  hit.b1, hit.b2));
 }
 
 void CheckOrigin(const std::string& path, const PhotonOrigin& file, const PhotonOrigin& bake) {
@@ -157,19 +225,20 @@ void CheckOrigin(const std::string& path, const PhotonOrigin& file, const Photon
                        file.effects, bake.effects));
 }
 
-// Each light's blocks cover photons [0, N_l) of its stream, in order: a file that passed its CRC but not this was
-// not written by WritePhotonFile.
+// Each light's blocks cover photons [0, N_l) of its stream, in order, in aligned blocks all full but the last: a
+// file that passed its CRC but not this was not written by WritePhotonFile. (A short block before a full one
+// would let a resume skip photons of the stream.)
 void CheckBlocks(const std::string& path, const PhotonStore& store) {
   std::vector<uint64_t> next(store.emitted.size(), 0);
   uint32_t previousLight = 0;
   for (const BlockRange& r : store.ranges) {
     if (r.light >= next.size() || r.light < previousLight || r.first != next[r.light] || r.end <= r.first ||
-        r.end - r.first > kBlockPhotons)
-      throw InputError(path, 0, "photon file is corrupt: its blocks do not cover each light's photons in order");
+        r.end - r.first > kBlockPhotons || r.first % kBlockPhotons != 0)
+      Corrupt(path, "its blocks do not cover each light's photons in order, in aligned blocks");
     next[r.light] = r.end;
     previousLight = r.light;
   }
-  if (next != store.emitted) throw InputError(path, 0, "photon file is corrupt: its blocks and light counts disagree");
+  if (next != store.emitted) Corrupt(path, "its blocks and light counts disagree");
 }
 
 template <typename T>
@@ -227,12 +296,14 @@ void WritePhotonFile(OutputFiles& outputs, const std::string& path, const Photon
   });
 }
 
-PhotonStore ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower) {
+PhotonStore ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower,
+                           size_t triangles) {
+  const uint64_t actual = RegularFileSize(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open photon file: " + std::string(std::strerror(errno)));
   Reader r(in, path);
   const Header h = ReadHeader(r, path);
-  if (h.lights > (1u << 20) || h.blocks > (1u << 30)) throw InputError(path, 0, "photon file is corrupt: implausible header");
+  const uint64_t tableBytes = TableBytes(path, h, actual);
   PhotonStore store;
   store.lightPower.resize(h.lights);
   store.emitted.resize(h.lights);
@@ -248,13 +319,15 @@ PhotonStore ReadPhotonFile(const std::string& path, const PhotonOrigin& expected
     blockHits[b] = r.Get<uint64_t>();
     VisitStats(store.blockStats[b], [&](auto& value) { value = r.Get<std::remove_reference_t<decltype(value)>>(); });
   }
-  CheckLength(path, h, blockHits);
+  CheckLength(path, tableBytes, blockHits, actual);
   for (uint32_t b = 0; b < h.blocks; ++b) {
     store.blocks.emplace_back(blockHits[b]);
     r.Bytes(store.blocks.back().data(), blockHits[b] * sizeof(PhotonHit));
   }
   r.CheckCrc();
   CheckBlocks(path, store);
+  for (uint32_t b = 0; b < h.blocks; ++b) CheckBlockStats(path, store.ranges[b], blockHits[b], store.blockStats[b]);
+  CheckHits(path, store, triangles);
   CheckOrigin(path, h.origin, expected);
   if (store.lightPower != lightPower)
     throw InputError(path, 0, fmt::format("cannot resume: the photon file has {} lights, or lights of other power, "

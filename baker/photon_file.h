@@ -6,9 +6,13 @@
 //   blocks  per block: its light, photon range and hit count, and its stats in attenuation units;
 //   hits    every PhotonHit (attenuation, octahedral direction, triangle and side, barycentrics), block by block;
 //   trailer CRC-32 (zlib) of every byte before it.
-// It is written to a temporary file and renamed into place (baker/atomic_file.h). Reading checks everything
-// before any of it is used: the file's size against its header, the CRC, and that the scene, seed and photon
-// options match this bake; any mismatch is an InputError that names the file and says what differs.
+// It is written to a temporary file and renamed into place (baker/atomic_file.h). Reading trusts nothing in the
+// file, whose CRC guards only against accidents: it must be a regular file; every size is checked against the
+// file's length, in overflow-safe arithmetic, before anything is allocated; the CRC; each light's blocks must be
+// aligned, full but for the last, and in order; each block's statistics must add up (every photon ends once) and
+// be finite; every record must name a triangle of this scene, with finite non-negative attenuation and
+// barycentrics inside it; and the scene, seed and photon options must match this bake. Any failure is an
+// InputError that names the file and says what is wrong.
 #pragma once
 
 #include <cstdint>
@@ -37,7 +41,9 @@ uint32_t SimulatedEffects(const TransportPlan& plan);
 
 void WritePhotonFile(OutputFiles& outputs, const std::string& path, const PhotonStore& store, const PhotonOrigin& origin);
 
-// The store in `path`, after every check above; `lightPower` is this scene's Phi_l, one per light.
-PhotonStore ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower);
+// The store in `path`, after every check above; `lightPower` is this scene's Phi_l, one per light, and `triangles`
+// its triangle count.
+PhotonStore ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower,
+                           size_t triangles);
 
 }  // namespace pb

@@ -48,7 +48,7 @@ PhotonStore OpenPhotonStore(const BakeOptions& o, const PreparedScene& scene, Pr
   report.target = o.targetNoise;
   PhotonStore empty = EmptyPhotonStore(scene.lights);
   if (o.resumePath.empty()) return empty;
-  PhotonStore store = ReadPhotonFile(o.resumePath, OriginOf(o, scene), empty.lightPower);
+  PhotonStore store = ReadPhotonFile(o.resumePath, OriginOf(o, scene), empty.lightPower, scene.scene.triangles.size());
   report.resumedFrom = o.resumePath;
   report.resumedPhotons = store.stats.emitted;
   return store;

@@ -6,6 +6,10 @@
 // - the noise --target-noise predicts is honest: on the closed-form square light it matches the measured error
 //   against Lambert's formula within a factor of 1.5 at 100k, 400k and 1.6M photons.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <zlib.h>
+
+#include <cstring>
 
 #include <cmath>
 #include <filesystem>
@@ -151,6 +155,88 @@ TEST(PhotonFile, TruncatedOrCorruptedFilesAreRefusedWhole) {
   EXPECT_TRUE(Contains(resumeFrom(flipped), "photon file is corrupt: its CRC-32 is")) << "flipped bit";
   EXPECT_TRUE(Contains(resumeFrom("ply\nformat binary_little_endian 1.0\n"), "not a photon file")) << "a PLY";
   EXPECT_EQ(resumeFrom(bytes), "") << "the intact file";
+}
+
+// A hostile photon file: the CRC guards only against accidents, so each of these has it recomputed and must be
+// refused by what it says, without a large allocation, a crash or NaN in the output (issue 16).
+struct Layout {  // docs/photon-file.md
+  static constexpr size_t kHeader = 44, kLight = 20, kBlock = 4 + 3 * 8 + 11 * 8 + 12 * 8, kRecord = 28;
+  size_t lights, blocks;
+  size_t Block(size_t b) const { return kHeader + lights * kLight + b * kBlock; }
+  size_t Stat(size_t b, size_t k) const { return Block(b) + 28 + 8 * k; }  // k-th count of block b's stats
+  size_t Record(size_t i) const { return Block(blocks) + i * kRecord; }
+};
+
+template <typename T>
+void Poke(std::string& bytes, size_t offset, T value) {
+  std::memcpy(bytes.data() + offset, &value, sizeof value);
+}
+template <typename T>
+T Peek(const std::string& bytes, size_t offset) {
+  T value;
+  std::memcpy(&value, bytes.data() + offset, sizeof value);
+  return value;
+}
+
+std::string WithCrc(std::string bytes) {
+  const uint32_t crc = uint32_t(crc32_z(crc32(0, nullptr, 0), reinterpret_cast<const Bytef*>(bytes.data()), bytes.size() - 4));
+  Poke(bytes, bytes.size() - 4, crc);
+  return bytes;
+}
+
+TEST(PhotonFile, HostileFilesWithAValidCrcAreRefused) {
+  const SavedStore saved("photon-file-hostile");
+  const std::string bytes = test::ReadBytes(saved.file);
+  const Layout at{Peek<uint32_t>(bytes, 36), Peek<uint32_t>(bytes, 40)};
+  ASSERT_EQ(at.lights, 1u);
+  ASSERT_GE(at.blocks, 2u);
+  const auto refusal = [&](std::string hostile) {
+    test::WriteText(saved.file, WithCrc(std::move(hostile)));
+    return saved.ResumeMessage([](BakeOptions&) {});
+  };
+  std::string header = bytes.substr(0, Layout::kHeader) + std::string(40, '\0');  // 84 bytes: a header, no tables
+  Poke(header, 40, uint32_t(1) << 30);
+  const std::string huge = refusal(header);
+  EXPECT_TRUE(Contains(huge, "photon file is truncated: 84 bytes of the")) << "2^30 blocks in 84 bytes: " << huge;
+  std::string wrapped = bytes;
+  Poke(wrapped, at.Block(0) + 20, uint64_t(1) << 63);
+  Poke(wrapped, at.Block(1) + 20, uint64_t(1) << 63);
+  EXPECT_TRUE(Contains(refusal(wrapped), "photon file is truncated")) << "hit counts that wrap past 2^64";
+  std::string triangle = bytes;
+  Poke(triangle, at.Record(5) + 16, uint32_t(999'999) | PhotonHit::kFrontBit);
+  EXPECT_TRUE(Contains(refusal(triangle), "a hit on triangle 999999 of")) << "a triangle out of range";
+  for (const float bad : {NAN, INFINITY, -1.0f}) {
+    std::string attenuation = bytes;
+    Poke(attenuation, at.Record(7) + 4, bad);
+    EXPECT_TRUE(Contains(refusal(attenuation), "photon file is corrupt: a hit on triangle")) << bad;
+  }
+  std::string outside = bytes;
+  Poke(outside, at.Record(9) + 20, 0.9f);
+  Poke(outside, at.Record(9) + 24, 0.9f);
+  EXPECT_TRUE(Contains(refusal(outside), "barycentrics (0.9, 0.9)")) << "a point outside its triangle";
+  std::string misaligned = bytes;  // block 0 covers [0, 1000), block 1 starts there
+  Poke(misaligned, at.Block(0) + 12, uint64_t(1000));
+  Poke(misaligned, at.Block(1) + 4, uint64_t(1000));
+  EXPECT_TRUE(Contains(refusal(misaligned), "in aligned blocks")) << "a short block before a full one";
+  std::string counts = bytes;  // absorbed wraps: 2^64 - 1
+  Poke(counts, at.Stat(0, 2), ~uint64_t(0));
+  EXPECT_TRUE(Contains(refusal(counts), "do not each end once")) << "wrapped statistics";
+  std::string flux = bytes;
+  Poke(flux, at.Stat(0, 11), double(NAN));
+  EXPECT_TRUE(Contains(refusal(flux), "flux sums are not finite")) << "NaN flux statistics";
+  EXPECT_EQ(refusal(bytes), "") << "the intact file, its CRC recomputed";
+}
+
+TEST(PhotonFile, ResumeFromAPipeOrADeviceIsRefused) {
+  const SavedStore saved("photon-file-pipe");
+  for (const std::string& path : {std::string("/dev/zero"), saved.dir}) {
+    const std::string message = saved.ResumeMessage([&](BakeOptions& o) { o.resumePath = path; });
+    EXPECT_TRUE(Contains(message, path + ": error: is not a regular file")) << message;
+  }
+  const std::string fifo = saved.dir + "/fifo";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const std::string message = saved.ResumeMessage([&](BakeOptions& o) { o.resumePath = fifo; });
+  EXPECT_TRUE(Contains(message, "is not a regular file")) << message;
 }
 
 TEST(PhotonFile, AWriteThatFailsPartWayLeavesThePreviousFileIntact) {
