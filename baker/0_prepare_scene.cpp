@@ -4,6 +4,9 @@
 #include <tbb/parallel_for.h>
 
 #include "mesh/errors.h"
+#include "mesh/color.h"
+
+#include <algorithm>
 #include "mesh/obj_loader.h"
 
 namespace pb {
@@ -22,8 +25,20 @@ std::string RecentringNote(const Scene& scene) {
                      scene.path, scene.origin[0], scene.origin[1], scene.origin[2]);
 }
 
+// Largest flux of one light [W]: float ends at 3.4e38, and fluxes are summed over lights and multiplied by
+// exposures, so a light must leave room below it.
+constexpr double kMaxLightFlux = 1e30;
+
 void RequireLight(const Scene& scene, const std::vector<AreaLight>& lights) {
   if (lights.empty()) throw InputError(scene.path, 0, "scene has no light: no face uses a material with Ke > 0");
+  for (const AreaLight& light : lights) {
+    const double flux = kPi * light.area * double(std::max({light.radiance.r, light.radiance.g, light.radiance.b}));
+    if (!(flux <= kMaxLightFlux))
+      throw InputError(scene.path, 0, fmt::format("the light of material '{}' emits {:.3g} W (pi Ke A, with A = {:.4g} "
+                                                  "m^2), above the {:.0e} W a light may have; lower its Ke",
+                                                  scene.materials[scene.triangles[light.triangles.front()].material].name,
+                                                  flux, light.area, kMaxLightFlux));
+  }
 }
 
 }  // namespace

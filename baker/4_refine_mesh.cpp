@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "baker/memory_budget.h"
 #include "baker/tone_map.h"
 #include "mesh/decimate.h"
 #include "mesh/half_edge_mesh.h"
@@ -327,6 +328,13 @@ void SummariseErrors(const HalfEdgeMesh& mesh, const std::vector<InterpolationEr
 }
 
 }  // namespace
+
+void CheckSubdivisionMemory(size_t triangles, int levels) {
+  constexpr double kBytesPerFace = 400;
+  const double faces = double(triangles) * std::pow(4.0, levels);
+  RequireMemory("--subdivide", faces * kBytesPerFace, fmt::format("{} levels of {} triangles ({:.3g} faces)", levels,
+                                                                  triangles, faces));
+}
 
 std::vector<std::string> NoiseWarnings(const IrradianceField& field, const SurfaceBins& bins, float exposure,
                                        float tolerance) {

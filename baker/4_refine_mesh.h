@@ -29,6 +29,10 @@
 
 namespace pb {
 
+// InputError("--subdivide") when the uniform levels would need more memory than the machine has: about 400 bytes
+// per final face (half-edge mesh, display mesh and light; measured on the box at levels 3 to 5).
+void CheckSubdivisionMemory(size_t triangles, int levels);
+
 struct RefineReport {
   bool ran = false;
   size_t verticesBefore = 0, verticesAfter = 0;  // of the written (split) mesh

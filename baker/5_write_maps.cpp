@@ -3,10 +3,12 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "baker/atomic_file.h"
 #include "baker/image_io.h"
+#include "baker/memory_budget.h"
 #include "mesh/errors.h"
 
 namespace pb {
@@ -61,7 +63,20 @@ void WriteSurfaceMap(OutputFiles& outputs, const std::string& path, float texel,
 
 }  // namespace
 
-void CheckMapTexels(float texel, const SurfaceRegions& regions) {
+double MapMemoryBytes(float texel, const SurfaceRegions& regions, unsigned threads) {
+  constexpr double kBytesPerTexel = 40;
+  std::vector<double> texels;
+  for (const auto& region : regions) {
+    const auto [nu, nv] = TexelGrid(region->Bounds(), texel);
+    texels.push_back(double(nu) * double(nv));
+  }
+  std::sort(texels.rbegin(), texels.rend());
+  double bytes = 0;
+  for (size_t i = 0; i < texels.size() && i < threads; ++i) bytes += texels[i] * kBytesPerTexel;
+  return bytes;
+}
+
+void CheckMapTexels(float texel, const SurfaceRegions& regions, unsigned threads) {
   for (size_t s = 0; s < regions.size(); ++s) {
     const Bounds2 b = regions[s]->Bounds();
     const double side = std::max(b.hi.u - b.lo.u, b.hi.v - b.lo.v) / texel;
@@ -69,6 +84,7 @@ void CheckMapTexels(float texel, const SurfaceRegions& regions) {
       throw InputError("--texel", 0, fmt::format("surface {} would need {:.0f} texels on a side (at most {}); "
                                                  "use a larger --texel", s, side, kMaxTexelsPerSide));
   }
+  RequireMemory("--texel", MapMemoryBytes(texel, regions, threads), fmt::format("maps of {} m texels", texel));
 }
 
 MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,
@@ -77,7 +93,7 @@ MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directo
   const SurfaceSet& surfaces = prepared.surfaces;
   const SurfaceRegions& regions = prepared.regions;
   RequireWritableLocation(directory + "/surface_0.exr");
-  CheckMapTexels(texel, regions);
+  CheckMapTexels(texel, regions, 1);
   MapsWritten written;
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const auto [nu, nv] = TexelGrid(regions[s]->Bounds(), texel);

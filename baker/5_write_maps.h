@@ -29,9 +29,12 @@ struct MapsWritten {
 
 // One file per surface, "DIR/surface_<index>.exr". InputError if DIR is not a writable folder or a chart would
 // need more than 8192 texels on a side.
-// InputError("--texel") when a surface's chart would need more than 8192 texels on a side: checked before any
-// photon is traced.
-void CheckMapTexels(float texel, const SurfaceRegions& regions);
+// InputError("--texel") when a surface's chart would need more than 8192 texels on a side, or when the maps being
+// written at once (one per thread, the largest first) would need more memory than the machine has, at about 40
+// bytes per texel (H, coverage, overlap area and OpenEXR's buffers): checked before any photon is traced.
+void CheckMapTexels(float texel, const SurfaceRegions& regions, unsigned threads);
+// Bytes of the `threads` largest maps at once.
+double MapMemoryBytes(float texel, const SurfaceRegions& regions, unsigned threads);
 
 // `base` is SplitBySurface of the field's scene.
 MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,

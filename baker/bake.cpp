@@ -66,6 +66,23 @@ std::vector<std::string> BandwidthWarnings(const IrradianceField& field, const S
   return warnings;
 }
 
+// Warns about each light that reaches the scene but got no photon: its share n Phi_l / Phi is below one, so its
+// light is missing from the bake.
+std::vector<std::string> UnlitLightWarnings(const PreparedScene& scene, const PhotonStore& photons) {
+  std::vector<std::string> warnings;
+  double total = 0;
+  for (size_t l = 0; l < scene.lights.size(); ++l) total += scene.plan.lightReaches[l] ? scene.lights[l].Power().Mean() : 0;
+  for (size_t l = 0; l < scene.lights.size(); ++l) {
+    if (!scene.plan.lightReaches[l] || photons.emitted[l] > 0) continue;
+    const AreaLight& light = scene.lights[l];
+    warnings.push_back(fmt::format("{}: warning: the light of material '{}' ({:.3g} W of {:.3g} W) got no photon, so "
+                                   "its light is missing; raise --photons to at least {:.0f}", scene.scene.path,
+                                   scene.scene.materials[scene.scene.triangles[light.triangles.front()].material].name,
+                                   light.Power().Mean(), total, std::ceil(total / light.Power().Mean())));
+  }
+  return warnings;
+}
+
 // Stages 1 to 3: the photons, binned per surface, the irradiance field they give, and the light at every vertex.
 struct Lit {
   PhotonStore photons;
@@ -122,9 +139,11 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs) 
 
   const PreparedScene scene = PrepareScene(SceneOf(o), clock);
   journal.Warn(scene.warnings, log);
-  if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions);
+  if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions, threads.Count());
+  if (o.refine.subdivide > 0) CheckSubdivisionMemory(scene.scene.triangles.size(), o.refine.subdivide);
   Lit lit = TraceAndEstimate(scene, o, outputs, clock, log);
   const IrradianceField& field = *lit.field;
+  journal.Warn(UnlitLightWarnings(scene, lit.photons), log);
   journal.Warn(BandwidthWarnings(field, lit.bins, o.estimator.kind), log);
   const float exposure = DisplayExposure(lit.baked, o.exposure);
 

@@ -11,6 +11,9 @@ namespace pb {
 namespace {
 
 bool FinitePositive(double x) { return x > 0 && std::isfinite(x); }
+bool Within(double x, double lo, double hi) { return x >= lo && x <= hi; }  // false for NaN
+// The shortest length option, as the float it is read into (1e-6f is a shade below 1e-6).
+constexpr double kMinLength = double(1e-6f);
 
 void Require(bool ok, const char* option, const std::string& rule) {
   if (!ok) throw InputError(option, 0, rule);
@@ -31,16 +34,18 @@ void RequireReachableNoise(const EstimatorSettings& e, float target) {
 }  // namespace
 
 void BakeOptions::Validate() const {
-  Require(FinitePositive(estimator.bandwidth), "--h", "must be a finite length > 0 m");
-  Require(estimator.neighbours >= 2, "--k", "must be at least 2");
+  // Lengths far outside these lose the estimate to float precision (h^2 under- or overflows against the scene).
+  Require(Within(estimator.bandwidth, kMinLength, 1e4), "--h", "must be a length in [1e-6, 1e4] m");
+  Require(estimator.neighbours >= 2 && estimator.neighbours <= 1'000'000, "--k", "must lie in [2, 1000000]");
   Require(photons >= 1 && photons <= (uint64_t(1) << 40), "--photons", "must lie in [1, 2^40]");
-  Require(FinitePositive(scale), "--scale", "must be a finite number > 0");
+  Require(threads <= 1024, "--threads", "must lie in [0, 1024]");
+  Require(Within(scale, kMinLength, 1e6), "--scale", "must lie in [1e-6, 1e6] metres per scene unit");
   Require(maxBounces <= kDefaultMaxBounces, "--max-bounces", fmt::format("must lie in [0, {}]", kDefaultMaxBounces));
   Require(!exposure || FinitePositive(*exposure), "--exposure", "must be a finite number > 0");
-  Require(FinitePositive(texel), "--texel", "must be a finite length > 0 m");
+  Require(Within(texel, kMinLength, 1e4), "--texel", "must be a length in [1e-6, 1e4] m");
   Require(refine.tolerance > 0 && refine.tolerance < 1, "--tolerance", "must lie in (0, 1)");
   Require(refine.subdivide >= 0 && refine.subdivide <= 8, "--subdivide", "must lie in [0, 8]");
-  Require(refine.maxVertices >= 3, "--max-vertices", "must be at least 3");
+  Require(refine.maxVertices >= 3 && refine.maxVertices <= 1'000'000'000, "--max-vertices", "must lie in [3, 1e9]");
   Require(!targetNoise || (*targetNoise > 0 && *targetNoise < 1), "--target-noise", "must lie in (0, 1)");
   Require(!targetNoise || maxPhotons >= photons, "--max-photons",
           "must be at least --photons, the first round of --target-noise");

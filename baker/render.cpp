@@ -9,6 +9,7 @@
 
 #include "baker/0_prepare_scene.h"
 #include "baker/json_file.h"
+#include "baker/memory_budget.h"
 #include "baker/stage_clock.h"
 #include "baker/threads.h"
 #include "baker/tone_map.h"
@@ -26,13 +27,17 @@ void ValidateOptions(const RenderOptions& o) {
   if (o.path.neighbours < 1) throw InputError("--neighbours", 0, "must be at least 1");
   if (!(o.path.floorFraction >= 0 && o.path.floorFraction <= 1)) throw InputError("--floor", 0, "must lie in [0, 1]");
   const auto powerOfTwo = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
-  if (o.path.thetaRegions < 1 || o.path.phiRegions < 1 || o.path.thetaRegions * o.path.phiRegions > 65536)
+  if (o.path.thetaRegions < 1 || o.path.phiRegions < 1 || int64_t(o.path.thetaRegions) * o.path.phiRegions > 65536)
     throw InputError("--regions", 0, "needs ROWSxCOLS with 1 <= ROWS x COLS <= 65536");
   if (o.path.warp == ImportanceWarp::kMipmap && !(powerOfTwo(o.path.thetaRegions) && powerOfTwo(o.path.phiRegions)))
     throw InputError("--regions", 0, "--warp mipmap needs power-of-two ROWS and COLS (use --warp inversion otherwise)");
   if (o.photons == 0 && o.path.sampling == DirectionSampling::kPhotons) throw InputError("--photons", 0, "must be at least 1");
   if (!(o.scale > 0) || !std::isfinite(o.scale)) throw InputError("--scale", 0, "must be a finite number > 0");
   if (o.exposure && !(*o.exposure > 0)) throw InputError("--exposure", 0, "must be > 0");
+  // Each image kept until written: mean RGB and variance (16 bytes a pixel), and the PNG's 8-bit copy.
+  const double images = o.sppSweep.empty() ? 1.0 : double(o.sppSweep.size()) + 1.0;
+  RequireMemory("--size", images * double(o.width) * double(o.height) * 19.0,
+                fmt::format("{} image(s) of {}x{} pixels", int(images), o.width, o.height));
   RequireWritableLocation(o.outputPath);
   if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
   RequireDistinctFiles({{"-o", o.outputPath}, {"--report", o.reportPath}},

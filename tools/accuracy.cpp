@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "folder for accuracy.csv, accuracy.svg and cheapest.md")->capture_default_str();
   app.add_flag("--quick", quick, "a handful of small runs, as a smoke test");
   app.add_option("--threads", threads, "worker threads per bake; 0 = all cores")->capture_default_str();
-  return pb::tools::RunTool(app, argc, argv, [&] {
+  return pb::tools::RunTool(app, argc, argv, [] {}, [&] {
     std::filesystem::create_directories(out);
     const std::string scene = pb::test::WriteSquareLightOverFloor(out, kLightSide, kRadiance, kHeight, kFloorSide,
                                                                   kFloorCells);

@@ -26,9 +26,9 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
          "--h",
          [&e, &automatic](const std::string& text) {
            automatic = text == "auto";
-           if (!automatic) e.bandwidth = std::stof(text);
+           if (!automatic) e.bandwidth = float(pb::tools::ParseNumber(text));
          },
-         "bandwidth h [m]: kernel support radius, or histogram bucket side, in the surface; range > 0, typical "
+         "bandwidth h [m]: kernel support radius, or histogram bucket side, in the surface; range 1e-6 to 1e4, typical "
          "0.02-0.1 for a room-sized scene; or 'auto': chosen per surface from its photons (README, 'Automatic h')")
       ->check(CLI::Validator(
           [](const std::string& text) {
@@ -38,7 +38,7 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
           },
           "FLOAT|auto", "length"))
       ->default_str(fmt::format("{}", e.bandwidth));
-  app.add_option("--k", e.neighbours, "photons per estimate of --estimator knn; range >= 2, typical 20-200")
+  app.add_option("--k", e.neighbours, "photons per estimate of --estimator knn; range 2-1e6, typical 20-200")
       ->capture_default_str();
   app.add_flag("!--no-edge-correction", e.edgeCorrection, "do not renormalise estimates by the part of the kernel, "
                                                          "bucket or disc that lies on the surface (edges darken)");
@@ -53,12 +53,12 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
       ->required();
   DefineEstimatorOptions(app, o.estimator, o.autoBandwidth);
   app.add_option("--photons", o.photons, "photons emitted over all lights, split by power (N_i = n Phi_i / Phi); "
-                                         "range >= 1, typical 1e6-1e7")
+                                         "range 1 to 2^40, typical 1e6-1e7")
       ->capture_default_str();
   app.add_option("--seed", o.seed, "random seed; any integer. Same seed, same bytes, for any --threads")
       ->capture_default_str();
-  app.add_option("--threads", o.threads, "worker threads; 0 = all cores")->capture_default_str();
-  app.add_option("--scale", o.scale, "metres per scene unit; range > 0, typical 1, or 0.001 for millimetres")
+  app.add_option("--threads", o.threads, "worker threads; 0 = all cores; range 0-1024")->capture_default_str();
+  app.add_option("--scale", o.scale, "metres per scene unit; range 1e-6 to 1e6, typical 1, or 0.001 for millimetres")
       ->capture_default_str();
   app.add_option("--effects", o.effectsText,
                  "light transport to simulate: 'auto' (what the scene's materials call for), 'all', or a list such as "
@@ -81,7 +81,7 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
       ->capture_default_str();
   app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
                                             "this folder (surface_N.exr; README, 'Irradiance maps')");
-  app.add_option("--texel", o.texel, "texel side of --maps [m]; range > 0, typical 0.005-0.05")->capture_default_str();
+  app.add_option("--texel", o.texel, "texel side of --maps [m]; range 1e-6 to 1e4, typical 0.005-0.05")->capture_default_str();
   app.add_flag("--refine", o.refine.adaptive,
                "adapt the mesh to the light: remove vertices where it is flat, add them where it changes (README, "
                "'Meshes that follow the light'); the geometry is unchanged");
@@ -89,7 +89,7 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
                  "--refine's largest interpolation error in displayed luminance, as a fraction of the display range; "
                  "range (0, 1), typical 0.01-0.05")
       ->capture_default_str();
-  app.add_option("--max-vertices", o.refine.maxVertices, "--refine's budget of output vertices; typical 1e4-1e6")
+  app.add_option("--max-vertices", o.refine.maxVertices, "--refine's budget of output vertices; range 3 to 1e9, typical 1e4-1e6")
       ->capture_default_str();
   app.add_option("--subdivide", o.refine.subdivide,
                  "split every triangle into 4^N first (uniform, OpenSubdiv); range 0-8, 0 = off")
@@ -117,21 +117,10 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
 
 int main(int argc, char** argv) {
   CLI::App app{"bake: photon-traced irradiance baked onto mesh vertices (photonbake)"};
-  app.get_formatter()->column_width(24);
   pb::BakeOptions options;
   DefineOptions(app, options);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
-  }
-  try {
+  return pb::tools::RunTool(app, argc, argv, [&] { options.Validate(); }, [&] {
     const pb::Log log(options.quiet);
-    const pb::BakeReport report = pb::Bake(options, log);
-    pb::PrintSummary(report, log);
-    return 0;
-  } catch (const pb::InputError& e) {
-    fmt::print(stderr, "{}\n", e.what());
-    return 1;
-  }
+    pb::PrintSummary(pb::Bake(options, log), log);
+  });
 }

@@ -7,6 +7,7 @@
 #include <fmt/core.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,14 +30,21 @@ void AddNamedOption(CLI::App& app, const std::string& flag, Enum& target, std::o
       ->default_str(name(target));
 }
 
-// Parses the command line and runs `work`, mapping errors to the exit statuses above.
-template <typename Work>
-int RunTool(CLI::App& app, int argc, char** argv, Work&& work) {
+// Parses the command line, checks the options' ranges with `validate` (an InputError there is a bad command line,
+// exit 2), and runs `work`, mapping errors to the exit statuses above.
+template <typename Validate, typename Work>
+int RunTool(CLI::App& app, int argc, char** argv, Validate&& validate, Work&& work) {
   app.get_formatter()->column_width(24);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    validate();
+  } catch (const InputError& e) {
+    fmt::print(stderr, "{}\n", e.what());
+    return 2;
   }
   try {
     work();
@@ -46,5 +54,9 @@ int RunTool(CLI::App& app, int argc, char** argv, Work&& work) {
     return 1;
   }
 }
+
+// A length, count or factor as a double: "1e300" is +inf and "1e-400" 0, never an exception; the option's own
+// range check then refuses it. Malformed text is refused by the option's validator before this runs.
+inline double ParseNumber(const std::string& text) { return std::strtod(text.c_str(), nullptr); }
 
 }  // namespace pb::tools

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "baker/atomic_file.h"
+#include "baker/memory_budget.h"
 #include "tests/ply_reader.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
@@ -79,23 +80,38 @@ TEST(BakeCli, EveryDocumentedOptionIsACommandLineOption) {
     EXPECT_TRUE(defined.count(name)) << name << " is mentioned in the README's section on bake but is not an option";
 }
 
-// Each numeric option is checked against its documented range before any work is done.
+// Each numeric option is checked against its documented range before any work is done, and refused as a bad
+// command line (exit 2); values too large or small for their type are out of range, never a crash (issue 16).
 TEST(BakeCli, OutOfRangeOptionsAreRefusedBeforeAnyWork) {
   const std::string dir = test::TempDirectory("cli-ranges");
   const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 4, 8);
   for (const auto& [option, name] : std::vector<std::pair<std::string, std::string>>{
-           {"--h 0", "--h"}, {"--h -1", "--h"}, {"--k 1", "--k"}, {"--photons 0", "--photons"},
-           {"--scale 0", "--scale"}, {"--max-bounces 10001", "--max-bounces"}, {"--exposure 0", "--exposure"},
-           {"--texel 0", "--texel"}, {"--texel 1e-9 --maps " + dir, "--texel"}, {"--tolerance 1", "--tolerance"},
+           {"--h 0", "--h"}, {"--h -1", "--h"}, {"--h 1e300", "--h"}, {"--h 1e-45", "--h"}, {"--h 1e8", "--h"},
+           {"--k 1", "--k"}, {"--photons 0", "--photons"}, {"--photons -1", "--photons"},
+           {"--threads 4294967295", "--threads"}, {"--scale 0", "--scale"}, {"--scale 1e-38", "--scale"},
+           {"--scale 1e11", "--scale"}, {"--max-bounces 10001", "--max-bounces"}, {"--exposure 0", "--exposure"},
+           {"--exposure inf", "--exposure"}, {"--texel 0", "--texel"}, {"--tolerance 1", "--tolerance"},
            {"--subdivide 9", "--subdivide"}, {"--max-vertices 2", "--max-vertices"},
            {"--target-noise 0", "--target-noise"}, {"--target-noise 0.1 --max-photons 10", "--max-photons"}}) {
     // 4e8 photons would take minutes: a refusal in moments shows that nothing was traced first.
     const std::string photons = name == "--photons" ? "" : " --photons 400000000 ";
     const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply " + photons + option);
-    EXPECT_EQ(run.status, 1) << option << "\n" << run.output;
+    EXPECT_EQ(run.status, 2) << option << "\n" << run.output;
     EXPECT_NE(run.output.find(name + ": error:"), std::string::npos) << option << "\n" << run.output;
     EXPECT_TRUE(NoOutputIn(dir)) << option;
   }
+  // Eight levels of subdivision of the box (1.25e8 faces, about 50 GB) are refused with the estimate, before tracing.
+  const BakeRun subdivide = RunBake(PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/out.ply --photons 400000000 "
+                                    "--subdivide 8");
+  if (PhysicalMemoryBytes() < 60e9) {  // a machine of this kind
+    EXPECT_EQ(subdivide.status, 1) << subdivide.output;
+    EXPECT_NE(subdivide.output.find("--subdivide: error: 8 levels of 1906 triangles (1.25e+08 faces) needs about "
+                                    "50.0 GB"), std::string::npos) << subdivide.output;
+  }
+  // A texel too small for this scene's surfaces is bad input for this scene (exit 1), found before tracing.
+  const BakeRun texel = RunBake(scene + " -o " + dir + "/out.ply --photons 400000000 --texel 1e-5 --maps " + dir);
+  EXPECT_EQ(texel.status, 1) << texel.output;
+  EXPECT_NE(texel.output.find("--texel: error: surface 0 would need"), std::string::npos) << texel.output;
 }
 
 TEST(BakeCli, BadInputFailsWithFileLineAndLeavesNoOutput) {
@@ -126,8 +142,8 @@ TEST(BakeCli, BadOptionsFailBeforeAnyWork) {
   const std::string dir = test::TempDirectory("cli-options");
   const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 2, 4);
   const BakeRun h = RunBake(scene + " -o " + dir + "/out.ply --h -1");
-  EXPECT_EQ(h.status, 1);
-  EXPECT_NE(h.output.find("--h: error: must be a finite length > 0 m"), std::string::npos) << h.output;
+  EXPECT_EQ(h.status, 2);
+  EXPECT_NE(h.output.find("--h: error: must be a length in [1e-6, 1e4] m"), std::string::npos) << h.output;
   const BakeRun kernel = RunBake(scene + " -o " + dir + "/out.ply --kernel box");
   EXPECT_EQ(kernel.status, 2);
   EXPECT_NE(kernel.output.find("--kernel: unknown kernel 'box'; choose one of: uniform,"), std::string::npos) << kernel.output;
@@ -155,7 +171,7 @@ TEST(BakeCli, RefineKeepsTheBudgetAndReportsItsWork) {
   EXPECT_GT(refine.at("max_error").get<double>(), refine.at("mean_error").get<double>());
   for (const std::string bad : {"--tolerance 0", "--tolerance 1.5", "--subdivide 9", "--max-vertices 2"}) {
     const BakeRun failed = RunBake(common + " " + bad);
-    EXPECT_EQ(failed.status, 1) << bad;
+    EXPECT_EQ(failed.status, 2) << bad;
     EXPECT_NE(failed.output.find(bad.substr(0, bad.find(' ')) + ": error: must"), std::string::npos) << failed.output;
   }
 }
@@ -185,7 +201,7 @@ TEST(BakeCli, EveryEstimatorAndAutoBandwidthRunAndAreReported) {
   const BakeRun bad = RunBake(scene + " -o " + dir + "/out.ply --estimator kde");
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.output.find("unknown estimator 'kde'; choose one of: kernel, histogram, knn"), std::string::npos);
-  EXPECT_EQ(RunBake(scene + " -o " + dir + "/out.ply --k 1").status, 1);
+  EXPECT_EQ(RunBake(scene + " -o " + dir + "/out.ply --k 1").status, 2);
 }
 
 TEST(BakeCli, OneAndTwoThreadsWriteIdenticalBytes) {
@@ -375,6 +391,36 @@ TEST(BakeCli, ANonUtf8NameIsReplacedInTheReport) {
   EXPECT_EQ(r.at("surfaces").at(0).at("material").get<std::string>(), "Terraind\xef\xbf\xbdk");
 }
 
+// Ke so large that Phi = pi Ke A overflows float (1e36 on a 20 x 20 m light) is refused, not a NaN photon count.
+TEST(BakeCli, ALightWhoseFluxOverflowsIsRefused) {
+  const std::string dir = test::TempDirectory("cli-bright");
+  for (const std::string ke : {"1e36", "3.4e38"}) {
+    test::WriteText(dir + "/m.mtl", "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl sun\nKe " + ke + " " + ke + " " + ke + "\n");
+    test::WriteText(dir + "/s.obj", "mtllib m.mtl\nv -10 0 -10\nv 10 0 -10\nv 10 0 10\nv -10 0 10\nusemtl grey\n"
+                                    "f 1 4 3 2\nv -10 1 -10\nv 10 1 -10\nv 10 1 10\nv -10 1 10\nusemtl sun\nf 5 6 7 8\n");
+    const BakeRun run = RunBake(dir + "/s.obj -o " + dir + "/out.ply --photons 1000");
+    EXPECT_EQ(run.status, 1) << ke << "\n" << run.output;
+    EXPECT_NE(run.output.find("the light of material 'sun' emits"), std::string::npos) << run.output;
+    EXPECT_TRUE(NoOutputIn(dir));
+  }
+}
+
+// A light whose share of --photons is below one photon is named in a warning, with the count that would reach it.
+TEST(BakeCli, ALightThatGetsNoPhotonIsWarnedAbout) {
+  const std::string dir = test::TempDirectory("cli-unlit");
+  test::WriteText(dir + "/two.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl a\nKe 1 1 1\nnewmtl b\nKe 3 3 3\n");
+  test::WriteText(dir + "/two.obj",
+                  "mtllib two.mtl\nv -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nusemtl floor\nf 1 4 3 2\n"
+                  "v 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nusemtl a\nf 5 6 7 8\n"
+                  "v 2 1 0\nv 3 1 0\nv 3 1 1\nv 2 1 1\nusemtl b\nf 9 10 11 12\n");
+  const BakeRun few = RunBake(dir + "/two.obj -o " + dir + "/out.ply --photons 3");  // light a: floor(3/4) = 0
+  ASSERT_EQ(few.status, 0) << few.output;
+  EXPECT_NE(few.output.find("warning: the light of material 'a' (3.14 W of 12.6 W) got no photon, so its light is "
+                            "missing; raise --photons to at least 4"), std::string::npos) << few.output;
+  const BakeRun enough = RunBake(dir + "/two.obj -o " + dir + "/out.ply --photons 4");
+  EXPECT_EQ(enough.output.find("got no photon"), std::string::npos) << enough.output;
+}
+
 TEST(BakeCli, ResumeAndTargetNoiseAreReported) {
   const std::string dir = test::TempDirectory("cli-progressive");
   const std::string common = PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/out.ply";
@@ -390,12 +436,12 @@ TEST(BakeCli, ResumeAndTargetNoiseAreReported) {
   EXPECT_EQ(refused.status, 1);
   EXPECT_NE(refused.output.find("s.photons: error: cannot resume: the photons were traced with --seed 1, not 3"),
             std::string::npos) << refused.output;
-  EXPECT_EQ(RunBake(common + " --target-noise 0").status, 1);
+  EXPECT_EQ(RunBake(common + " --target-noise 0").status, 2);
   const BakeRun knn = RunBake(common + " --target-noise 0.05 --estimator knn --k 50");
-  EXPECT_EQ(knn.status, 1);
+  EXPECT_EQ(knn.status, 2);
   EXPECT_NE(knn.output.find("knn's noise is 1/sqrt(k - 2) = 0.144 for --k 50, whatever the photon count: raise --k "
                             "to 402 or more"), std::string::npos) << knn.output;
-  EXPECT_EQ(RunBake(common + " --target-noise 0.02 --photons 1000 --max-photons 10").status, 1);
+  EXPECT_EQ(RunBake(common + " --target-noise 0.02 --photons 1000 --max-photons 10").status, 2);
 }
 
 }  // namespace
