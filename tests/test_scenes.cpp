@@ -234,4 +234,13 @@ std::string WriteClosedBox(const std::string& directory, float side, float albed
   return directory + "/box.obj";
 }
 
+std::string WriteTwoLamps(const std::string& directory) {
+  WriteText(directory + "/two.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl a\nKe 1 1 1\nnewmtl b\nKe 3 3 3\n");
+  WriteText(directory + "/two.obj",
+            "mtllib two.mtl\nv -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nusemtl floor\nf 1 4 3 2\n"
+            "v 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nusemtl a\nf 5 6 7 8\n"
+            "v 2 1 0\nv 3 1 0\nv 3 1 1\nv 2 1 1\nusemtl b\nf 9 10 11 12\n");
+  return directory + "/two.obj";
+}
+
 }  // namespace pb::test

@@ -40,6 +40,10 @@ struct TestLamp {
 std::string WriteFloorWithLamps(const std::string& directory, float albedo, float radiance,
                                 const std::vector<TestLamp>& lamps);
 
+// A grey (Kd 0.5) 10 x 10 m floor y = 0 under two 1 x 1 m lamps facing down at y = 1: "a" of radiance 1 and "b"
+// of radiance 3, so Phi_a : Phi_b = 1 : 3. Returns the OBJ path.
+std::string WriteTwoLamps(const std::string& directory);
+
 // A closed cube of side `side` whose six inward-facing walls have grey albedo `albedo`, with a small square
 // light of side `lightSide` and radiance `radiance` facing down `lightGap` x `side` below the ceiling (0: flush
 // with it, overlapping the ceiling's faces). With glassRadius > 0 a

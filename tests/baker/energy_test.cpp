@@ -63,13 +63,8 @@ TEST(Energy, BounceLimitStoresTheTruncatedNeumannSeries) {
 
 TEST(Energy, PhotonsSplitAcrossLightsInProportionToPower) {
   const std::string dir = test::TempDirectory("energy-split");
-  test::WriteText(dir + "/two.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl a\nKe 1 1 1\nnewmtl b\nKe 3 3 3\n");
-  test::WriteText(dir + "/two.obj",
-                  "mtllib two.mtl\nv -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nusemtl floor\nf 1 4 3 2\n"
-                  "v 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nusemtl a\nf 5 6 7 8\n"
-                  "v 2 1 0\nv 3 1 0\nv 3 1 1\nv 2 1 1\nusemtl b\nf 9 10 11 12\n");
   BakeOptions o;
-  o.scenePath = dir + "/two.obj";
+  o.scenePath = test::WriteTwoLamps(dir);
   o.outputPath = dir + "/out.ply";
   o.photons = 100'001;
   const BakeReport r = Bake(o, Log(true));

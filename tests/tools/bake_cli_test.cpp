@@ -408,16 +408,12 @@ TEST(BakeCli, ALightWhoseFluxOverflowsIsRefused) {
 // A light whose share of --photons is below one photon is named in a warning, with the count that would reach it.
 TEST(BakeCli, ALightThatGetsNoPhotonIsWarnedAbout) {
   const std::string dir = test::TempDirectory("cli-unlit");
-  test::WriteText(dir + "/two.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl a\nKe 1 1 1\nnewmtl b\nKe 3 3 3\n");
-  test::WriteText(dir + "/two.obj",
-                  "mtllib two.mtl\nv -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nusemtl floor\nf 1 4 3 2\n"
-                  "v 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nusemtl a\nf 5 6 7 8\n"
-                  "v 2 1 0\nv 3 1 0\nv 3 1 1\nv 2 1 1\nusemtl b\nf 9 10 11 12\n");
-  const BakeRun few = RunBake(dir + "/two.obj -o " + dir + "/out.ply --photons 3");  // light a: floor(3/4) = 0
+  const std::string scene = test::WriteTwoLamps(dir);
+  const BakeRun few = RunBake(scene + " -o " + dir + "/out.ply --photons 3");  // light a: floor(3/4) = 0
   ASSERT_EQ(few.status, 0) << few.output;
   EXPECT_NE(few.output.find("warning: the light of material 'a' (3.14 W of 12.6 W) got no photon, so its light is "
                             "missing; raise --photons to at least 4"), std::string::npos) << few.output;
-  const BakeRun enough = RunBake(dir + "/two.obj -o " + dir + "/out.ply --photons 4");
+  const BakeRun enough = RunBake(scene + " -o " + dir + "/out.ply --photons 4");
   EXPECT_EQ(enough.output.find("got no photon"), std::string::npos) << enough.output;
 }
 
