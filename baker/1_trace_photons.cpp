@@ -120,7 +120,10 @@ class PhotonTracer {
 };
 
 // The work that brings a store to `target` photons per light: each light's partial last block continued in place,
-// then new blocks. `block` indexes the store's blocks; new blocks are appended past its end.
+// then new blocks. `block` indexes the store's blocks; new blocks are appended past its end. The items are in the
+// order they are claimed: the lights' blocks interleaved by how far into its target each starts, so that a Ctrl-C
+// part-way leaves every light with photons in proportion to its share, not the first lights complete and the last
+// with none. (The store keeps its own order, by light then photon, so the bytes do not depend on this one.)
 struct WorkItem {
   size_t block;
   BlockRange range;     // the block's whole range once traced
@@ -140,6 +143,8 @@ std::vector<WorkItem> PlanWork(const PhotonStore& store, const std::vector<uint6
     for (uint64_t first = start; first < target[l]; first += kBlockPhotons)
       work.push_back({next++, {l, first, std::min(target[l], first + kBlockPhotons)}, first});
   }
+  const auto progress = [&](const WorkItem& w) { return double(w.from) / double(target[w.range.light]); };
+  std::stable_sort(work.begin(), work.end(), [&](const WorkItem& a, const WorkItem& b) { return progress(a) < progress(b); });
   return work;
 }
 

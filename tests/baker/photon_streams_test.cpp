@@ -2,6 +2,7 @@
 // extended from n to m photons holds the same bytes as one traced with m at once, the flux in the store is the
 // lights' total at every step, and an interrupted extension keeps every light's photons a prefix of its stream.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <chrono>
 #include <cstring>
@@ -103,6 +104,30 @@ TEST(PhotonStreams, AnInterruptedExtensionKeepsAPrefixOfEachStreamAndResumesExac
   ExpectStoreFluxIsLightFlux(box, store);
   ASSERT_TRUE(ExtendPhotons(store, box, {1'500'000, 3}, Log(true)));
   ExpectSameStore(store, box.Trace(1'500'000, 3));
+}
+
+// Lights are traced interleaved: interrupted part-way, two lamps of equal power each keep about the same share of
+// their photons (within the blocks in flight), where tracing them one after the other left the second with none.
+TEST(PhotonStreams, AnInterruptionLeavesEveryLightItsShare) {
+  const test::TracedScene lamps(test::WriteFloorWithLamps(test::TempDirectory("streams-interleaved"), 0.5f, 1.0f,
+                                                          {{-1.5f, -0.5f, -0.5f, 0.5f, 1}, {0.5f, 1.5f, -0.5f, 0.5f, 1}}));
+  ASSERT_EQ(lamps.lights.size(), 2u);
+  PhotonStore store = EmptyPhotonStore(lamps.lights);
+  {
+    const InterruptScope scope;
+    std::thread ctrlC([] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      RequestInterrupt();
+    });
+    const bool complete = ExtendPhotons(store, lamps, {200'000'000, 3}, Log(true));
+    ctrlC.join();
+    ASSERT_FALSE(complete) << "200M photons took under 50 ms";
+  }
+  const uint64_t inFlight = kBlockPhotons * uint64_t(std::max(2, tbb::this_task_arena::max_concurrency()));
+  EXPECT_GT(store.emitted[0], 0u);
+  EXPECT_GT(store.emitted[1], 0u);
+  EXPECT_LE(std::max(store.emitted[0], store.emitted[1]) - std::min(store.emitted[0], store.emitted[1]), inFlight)
+      << store.emitted[0] << " and " << store.emitted[1] << " photons";
 }
 
 TEST(PhotonStreams, EachLightsCountNeverShrinksAsTheTotalGrows) {
