@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "mesh/errors.h"
+#include "mesh/input_file.h"
 #include "mesh/texture.h"
 
 namespace pb {
@@ -52,15 +53,26 @@ struct Line {
   }
 };
 
-// Reads a text file line by line, skipping blanks and comments.
+// Reads a text file line by line, skipping blanks and comments. Lines end at LF, CRLF or a lone CR (old Mac
+// exporters); a UTF-8 byte order mark at the start is skipped; a NUL byte is refused (not a text file).
 class LineReader {
  public:
-  explicit LineReader(const std::string& path) : path_(path), in_(path) {}
-  bool IsOpen() const { return in_.is_open(); }
+  // `what` names the file in messages ("scene file", "material library").
+  LineReader(const std::string& path, const std::string& what) : path_(path) {
+    RequireRegularFile(path, what);
+    in_.open(path, std::ios::binary);
+    if (!in_) throw InputError(path, 0, "cannot open " + what);
+    if (in_.peek() == 0xEF) {
+      char bom[3] = {};
+      in_.read(bom, 3);
+      if (std::string(bom, 3) != "\xEF\xBB\xBF") in_.seekg(0);
+    }
+  }
   bool Next(Line& line) {
-    std::string text;
-    while (std::getline(in_, text)) {
+    for (std::string text; ReadLine(text);) {
       ++number_;
+      if (text.find('\0') != std::string::npos)
+        throw InputError(path_, number_, "a NUL byte: this is not a text file");
       if (const size_t hash = text.find('#'); hash != std::string::npos) text.resize(hash);
       std::istringstream words(text);
       line = Line{&path_, number_, {}};
@@ -71,6 +83,15 @@ class LineReader {
   }
 
  private:
+  bool ReadLine(std::string& text) {
+    text.clear();
+    int c = in_.get();
+    if (c == std::char_traits<char>::eof()) return false;
+    for (; c != std::char_traits<char>::eof() && c != '\n' && c != '\r'; c = in_.get()) text.push_back(char(c));
+    if (c == '\r' && in_.peek() == '\n') in_.get();
+    return true;
+  }
+
   std::string path_;
   std::ifstream in_;
   int number_ = 0;
@@ -79,6 +100,11 @@ class LineReader {
 std::string Directory(const std::string& path) {
   const size_t slash = path.find_last_of('/');
   return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+// A file named in `from` (an mtllib or map_Kd argument): absolute as given, else relative to `from`'s folder.
+std::string ResolveBeside(const std::string& from, const std::string& name) {
+  return !name.empty() && name[0] == '/' ? name : Directory(from) + name;
 }
 
 Rgb ReadRgb(const Line& line) {
@@ -160,21 +186,32 @@ Material ResolveMaterial(MtlEntry e, std::vector<std::string>& warnings) {
 void ReadAlbedoTexture(const Line& line, const std::string& mtlPath, MtlEntry& entry, std::vector<Texture>& textures) {
   line.ExpectArguments(1, 64);
   if (line.tokens[1][0] == '-') line.Fail("map_Kd options (" + line.tokens[1] + ") are not supported; give a file only");
-  const std::string file = Directory(mtlPath) + line.Rest();
-  try {
-    textures.push_back(LoadPngTexture(file));
-  } catch (const InputError& e) {
-    line.Fail(e.message() + " ('" + file + "')");
+  const std::string file = ResolveBeside(mtlPath, line.Rest());
+  // A texture that several materials share is decoded once.
+  const size_t index = size_t(std::find_if(textures.begin(), textures.end(), [&](const Texture& t) {
+                                return t.path == file;
+                              }) - textures.begin());
+  if (index == textures.size()) {
+    try {
+      textures.push_back(LoadPngTexture(file));
+    } catch (const InputError& e) {
+      line.Fail(e.message() + " ('" + file + "')");
+    }
   }
-  entry.material.albedoTexture = int(textures.size()) - 1;
-  entry.textureMaximum = textures.back().maximum;
+  entry.material.albedoTexture = int(index);
+  entry.textureMaximum = textures[size_t(entry.material.albedoTexture)].maximum;
 }
 
 void LoadMtl(const std::string& path, const Line& mtllibLine, std::vector<Material>& materials,
              std::unordered_map<std::string, uint32_t>& byName, std::vector<Texture>& textures,
              std::vector<std::string>& warnings) {
-  LineReader reader(path);
-  if (!reader.IsOpen()) mtllibLine.Fail("cannot open material library '" + path + "'");
+  std::optional<LineReader> opened;
+  try {
+    opened.emplace(path, "material library");
+  } catch (const InputError& e) {
+    mtllibLine.Fail(e.message() + " ('" + path + "')");
+  }
+  LineReader& reader = *opened;
   std::optional<MtlEntry> current;
   auto finish = [&] {
     if (current) materials.push_back(ResolveMaterial(std::move(*current), warnings));
@@ -269,8 +306,7 @@ class ObjParser {
 
   LoadedScene Parse() {
     PB_CHECK(options_.scale > 0.0f && std::isfinite(options_.scale), "LoadOptions::scale is finite and > 0");
-    LineReader reader(path_);
-    if (!reader.IsOpen()) throw InputError(path_, 0, "cannot open scene file");
+    LineReader reader(path_, "scene file");
     for (Line line; reader.Next(line);) Statement(line);
     if (result_.scene.triangles.empty()) throw InputError(path_, 0, "scene has no faces");
     StorePositions();
@@ -299,7 +335,7 @@ class ObjParser {
       currentMaterial_ = int(it->second);
     } else if (k == "mtllib") {
       line.ExpectArguments(1, 64);
-      LoadMtl(Directory(path_) + line.Rest(), line, result_.scene.materials, materialByName_, result_.scene.textures,
+      LoadMtl(ResolveBeside(path_, line.Rest()), line, result_.scene.materials, materialByName_, result_.scene.textures,
               result_.warnings);
     } else if (k == "o" || k == "g") {
       currentObject_ = uint32_t(result_.scene.objectNames.size());  // names surfaces in the report.

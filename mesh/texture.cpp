@@ -7,14 +7,22 @@
 #include <cstdint>
 
 #include "mesh/errors.h"
+#include "mesh/input_file.h"
 
 namespace pb {
 
 Texture LoadPngTexture(const std::string& path) {
+  RequireRegularFile(path, "texture");
   png_image image{};
   image.version = PNG_IMAGE_VERSION;
   if (!png_image_begin_read_from_file(&image, path.c_str()))
     throw InputError(path, 0, std::string("cannot read texture: ") + image.message);
+  // The header's size, checked before the pixels are allocated (a 69-byte PNG may declare 65535 x 65535).
+  if (uint64_t(image.width) * image.height > kMaxTexturePixels) {
+    png_image_free(&image);
+    throw InputError(path, 0, "texture of " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+                                  " pixels is larger than the 8192 x 8192 a texture may have");
+  }
   image.format = PNG_FORMAT_RGB;  // 8-bit sRGB-encoded, as most textures are stored
   std::vector<uint8_t> pixels(PNG_IMAGE_SIZE(image));
   if (!png_image_finish_read(&image, nullptr, pixels.data(), 0, nullptr)) {

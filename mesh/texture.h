@@ -5,6 +5,7 @@
 // t = 0 is the bottom row of the image and t = 1 the top (the OBJ 'vt' convention).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,9 @@ struct Texture {
 };
 
 // InputError naming the file on a missing, unreadable or malformed PNG.
+// The most pixels a texture may have: 8192 x 8192, about 1 GB once decoded to linear RGB.
+inline constexpr uint64_t kMaxTexturePixels = uint64_t(8192) * 8192;
+
 Texture LoadPngTexture(const std::string& path);
 
 }  // namespace pb

@@ -2,6 +2,7 @@
 #include "mesh/obj_loader.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include "mesh/errors.h"
 #include "mesh/surfaces.h"
@@ -106,6 +107,31 @@ TEST(ObjLoader, RejectsBadMaterialsNamingTheMtlLine) {
   EXPECT_THROW(LoadObj(ke), InputError);
   const std::string junk = WriteScene("junk", kQuad, "newmtl a\nKd 0.5 x 0.5\n");
   EXPECT_THROW(LoadObj(junk), InputError);
+}
+
+// Files as other programs write them, and files that are not files (issue 16): a byte order mark and CR-only or
+// CRLF line ends are read; a NUL byte, a folder, a FIFO and /dev/zero are refused at once with what they are.
+TEST(ObjLoader, ReadsBomAndAnyLineEndsAndRefusesWhatIsNotATextFile) {
+  const std::string body = "usemtl grey\n" + kQuad + "f 1 4 3 2\n";
+  for (const auto& [name, ends] : {std::pair{"cr", "\r"}, std::pair{"crlf", "\r\n"}}) {
+    std::string text = "\xEF\xBB\xBFmtllib scene.mtl\n" + body;
+    std::string converted;
+    for (char c : text) converted += c == '\n' ? std::string(ends) : std::string(1, c);
+    const std::string path = WriteScene(std::string("line-ends-") + name, "");
+    test::WriteText(path, converted);
+    const LoadedScene loaded = LoadObj(path);
+    EXPECT_EQ(loaded.scene.triangles.size(), 2u) << name;
+  }
+  const std::string nul = WriteScene("nul", std::string("v 0 0 0\nv 1 0\0 0\n", 19));
+  ExpectError(nul, 3, "a NUL byte: this is not a text file");
+  const std::string dir = test::TempDirectory("not-files");
+  ExpectError(dir, 0, "cannot open scene file: it is a folder");
+  ExpectError("/dev/zero", 0, "cannot open scene file: not a regular file");
+  const std::string fifo = dir + "/fifo.obj";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  ExpectError(fifo, 0, "not a regular file");  // would hang forever if opened
+  test::WriteText(dir + "/zero.obj", "mtllib /dev/zero\n" + body);
+  ExpectError(dir + "/zero.obj", 1, "material library: not a regular file");
 }
 
 TEST(ObjLoader, MaterialClassFollowsIllum) {

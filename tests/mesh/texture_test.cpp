@@ -3,6 +3,7 @@
 // photon tracer and the PLY use Kd x texture, so a uniformly textured closed box keeps its closed form
 // sum of hit flux = Phi / (1 - rho), and vertices at texel centres carry exactly their texel's reflectance.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <sstream>
@@ -98,6 +99,32 @@ TEST(Texture, FacesOfATexturedMaterialNeedTextureCoordinates) {
     EXPECT_EQ(e.line(), 2) << e.what();
     EXPECT_NE(std::string(e.what()).find("nothere.png"), std::string::npos) << e.what();
   }
+}
+
+// A 69-byte PNG whose header declares 65535 x 65535 pixels (4.2 GB decoded) is refused from its header, before
+// any allocation; a texture that two materials name is decoded once (issue 16).
+TEST(Texture, AHugeDeclaredSizeIsRefusedAndASharedTextureIsDecodedOnce) {
+  const std::string dir = test::TempDirectory("texture-hostile");
+  std::string ihdr = std::string("IHDR") + std::string("\x00\x00\xff\xff\x00\x00\xff\xff\x08\x02\x00\x00\x00", 13);
+  const uint32_t crc = uint32_t(crc32(0, reinterpret_cast<const Bytef*>(ihdr.data()), uInt(ihdr.size())));
+  const char crcBytes[4] = {char(crc >> 24), char(crc >> 16), char(crc >> 8), char(crc)};
+  const std::string idat("\x00\x00\x00\x00IDAT\x35\xaf\x06\x1e", 12), iend("\x00\x00\x00\x00IEND\xae\x42\x60\x82", 12);
+  test::WriteText(dir + "/huge.png", std::string("\x89PNG\r\n\x1a\n", 8) + std::string("\x00\x00\x00\x0d", 4) + ihdr +
+                                         std::string(crcBytes, 4) + idat + iend);
+  try {
+    LoadPngTexture(dir + "/huge.png");
+    ADD_FAILURE() << "a 65535 x 65535 texture was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("texture of 65535 x 65535 pixels is larger than"), std::string::npos) << e.what();
+  }
+  test::WritePngRgb8(dir + "/t.png", 1, 1, {128, 128, 128});
+  test::WriteText(dir + "/two.mtl", "newmtl a\nmap_Kd t.png\nnewmtl b\nKd 0.5 0.5 0.5\nmap_Kd t.png\n");
+  test::WriteText(dir + "/two.obj", "mtllib two.mtl\nv 0 0 0\nv 1 0 0\nv 0 0 1\nvt 0 0\nusemtl a\nf 1/1 2/1 3/1\n"
+                                    "usemtl b\nf 1/1 3/1 2/1\n");
+  const Scene scene = LoadObj(dir + "/two.obj").scene;
+  EXPECT_EQ(scene.textures.size(), 1u);
+  EXPECT_EQ(scene.materials[0].albedoTexture, 0);
+  EXPECT_EQ(scene.materials[1].albedoTexture, 0);
 }
 
 TEST(Texture, AUniformlyTexturedClosedBoxKeepsItsClosedForm) {
