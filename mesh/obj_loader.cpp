@@ -250,7 +250,8 @@ void LoadMtl(const std::string& path, const Line& mtllibLine, std::vector<Materi
     } else if (k == "illum") {
       line.ExpectArguments(1, 1);
       const float illum = line.Number(1);
-      if (illum != float(int(illum)) || illum < 0) line.Fail("illum takes a whole number 0-10");
+      // Range first: casting a float beyond int's range (illum 3.4e34, found by fuzzing) is undefined.
+      if (!(illum >= 0 && illum <= 10) || illum != std::floor(illum)) line.Fail("illum takes a whole number 0-10");
       current->illum = int(illum);
     } else if (k.rfind("map_", 0) == 0 || k == "bump" || k == "disp" || k == "refl") {
       warnings.push_back(line.Warning("'" + k + "' is ignored (of the texture maps, only map_Kd, the albedo, is used)"));

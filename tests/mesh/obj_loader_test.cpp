@@ -107,6 +107,17 @@ TEST(ObjLoader, RejectsBadMaterialsNamingTheMtlLine) {
   EXPECT_THROW(LoadObj(ke), InputError);
   const std::string junk = WriteScene("junk", kQuad, "newmtl a\nKd 0.5 x 0.5\n");
   EXPECT_THROW(LoadObj(junk), InputError);
+  // Found by fuzzing: an illum beyond int's range was cast to int (undefined behaviour) before it was checked.
+  for (const std::string illum : {"34444444444444444444444444444444444", "-1", "2.5", "11"}) {
+    const std::string path = WriteScene("illum", kQuad, "newmtl a\nKd 0.5 0.5 0.5\nillum " + illum + "\n");
+    try {
+      LoadObj(path);
+      ADD_FAILURE() << illum;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), 3) << e.what();
+      EXPECT_NE(std::string(e.what()).find("illum takes a whole number 0-10"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // Files as other programs write them, and files that are not files (issue 16): a byte order mark and CR-only or
