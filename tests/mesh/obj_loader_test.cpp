@@ -133,7 +133,7 @@ TEST(ObjLoader, ReadsBomAndAnyLineEndsAndRefusesWhatIsNotATextFile) {
     const LoadedScene loaded = LoadObj(path);
     EXPECT_EQ(loaded.scene.triangles.size(), 2u) << name;
   }
-  const std::string nul = WriteScene("nul", std::string("v 0 0 0\nv 1 0\0 0\n", 19));
+  const std::string nul = WriteScene("nul", std::string("v 0 0 0\nv 1 0\0 0\n", 17));
   ExpectError(nul, 3, "a NUL byte: this is not a text file");
   const std::string dir = test::TempDirectory("not-files");
   ExpectError(dir, 0, "cannot open scene file: it is a folder");
