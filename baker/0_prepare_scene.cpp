@@ -36,7 +36,7 @@ void RequireLight(const Scene& scene, const std::vector<AreaLight>& lights) {
     if (!(flux <= kMaxLightFlux))
       throw InputError(scene.path, 0, fmt::format("the light of material '{}' emits {:.3g} W (pi Ke A, with A = {:.4g} "
                                                   "m^2), above the {:.0e} W a light may have; lower its Ke",
-                                                  scene.materials[scene.triangles[light.triangles.front()].material].name,
+                                                  MaterialName(scene, light),
                                                   flux, light.area, kMaxLightFlux));
   }
 }

@@ -77,7 +77,7 @@ std::vector<std::string> UnlitLightWarnings(const PreparedScene& scene, const Ph
     const AreaLight& light = scene.lights[l];
     warnings.push_back(fmt::format("{}: warning: the light of material '{}' ({:.3g} W of {:.3g} W) got no photon, so "
                                    "its light is missing; raise --photons to at least {:.0f}", scene.scene.path,
-                                   scene.scene.materials[scene.scene.triangles[light.triangles.front()].material].name,
+                                   MaterialName(scene.scene, light),
                                    light.Power().Mean(), total, std::ceil(total / light.Power().Mean())));
   }
   return warnings;

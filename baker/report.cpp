@@ -129,7 +129,7 @@ std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<Ar
                                         const std::vector<uint64_t>& photonsPerLight, const TransportPlan& plan) {
   std::vector<LightReport> out;
   for (size_t l = 0; l < lights.size(); ++l) {
-    const std::string& name = scene.materials[scene.triangles[lights[l].triangles.front()].material].name;
+    const std::string& name = MaterialName(scene, lights[l]);
     out.push_back({lights[l].surface, name, lights[l].area, lights[l].Power(), photonsPerLight[l], plan.lightNotes[l]});
   }
   return out;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "mesh/color.h"
@@ -20,6 +21,11 @@ struct AreaLight {
   double area = 0;                  // [m^2]
   Rgb Power() const { return radiance * float(kPi * area); }  // Phi [W]
 };
+
+// The name of the light's material, for messages and reports.
+inline const std::string& MaterialName(const Scene& scene, const AreaLight& light) {
+  return scene.materials[scene.triangles[light.triangles.front()].material].name;
+}
 
 // One light per surface whose material has Ke > 0, in surface order.
 std::vector<AreaLight> CollectLights(const Scene& scene, const SurfaceSet& surfaces);
