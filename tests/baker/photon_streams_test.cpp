@@ -78,19 +78,23 @@ TEST(PhotonStreams, ExtendingTwoLightsOfVeryDifferentPowerEqualsTracingAtOnce) {
   ExpectSameStore(extended, s.Trace(400'000, 7));
 }
 
+// ExtendPhotons with a Ctrl-C (RequestInterrupt, from another thread) `milliseconds` after it starts; returns
+// whether the extension completed.
+bool ExtendInterrupted(PhotonStore& store, const PreparedScene& scene, const TraceSettings& settings, int milliseconds) {
+  const InterruptScope scope;
+  std::thread ctrlC([milliseconds] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds));
+    RequestInterrupt();
+  });
+  const bool complete = ExtendPhotons(store, scene, settings, Log(true));
+  ctrlC.join();
+  return complete;
+}
+
 TEST(PhotonStreams, AnInterruptedExtensionKeepsAPrefixOfEachStreamAndResumesExactly) {
   const test::TracedScene box(PB_SOURCE_DIR "/data/box/box.obj");
   PhotonStore store = box.Trace(100'000, 3);
-  {
-    const InterruptScope scope;
-    std::thread ctrlC([] {
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-      RequestInterrupt();
-    });
-    const bool complete = ExtendPhotons(store, box, {1'500'000, 3}, Log(true));
-    ctrlC.join();
-    EXPECT_FALSE(complete) << "1.5M photons took under 10 ms";
-  }
+  EXPECT_FALSE(ExtendInterrupted(store, box, {1'500'000, 3}, 10)) << "1.5M photons took under 10 ms";
   uint64_t hits = 0;
   std::vector<uint64_t> next(box.lights.size(), 0);
   for (size_t k = 0; k < store.blocks.size(); ++k) {
@@ -113,16 +117,7 @@ TEST(PhotonStreams, AnInterruptionLeavesEveryLightItsShare) {
                                                           {{-1.5f, -0.5f, -0.5f, 0.5f, 1}, {0.5f, 1.5f, -0.5f, 0.5f, 1}}));
   ASSERT_EQ(lamps.lights.size(), 2u);
   PhotonStore store = EmptyPhotonStore(lamps.lights);
-  {
-    const InterruptScope scope;
-    std::thread ctrlC([] {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      RequestInterrupt();
-    });
-    const bool complete = ExtendPhotons(store, lamps, {200'000'000, 3}, Log(true));
-    ctrlC.join();
-    ASSERT_FALSE(complete) << "200M photons took under 50 ms";
-  }
+  ASSERT_FALSE(ExtendInterrupted(store, lamps, {200'000'000, 3}, 50)) << "200M photons took under 50 ms";
   const uint64_t inFlight = kBlockPhotons * uint64_t(std::max(2, tbb::this_task_arena::max_concurrency()));
   EXPECT_GT(store.emitted[0], 0u);
   EXPECT_GT(store.emitted[1], 0u);
