@@ -220,37 +220,6 @@ void StoreBlocks(PhotonStore& store, std::vector<Block>& blocks, const std::vect
 
 }  // namespace
 
-void TraceStats::Add(const TraceStats& b, Rgb flux) {
-  emitted += b.emitted;
-  hits += b.hits;
-  absorbed += b.absorbed;
-  escaped += b.escaped;
-  forbidden += b.forbidden;
-  truncated += b.truncated;
-  diffuseBounces += b.diffuseBounces;
-  mirrorReflections += b.mirrorReflections;
-  fresnelReflections += b.fresnelReflections;
-  refractions += b.refractions;
-  causticHits += b.causticHits;
-  const auto add = [&](RgbSum& to, const RgbSum& from) {
-    to.r += double(flux.r) * from.r;
-    to.g += double(flux.g) * from.g;
-    to.b += double(flux.b) * from.b;
-  };
-  add(fluxEmitted, b.fluxEmitted);
-  add(fluxAbsorbed, b.fluxAbsorbed);
-  add(fluxEscaped, b.fluxEscaped);
-  add(fluxForbidden, b.fluxForbidden);
-}
-
-void PhotonStore::Summarise() {
-  std::vector<TraceStats> perLight(emitted.size());
-  for (size_t b = 0; b < blocks.size(); ++b)
-    perLight[ranges[b].light].Add(blockStats[b]);  // in block order: the sums do not depend on threads
-  stats = TraceStats{};
-  for (size_t l = 0; l < emitted.size(); ++l) stats.Add(perLight[l], PhotonFlux(l));
-}
-
 bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
                    const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
   std::vector<uint64_t> target = AllocatePhotons(lights, settings.photons, plan.lightReaches);

@@ -7,12 +7,12 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <type_traits>
 
 #include "baker/atomic_file.h"
 #include "mesh/errors.h"
+#include "mesh/input_file.h"
 
 namespace pb {
 namespace {
@@ -136,16 +136,6 @@ Header ReadHeader(Reader& r, const std::string& path) {
 [[noreturn]] void Truncated(const std::string& path, uint64_t actual, uint64_t expected) {
   throw InputError(path, 0, fmt::format("photon file is truncated: {} bytes of the {} its header describes", actual,
                                         expected));
-}
-
-// The file's length, refusing anything but a regular file (a pipe, a device such as /dev/zero, a directory).
-uint64_t RegularFileSize(const std::string& path) {
-  std::error_code error;
-  const std::filesystem::file_status status = std::filesystem::status(path, error);
-  if (error) throw InputError(path, 0, "cannot open photon file: " + error.message());
-  if (!std::filesystem::is_regular_file(status))
-    throw InputError(path, 0, "is not a regular file; --resume reads a photon file written by --save-photons");
-  return std::filesystem::file_size(path);
 }
 
 // The bytes up to the first record, from the header's counts; checked against the file's length before the
@@ -298,7 +288,7 @@ void WritePhotonFile(OutputFiles& outputs, const std::string& path, const Photon
 
 PhotonStore ReadPhotonFile(const std::string& path, const PhotonOrigin& expected, const std::vector<Rgb>& lightPower,
                            size_t triangles) {
-  const uint64_t actual = RegularFileSize(path);
+  const uint64_t actual = RequireRegularFile(path, "photon file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open photon file: " + std::string(std::strerror(errno)));
   Reader r(in, path);

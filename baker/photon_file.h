@@ -20,7 +20,7 @@
 
 #include "baker/atomic_file.h"
 #include "baker/0_plan_transport.h"
-#include "baker/1_trace_photons.h"
+#include "baker/photon_store.h"
 #include "mesh/scene.h"
 
 namespace pb {

@@ -28,9 +28,10 @@ inline const float kGaussianNormF = float(2.0 / (3.14159265358979323846 * (1.0 -
 // Calls f(k) with the kernel's profile as an inline function of the squared radius, k(t2) = h^2 K_h(r) for
 // t2 = r^2 / h^2 < 1, and returns what f returns. The switch is made once, outside f: loops over many photons
 // (estimators/kernel_estimator.cpp) then pay no dispatch per photon.
+inline constexpr float kInvPiF = 0.31830988618379067154f;
+
 template <typename F>
 auto WithSquaredProfile(Kernel kernel, F&& f) {
-  constexpr float kInvPiF = 0.31830988618379067154f;
   switch (kernel) {
     case Kernel::kUniform: return f([](float) { return kInvPiF; });
     case Kernel::kEpanechnikov: return f([](float t2) { return 2.0f * kInvPiF * (1.0f - t2); });

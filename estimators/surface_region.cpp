@@ -136,8 +136,9 @@ std::array<int, 2> SurfaceRegion::CellOf(double u, double v) const {
           std::clamp(int(std::floor((v - bounds_.lo.v) / cell_)), 0, nv_ - 1)};
 }
 
-bool SurfaceRegion::BoundaryWithin(Point2 x, double radius) const {
-  if (edges_.empty()) return false;
+std::vector<uint32_t> SurfaceRegion::EdgesWithin(Point2 x, double radius) const {
+  std::vector<uint32_t> near;
+  if (edges_.empty()) return near;
   const auto [u0, v0] = CellOf(x.u - radius, x.v - radius);
   const auto [u1, v1] = CellOf(x.u + radius, x.v + radius);
   for (int cv = v0; cv <= v1; ++cv)
@@ -145,17 +146,53 @@ bool SurfaceRegion::BoundaryWithin(Point2 x, double radius) const {
       const size_t c = size_t(cv) * nu_ + cu;
       for (uint32_t i = cellStart_[c]; i < cellStart_[c + 1]; ++i) {
         const Edge& e = edges_[cellEdges_[i]];
-        if (SegmentDistanceSquared(e.a, e.b, x) < radius * radius) return true;
+        if (SegmentDistanceSquared(e.a, e.b, x) < radius * radius) near.push_back(cellEdges_[i]);
       }
     }
-  return false;
+  std::sort(near.begin(), near.end());
+  near.erase(std::unique(near.begin(), near.end()), near.end());  // an edge is listed in every cell it spans
+  return near;
 }
 
+int SurfaceRegion::CutCrossingsBeyond(Point2 x, double radius) const {
+  const double y = x.v;
+  const int row = CellOf(x.u, y)[1], last = CellOf(x.u, y)[0];
+  int crossings = 0;
+  for (int cu = 0; cu <= last; ++cu) {
+    const size_t c = size_t(row) * nu_ + cu;
+    for (uint32_t i = cellStart_[c]; i < cellStart_[c + 1]; ++i) {
+      const Edge& e = edges_[cellEdges_[i]];
+      const bool aAbove = double(e.a.v) - y >= 0, bAbove = double(e.b.v) - y >= 0;
+      if (aAbove == bAbove) continue;
+      const double t = (y - e.a.v) / (double(e.b.v) - e.a.v);
+      const double uc = std::clamp(e.a.u + t * (double(e.b.u) - e.a.u), double(std::min(e.a.u, e.b.u)),
+                                   double(std::max(e.a.u, e.b.u)));
+      if (uc >= x.u || CellOf(uc, y)[0] != cu) continue;  // not on the cut, or counted in its own cell
+      if (SegmentDistanceSquared(e.a, e.b, x) < radius * radius) continue;  // a near edge
+      crossings += aAbove ? 1 : -1;
+    }
+  }
+  return crossings;
+}
+
+// Only the edges within h are integrated. Every other edge lies where G(r/h) = G(1) = 1/(2 pi), so together they
+// add the angle they subtend over 2 pi. With theta = atan2 about x at each corner, an edge's angle is its turn
+// theta_b - theta_a plus 2 pi for each crossing of atan2's cut (the ray from x toward -u), in the sense it
+// crosses. The turns of all boundary edges add to zero, since every corner is left as often as it is reached;
+// so the far edges' turns are minus the near edges' turns, and their cut crossings are counted along one row of
+// the grid. The cost is that of the edges near x and of one row, however long the boundary is.
 double SurfaceRegion::KernelMass(Point2 x, Kernel kernel, double h) const {
-  if (!BoundaryWithin(x, h)) return 1.0;
-  double mass = 0;
-  for (const Edge& e : edges_) mass += EdgeMass(e.a, e.b, x, kernel, h);
-  return std::clamp(mass, 0.0, 1.0);
+  const std::vector<uint32_t> near = EdgesWithin(x, h);
+  if (near.empty()) return 1.0;
+  const auto theta = [&](Point2 p) { return std::atan2(double(p.v) - x.v, double(p.u) - x.u); };
+  double mass = 0, nearTurn = 0;
+  for (uint32_t i : near) {
+    const Edge& e = edges_[i];
+    mass += EdgeMass(e.a, e.b, x, kernel, h);
+    nearTurn += theta(e.b) - theta(e.a);
+  }
+  const double farAngle = -nearTurn + kTwoPi * CutCrossingsBeyond(x, h);
+  return std::clamp(mass + farAngle / kTwoPi, 0.0, 1.0);
 }
 
 std::vector<double> SurfaceRegion::GridOverlapAreas(Point2 lo, float side, int nu, int nv) const {

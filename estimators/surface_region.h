@@ -10,7 +10,10 @@
 // over Omega is a signed sum over Omega's boundary edges e of integral_e G(r/h) dtheta, with G the kernel's
 // radial mass (estimators/kernels.h). Along an edge at distance d from x, dtheta = d ds / r^2, so the
 // integrand d G(t)/(h^2 t^2) is smooth in s and Gauss-Legendre integrates it exactly for polynomial kernels.
-// Interior edges, shared by two triangles, cancel and are dropped; T-junction edges cancel numerically.
+// Interior edges, shared by two triangles, cancel and are dropped; T-junction edges cancel numerically. Edges
+// farther than h from x are not integrated one by one: together they add the angle they subtend, which is found
+// from the near edges and one row of a grid (surface_region.cpp), so a query costs what the edges within h cost,
+// not the whole boundary.
 #pragma once
 
 #include <array>
@@ -46,7 +49,11 @@ class SurfaceRegion {
   struct Edge {
     Point2 a, b;  // Omega lies to the left of a -> b
   };
-  bool BoundaryWithin(Point2 x, double radius) const;
+  // Indices of the boundary edges closer to x than `radius`, each once.
+  std::vector<uint32_t> EdgesWithin(Point2 x, double radius) const;
+  // The signed count of boundary edges no closer to x than `radius` that cross the ray from x toward -u: +1 for
+  // each crossing downward (from v >= x.v to v < x.v), -1 for each upward.
+  int CutCrossingsBeyond(Point2 x, double radius) const;
   std::array<int, 2> CellOf(double u, double v) const;
 
   std::vector<Triangle2> triangles_;

@@ -1,8 +1,12 @@
 // bench_estimate: cost of each density estimator, per photon (building) and per vertex (querying), on a
 // 1 x 1 m surface holding 1M or 10M uniformly spread photons, with 10^4 query vertices on a grid that
 // includes the edges. Settings are the defaults (h = 0.05 m, k = 50), edge correction on.
+// BM_KernelMass: the edge correction's boundary mass M(x) alone, at 1,000 points h/2 inside the boundary of a
+// disc of radius 0.5 m cut as a fan of N triangles (N boundary edges), h = 0.05 m.
 // Run: build/bench_estimate --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
+
+#include <cmath>
 
 #include "estimators/density_estimator.h"
 #include "estimators/rng.h"
@@ -48,6 +52,31 @@ void BM_Query(benchmark::State& state, pb::EstimatorKind kind) {
       benchmark::Counter(double(kGrid * kGrid), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+// The regular N-gon of radius 0.5 m about (0.5, 0.5), as a fan of N triangles.
+std::vector<pb::Triangle2> Disc(int corners) {
+  const auto corner = [&](int i) {
+    const double a = 2 * M_PI * (i % corners) / corners;
+    return pb::Point2{float(0.5 + 0.5 * std::cos(a)), float(0.5 + 0.5 * std::sin(a))};
+  };
+  std::vector<pb::Triangle2> fan;
+  for (int i = 0; i < corners; ++i) fan.push_back({pb::Point2{0.5f, 0.5f}, corner(i), corner(i + 1)});
+  return fan;
+}
+
+void BM_KernelMass(benchmark::State& state) {
+  const pb::SurfaceRegion region(Disc(int(state.range(0))));
+  constexpr int kPoints = 1000;
+  constexpr double kH = 0.05;
+  for (auto _ : state)
+    for (int i = 0; i < kPoints; ++i) {
+      const double a = 2 * M_PI * (i + 0.5) / kPoints, r = 0.5 - kH / 2;
+      const pb::Point2 x{float(0.5 + r * std::cos(a)), float(0.5 + r * std::sin(a))};
+      benchmark::DoNotOptimize(region.KernelMass(x, pb::Kernel::kEpanechnikov, kH));
+    }
+  state.counters["ns_per_point"] =
+      benchmark::Counter(double(kPoints), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_Build, kernel, pb::EstimatorKind::kKernel)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
@@ -56,4 +85,5 @@ BENCHMARK_CAPTURE(BM_Build, knn, pb::EstimatorKind::kNearest)->Arg(1'000'000)->A
 BENCHMARK_CAPTURE(BM_Query, kernel, pb::EstimatorKind::kKernel)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Query, histogram, pb::EstimatorKind::kHistogram)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Query, knn, pb::EstimatorKind::kNearest)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KernelMass)->Arg(64)->Arg(1000)->Arg(40000)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

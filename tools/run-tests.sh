@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Quick start 2 (and CI): install what is missing, build, and run the whole test suite; fuzz the OBJ/MTL loader
+# Quick start 2 (and CI): install what is missing, build, and run the whole test suite; fuzz every file reader
 # briefly; then build the suite again with AddressSanitizer and UndefinedBehaviorSanitizer (into build-asan/) and
 # run it there too.
-#   FUZZ_SECONDS  the fuzzing pass (tools/fuzz-loader.sh): default 30; 0 skips it. Any crash, leak or sanitizer
+#   FUZZ_SECONDS  the fuzzing pass (tools/fuzz.sh), per reader: default 15; 0 skips it. Any crash, leak or sanitizer
 #                 finding fails the run.
 #   SANITIZE=0    skips the sanitizer pass (it roughly triples the time: about 6 minutes more on 2 cores).
 set -euo pipefail
@@ -11,7 +11,7 @@ root=$(pwd)
 bash tools/build.sh
 (cd build && ctest --output-on-failure --timeout 900 -j "$(nproc)")
 if [ "${FUZZ_SECONDS:-30}" != 0 ]; then
-  bash tools/fuzz-loader.sh "${FUZZ_SECONDS:-30}"
+  bash tools/fuzz.sh "${FUZZ_SECONDS:-15}"
 fi
 if [ "${SANITIZE:-1}" != 0 ]; then
   BUILD_DIR=build-asan bash tools/build.sh -DPB_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo

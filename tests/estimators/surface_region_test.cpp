@@ -26,19 +26,22 @@ std::vector<Triangle2> Square(float lo, float hi, int cells) {  // [lo,hi]^2 cut
   return t;
 }
 
-// The L-shaped polygon [0,1]^2 minus (0.5,1]^2, counter-clockwise.
-const std::vector<std::array<double, 2>> kLShape = {{0, 0}, {1, 0}, {1, 0.5}, {0.5, 0.5}, {0.5, 1}, {0, 1}};
+using Loop = std::vector<std::array<double, 2>>;
 
-// Independent reference for x strictly inside the L: in polar coordinates about x, march each ray through the
-// polygon's edges and add 2 pi * [G(t_out) - G(t_in)] / (2 pi) dtheta over its inside intervals (exact in r),
-// by the midpoint rule in theta.
-double PolarMass(Point2 x, Kernel kernel, double h, int angles = 20000) {
+// The L-shaped polygon [0,1]^2 minus (0.5,1]^2, counter-clockwise.
+const Loop kLShape = {{0, 0}, {1, 0}, {1, 0.5}, {0.5, 0.5}, {0.5, 1}, {0, 1}};
+
+// Independent reference for x strictly inside the region bounded by `loops`: in polar coordinates about x, march
+// each ray through the loops' edges and add 2 pi * [G(t_out) - G(t_in)] / (2 pi) dtheta over its inside intervals
+// (exact in r), by the midpoint rule in theta.
+double PolarMass(Point2 x, Kernel kernel, double h, const std::vector<Loop>& loops = {kLShape}, int angles = 20000) {
   double sum = 0;
   for (int a = 0; a < angles; ++a) {
     const double theta = (a + 0.5) * 2 * M_PI / angles, dx = std::cos(theta), dy = std::sin(theta);
     std::vector<double> crossings;
-    for (size_t i = 0; i < kLShape.size(); ++i) {
-      const auto p = kLShape[i], q = kLShape[(i + 1) % kLShape.size()];
+    for (const Loop& loop : loops)
+    for (size_t i = 0; i < loop.size(); ++i) {
+      const auto p = loop[i], q = loop[(i + 1) % loop.size()];
       const double ex = q[0] - p[0], ey = q[1] - p[1], wx = p[0] - x.u, wy = p[1] - x.v;
       const double denominator = dx * ey - dy * ex;
       if (denominator == 0) continue;
@@ -91,6 +94,63 @@ TEST_P(RegionEveryKernel, MatchesBruteForceOnAConcaveRegion) {
     EXPECT_NEAR(region.KernelMass(x, GetParam(), h), exact, 1e-6) << "x = (" << x.u << ", " << x.v << "), h = " << h;
   }
   EXPECT_NEAR(region.KernelMass({0.5f, 0.5f}, GetParam(), 0.1), 0.75, 1e-9);  // the reflex corner
+}
+
+// The far boundary is not integrated edge by edge but through the angle it subtends (surface_region.h); these
+// regions make that angle count: a 720-gon has hundreds of edges beyond h, and a square with a square hole has
+// a second loop that the cut from x crosses or passes, sometimes exactly through its corners.
+TEST_P(RegionEveryKernel, MatchesBruteForceWhereTheBoundaryIsLongOrHasAHole) {
+  Loop polygon;
+  std::vector<Triangle2> fan;
+  constexpr int kCorners = 720;
+  const auto corner = [](int i) {
+    const double a = 2 * M_PI * (i % kCorners) / kCorners;
+    return std::array<double, 2>{0.5 + 0.5 * std::cos(a), 0.5 + 0.5 * std::sin(a)};
+  };
+  for (int i = 0; i < kCorners; ++i) {
+    const auto p = corner(i), q = corner(i + 1);
+    polygon.push_back({double(float(p[0])), double(float(p[1]))});
+    fan.push_back({Point2{0.5f, 0.5f}, Point2{float(p[0]), float(p[1])}, Point2{float(q[0]), float(q[1])}});
+  }
+  const SurfaceRegion disc(fan);
+  EXPECT_EQ(disc.BoundaryEdgeCount(), size_t(kCorners));
+  const Loop outer = {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, hole = {{0.4, 0.4}, {0.4, 0.6}, {0.6, 0.6}, {0.6, 0.4}};
+  const Point2 o[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, i[4] = {{0.4f, 0.4f}, {0.6f, 0.4f}, {0.6f, 0.6f}, {0.4f, 0.6f}};
+  std::vector<Triangle2> frame;
+  for (int k = 0; k < 4; ++k) {
+    frame.push_back({o[k], o[(k + 1) % 4], i[(k + 1) % 4]});
+    frame.push_back({o[k], i[(k + 1) % 4], i[k]});
+  }
+  const SurfaceRegion holed(frame);
+  EXPECT_NEAR(holed.Area(), 0.96, 1e-6);
+  const Kernel k = GetParam();
+  // On the cut through the hole's corners (v = 0.4 and 0.6), beside the hole, and in from the outer corners.
+  for (const Point2 x : {Point2{0.3f, 0.4f}, Point2{0.35f, 0.6f}, Point2{0.8f, 0.4f}, Point2{0.7f, 0.5f},
+                         Point2{0.5f, 0.3f}, Point2{0.5f, 0.75f}, Point2{0.1f, 0.5f}, Point2{0.9f, 0.9f}})
+    for (double h : {0.05, 0.15, 0.35})
+      EXPECT_NEAR(holed.KernelMass(x, k, h), PolarMass(x, k, h, {outer, hole}), 1e-6)
+          << "square with a hole, x = (" << x.u << ", " << x.v << "), h = " << h;
+  // A tent: 200 short edges along its floor, and two long slanted ones that each span many cells of the grid.
+  std::vector<Triangle2> tent;
+  Loop tentLoop;
+  for (int n = 0; n < 200; ++n) {
+    tent.push_back({Point2{0.3f, 1}, Point2{n / 200.0f, 0}, Point2{(n + 1) / 200.0f, 0}});
+    tentLoop.push_back({double(n / 200.0f), 0});
+  }
+  tentLoop.push_back({1, 0});
+  tentLoop.push_back({0.3, 1});
+  const SurfaceRegion tentRegion(tent);
+  for (const Point2 x : {Point2{0.3f, 0.5f}, Point2{0.5f, 0.2f}, Point2{0.3f, 0.85f}})
+    for (double h : {0.05, 0.15, 0.25})
+      EXPECT_NEAR(tentRegion.KernelMass(x, k, h), PolarMass(x, k, h, {tentLoop}), 1e-6)
+          << "tent, x = (" << x.u << ", " << x.v << "), h = " << h;
+  Rng rng(11, 0);
+  for (int n = 0; n < 8; ++n) {
+    const double r = 0.5 * std::sqrt(rng.Uniform()) * 0.98, a = 2 * M_PI * rng.Uniform(), h = 0.02 + 0.3 * rng.Uniform();
+    const Point2 x{float(0.5 + r * std::cos(a)), float(0.5 + r * std::sin(a))};
+    EXPECT_NEAR(disc.KernelMass(x, k, h), PolarMass(x, k, h, {polygon}, 40000), 1e-6)
+        << "720-gon, x = (" << x.u << ", " << x.v << "), h = " << h;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Region, RegionEveryKernel, testing::ValuesIn(kAllKernels),

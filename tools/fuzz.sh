@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Fuzzes every file reader with libFuzzer (clang, from Debian), AddressSanitizer and UndefinedBehaviorSanitizer,
+# each for a bounded time, one after another:
+#   obj_loader   OBJ/MTL scenes (mesh/obj_loader.h), with the PNG textures they name
+#   png          PNG textures (mesh/texture.h)
+#   camera       camera JSON files (mesh/camera.h)
+#   photon_file  photon files for --resume (baker/photon_file.h), their CRC recomputed so mutations get past it
+# Usage: tools/fuzz.sh [SECONDS per target, default 60] [TARGET ...; default all]. Installs clang if it is
+# missing. Seeds come from tests/fuzz/corpus/TARGET (the photon files are written by photon_file_seeds); new
+# interesting inputs land in build-fuzz/corpus/TARGET, and a crash, leak, sanitizer finding or 10 s hang fails the
+# run with the input that caused it in build-fuzz/findings/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(obj_loader png camera photon_file)
+if ! command -v clang++ >/dev/null; then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq && $sudo apt-get install -y -qq --no-install-recommends clang >/dev/null
+fi
+bash tools/install-deps.sh
+cmake -S . -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPB_FUZZ=ON >/dev/null
+cmake --build build-fuzz --target photon_file_seeds "${targets[@]/#/fuzz_}"
+rm -rf build-fuzz/seeds && mkdir -p build-fuzz/seeds build-fuzz/findings
+build-fuzz/photon_file_seeds build-fuzz/seeds/photon_file
+for target in "${targets[@]}"; do
+  seeds=tests/fuzz/corpus/$target
+  [ "$target" != photon_file ] || seeds=build-fuzz/seeds/photon_file
+  mkdir -p "build-fuzz/corpus/$target"
+  echo "== fuzz_$target for $seconds s, seeds in $seeds"
+  log=build-fuzz/$target.log
+  status=0
+  "build-fuzz/fuzz_$target" "build-fuzz/corpus/$target" "$seeds" -max_total_time="$seconds" -max_len=4096 \
+    -timeout=10 -artifact_prefix="build-fuzz/findings/$target-" -print_final_stats=1 >"$log" 2>&1 || status=$?
+  grep -E "^(Done [0-9]+ runs|stat::number_of_executed_units|stat::new_units_added)" "$log" || true
+  if [ "$status" -ne 0 ]; then
+    tail -n 60 "$log"
+    echo "fuzz_$target found a bug (exit $status); the input is in build-fuzz/findings/, the log in $log"
+    exit "$status"
+  fi
+done
