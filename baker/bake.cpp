@@ -24,14 +24,19 @@
 namespace pb {
 namespace {
 
-// Each output can be written, none names another or an input (--save-photons may name the --resume file).
+// The files a bake writes besides its maps (whose names, surface_N.exr, no input can have), by option.
+std::vector<std::pair<std::string, std::string>> OutputFilesOf(const BakeOptions& o) {
+  return {{"-o", o.outputPath}, {"--report", o.reportPath}, {"--save-photons", o.savePhotonsPath}};
+}
+
+// Each output can be written, none names another or an input (--save-photons may name the --resume file). The
+// scene's material libraries and textures are checked once it is loaded (BakeMesh).
 void ValidateOutputs(const BakeOptions& o) {
   RequireWritableLocation(o.outputPath);
   if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
   if (!o.mapsDirectory.empty()) RequireWritableLocation(o.mapsDirectory + "/surface_0.exr");
   if (!o.savePhotonsPath.empty()) RequireWritableLocation(o.savePhotonsPath);
-  RequireDistinctFiles({{"-o", o.outputPath}, {"--report", o.reportPath}, {"--save-photons", o.savePhotonsPath}},
-                       {{"the scene", o.scenePath}});
+  RequireDistinctFiles(OutputFilesOf(o), {{"the scene", o.scenePath}});
   RequireDistinctFiles({{"-o", o.outputPath}, {"--report", o.reportPath}}, {{"--resume", o.resumePath}});
 }
 
@@ -138,6 +143,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs) 
   StageClock clock(journal.stageSeconds);
 
   const PreparedScene scene = PrepareScene(SceneOf(o), clock);
+  RequireDistinctFiles(OutputFilesOf(o), scene.scene.InputFiles());
   journal.Warn(scene.warnings, log);
   if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions, threads.Count());
   if (o.refine.subdivide > 0) CheckSubdivisionMemory(scene.scene.triangles.size(), o.refine.subdivide);

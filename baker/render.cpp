@@ -18,6 +18,30 @@
 namespace pb {
 namespace {
 
+std::string WithSuffix(const std::string& exrPath, const std::string& suffix, const std::string& extension) {
+  const bool exr = exrPath.size() > 4 && exrPath.compare(exrPath.size() - 4, 4, ".exr") == 0;
+  return (exr ? exrPath.substr(0, exrPath.size() - 4) : exrPath) + suffix + extension;
+}
+
+// The EXR and PNG of the image of `spp` samples per pixel: -o, with _sppN before the extension in a sweep.
+std::pair<std::string, std::string> ImagePaths(const RenderOptions& o, uint32_t spp) {
+  const std::string suffix = o.sppSweep.empty() ? "" : fmt::format("_spp{}", spp);
+  return {WithSuffix(o.outputPath, suffix, ".exr"), WithSuffix(o.outputPath, suffix, ".png")};
+}
+std::string StripPath(const RenderOptions& o) { return WithSuffix(o.outputPath, "_strip", ".png"); }
+
+// Every file a render writes, by option.
+std::vector<std::pair<std::string, std::string>> OutputFilesOf(const RenderOptions& o) {
+  std::vector<std::pair<std::string, std::string>> files;
+  for (uint32_t spp : o.sppSweep.empty() ? std::vector<uint32_t>{o.spp} : o.sppSweep) {
+    const auto [exr, png] = ImagePaths(o, spp);
+    files.insert(files.end(), {{"-o", exr}, {"-o", png}});
+  }
+  if (!o.sppSweep.empty()) files.emplace_back("-o", StripPath(o));
+  if (!o.reportPath.empty()) files.emplace_back("--report", o.reportPath);
+  return files;
+}
+
 void ValidateOptions(const RenderOptions& o) {
   if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
     throw InputError("--size", 0, "width and height must lie in [1, 16384] pixels");
@@ -38,15 +62,8 @@ void ValidateOptions(const RenderOptions& o) {
   const double images = o.sppSweep.empty() ? 1.0 : double(o.sppSweep.size()) + 1.0;
   RequireMemory("--size", images * double(o.width) * double(o.height) * 19.0,
                 fmt::format("{} image(s) of {}x{} pixels", int(images), o.width, o.height));
-  RequireWritableLocation(o.outputPath);
-  if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
-  RequireDistinctFiles({{"-o", o.outputPath}, {"--report", o.reportPath}},
-                       {{"the scene", o.scenePath}, {"--camera", o.cameraPath}});
-}
-
-std::string WithSuffix(const std::string& exrPath, const std::string& suffix, const std::string& extension) {
-  const bool exr = exrPath.size() > 4 && exrPath.compare(exrPath.size() - 4, 4, ".exr") == 0;
-  return (exr ? exrPath.substr(0, exrPath.size() - 4) : exrPath) + suffix + extension;
+  for (const auto& [option, path] : OutputFilesOf(o)) RequireWritableLocation(path);
+  RequireDistinctFiles(OutputFilesOf(o), {{"the scene", o.scenePath}, {"--camera", o.cameraPath}});
 }
 
 // Accumulates one pixel's samples: the mean, and the variance of the mean's luminance.
@@ -169,6 +186,7 @@ RenderReport Render(const RenderOptions& o, const Log& log) {
 
   Camera cameraData = LoadCamera(o.cameraPath.empty() ? CameraSidecarPath(o.scenePath) : o.cameraPath);
   const PreparedScene scene = PrepareScene(SceneSettings{o.scenePath, o.scale, {}}, clock);
+  RequireDistinctFiles(OutputFilesOf(o), scene.scene.InputFiles());
   cameraData = InLocalCoordinates(cameraData, scene.scene);
   std::optional<PhotonMap> photonMap;
   if (o.path.sampling == DirectionSampling::kPhotons) {
@@ -193,15 +211,14 @@ RenderReport Render(const RenderOptions& o, const Log& log) {
   clock.Time("write", [&] {
     std::vector<const Image*> strip;
     for (const auto& [spp, image] : report.images) {
-      const std::string suffix = o.sppSweep.empty() ? "" : fmt::format("_spp{}", spp);
-      const std::string exr = WithSuffix(o.outputPath, suffix, ".exr"), png = WithSuffix(o.outputPath, suffix, ".png");
+      const auto [exr, png] = ImagePaths(o, spp);
       WriteExr(outputs, exr, image.mean, ExrAttributes(o, spp));
       WritePng(outputs, png, image.mean, report.exposure);
       report.outputs.insert(report.outputs.end(), {exr, png});
       strip.push_back(&image.mean);
     }
     if (!o.sppSweep.empty()) {
-      const std::string path = WithSuffix(o.outputPath, "_strip", ".png");
+      const std::string path = StripPath(o);
       WritePng(outputs, path, StripOf(strip), report.exposure);
       report.outputs.push_back(path);
     }

@@ -336,8 +336,9 @@ class ObjParser {
       currentMaterial_ = int(it->second);
     } else if (k == "mtllib") {
       line.ExpectArguments(1, 64);
-      LoadMtl(ResolveBeside(path_, line.Rest()), line, result_.scene.materials, materialByName_, result_.scene.textures,
-              result_.warnings);
+      const std::string library = ResolveBeside(path_, line.Rest());
+      LoadMtl(library, line, result_.scene.materials, materialByName_, result_.scene.textures, result_.warnings);
+      result_.scene.materialLibraries.push_back(library);
     } else if (k == "o" || k == "g") {
       currentObject_ = uint32_t(result_.scene.objectNames.size());  // names surfaces in the report.
       result_.scene.objectNames.push_back(line.tokens.size() > 1 ? line.Rest() : std::string());

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh/color.h"
@@ -58,9 +59,19 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Point2> texcoords;  // OBJ 'vt' (s, t)
   std::vector<Texture> textures;  // map_Kd images
+  std::vector<std::string> materialLibraries;  // the mtllib files read, as resolved
   std::vector<std::string> objectNames;     // from 'o' (or 'g') statements; "" before the first.
   uint32_t degenerateTrianglesSkipped = 0;  // zero-area faces dropped at load time.
   uint32_t duplicateTrianglesSkipped = 0;   // exact repeats (same corners, same side) dropped at load time.
+
+  // Every file the scene was read from, with what it was: the OBJ, its material libraries and its textures. No
+  // output may overwrite one of them.
+  std::vector<std::pair<std::string, std::string>> InputFiles() const {
+    std::vector<std::pair<std::string, std::string>> files{{"the scene", path}};
+    for (const std::string& library : materialLibraries) files.emplace_back("the material library", library);
+    for (const Texture& texture : textures) files.emplace_back("the texture", texture.path);
+    return files;
+  }
 
   Point3 Corner(uint32_t triangle, int k) const { return positions[triangles[triangle].v[k]]; }
   // (p1 - p0) x (p2 - p0): points to the front side, length = 2 * area [m^2].

@@ -144,6 +144,13 @@ std::string TempDirectory(const std::string& name) {
 
 void WriteText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
+std::string AddTexture(const std::string& mtlPath) {
+  std::ofstream(mtlPath, std::ios::app) << "\nnewmtl textured\nKd 1 1 1\nmap_Kd tex.png\n";
+  const std::string png = std::filesystem::path(mtlPath).parent_path() / "tex.png";
+  WritePngRgb8(png, 2, 2, std::vector<unsigned char>(12, 128));
+  return png;
+}
+
 std::string WriteSquareLightOverFloor(const std::string& directory, float lightSide, float radiance, float height,
                                       float floorSide, int floorCells, float floorAlbedo) {
   WriteText(directory + "/scene.mtl", fmt::format("newmtl black\nKd {1} {1} {1}\nnewmtl light\nKd 0 0 0\nKe {0} {0} {0}\n",

@@ -16,6 +16,10 @@ std::string TempDirectory(const std::string& name);
 // Writes `text` to `path` (overwriting).
 void WriteText(const std::string& path, const std::string& text);
 
+// Appends a material "textured" with map_Kd tex.png to the material library `mtlPath`, and writes tex.png (2 x 2
+// grey pixels) beside it; returns the PNG's path. No face uses the material; the texture is still loaded.
+std::string AddTexture(const std::string& mtlPath);
+
 // A square light of side `lightSide` and radiance `radiance` (grey), facing down at height `height`, centred
 // over a square floor of side `floorSide` in the plane y = 0, both centred on the y axis, black (Kd 0) unless
 // floorAlbedo is given. The light is black, so no light returns to the floor: its H is Lambert's either way.

@@ -18,16 +18,12 @@
 #include "mesh/obj_loader.h"
 #include "tests/chi2.h"
 #include "tests/floor_cells.h"
+#include "tests/ply_reader.h"
 #include "tests/test_scenes.h"
 #include "tests/traced_scene.h"
 
 namespace pb {
 namespace {
-
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 BakeReport QuietBake(const std::string& scene, const std::string& output, uint64_t photons,
                      const std::string& effects = "auto") {
@@ -106,7 +102,7 @@ TEST(Effects, ForcingEveryEffectOnADiffuseSceneGivesTheSameBytes) {
   EXPECT_GT(a.trace.diffuseBounces, 0u);
   EXPECT_EQ(a.trace.diffuseBounces, b.trace.diffuseBounces);
   EXPECT_TRUE(b.plan.effects[size_t(Effect::kRefraction)].overridden);
-  EXPECT_EQ(ReadBytes(dir + "/auto.ply"), ReadBytes(dir + "/all.ply"));
+  EXPECT_EQ(test::ReadBytes(dir + "/auto.ply"), test::ReadBytes(dir + "/all.ply"));
 }
 
 // A 2 cm light at (0.5, 0.5, 0) facing -x toward a mirror (Ks 0.9) in the plane x = 0, over a black floor

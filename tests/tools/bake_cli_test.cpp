@@ -359,6 +359,17 @@ TEST(BakeCli, CollidingOrNonRegularOutputsAreRefusedAtOnce) {
   // --save-photons may name the --resume file: the photons are read before the new file is written.
   EXPECT_EQ(RunBake(scene + " -q -o " + dir + "/z.ply --photons 2000 --resume " + dir + "/s.photons --save-photons " +
                     dir + "/s.photons").status, 0);
+  // The scene's material library and textures are inputs too: refused once the scene is loaded, before tracing.
+  const std::string texture = test::AddTexture(dir + "/scene.mtl");
+  const std::string mtlBytes = test::ReadBytes(dir + "/scene.mtl"), textureBytes = test::ReadBytes(texture);
+  for (const Case& c : std::vector<Case>{{"-o " + dir + "/scene.mtl", "-o would overwrite the input the material library"},
+                                         {"-o " + dir + "/o.ply --report " + texture, "--report would overwrite the input the texture"}}) {
+    const BakeRun run = RunBake(scene + " --photons 400000000 " + c.arguments);
+    EXPECT_EQ(run.status, 1) << c.arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find(c.expected), std::string::npos) << c.arguments << "\n" << run.output;
+  }
+  EXPECT_TRUE(test::ReadBytes(dir + "/scene.mtl") == mtlBytes && test::ReadBytes(texture) == textureBytes);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/o.ply"));
 }
 
 // A planted symlink at a temporary file's name is never followed: the temporary is created with O_EXCL |

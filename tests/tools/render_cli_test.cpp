@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "baker/image_io.h"
+#include "tests/ply_reader.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
 
@@ -69,6 +70,21 @@ TEST(RenderCli, RefusesBadOptionsAndBadInput) {
   EXPECT_NE(camera.output.find("bad.camera.json:"), std::string::npos) << camera.output;
   for (const auto& entry : fs::directory_iterator(dir))
     EXPECT_NE(entry.path().extension(), ".exr") << "nothing written on error: " << entry.path();
+}
+
+// Each image a render writes is checked against the scene's inputs: -o tex writes tex.png, which must not replace
+// the scene's texture of that name.
+TEST(RenderCli, RefusesToOverwriteAnInputWithAnImage) {
+  const std::string dir = test::TempDirectory("render-overwrite");
+  for (const char* file : {"box.obj", "box.mtl", "box.camera.json"})
+    fs::copy_file(PB_SOURCE_DIR "/data/box/" + std::string(file), dir + "/" + file);
+  const std::string texture = test::AddTexture(dir + "/box.mtl");
+  const std::string before = test::ReadBytes(texture);
+  const test::ToolRun run = RunRender(dir + "/box.obj -o " + dir + "/tex --size 8x8 --spp 1");
+  EXPECT_EQ(run.status, 1) << run.output;
+  EXPECT_NE(run.output.find("-o would overwrite the input the texture"), std::string::npos) << run.output;
+  EXPECT_TRUE(test::ReadBytes(texture) == before);
+  EXPECT_FALSE(fs::exists(dir + "/tex.exr"));
 }
 
 }  // namespace
