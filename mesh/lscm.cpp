@@ -6,6 +6,7 @@
 #include <CGAL/Surface_mesh_parameterization/LSCM_parameterizer_3.h>
 #include <CGAL/Surface_mesh_parameterization/parameterize.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace pb {
@@ -29,10 +30,28 @@ bool Normalise(std::vector<Point2>& uv, std::span<const Point3> positions, std::
   return true;
 }
 
+// CGAL's LSCM pins the two vertices extreme along the patch's longest bounding-box axis, scaled by the second
+// longest: a patch flat in two axes (its vertices on a line) divides by zero there and crashes. Such a patch, or
+// one of a triangle without area, has no conformal map.
+bool CanBeMapped(std::span<const Point3> positions, std::span<const std::array<uint32_t, 3>> triangles) {
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (const Point3& p : positions) {
+    const double c[3] = {p.x, p.y, p.z};
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], c[k]), hi[k] = std::max(hi[k], c[k]);
+  }
+  int extended = 0;
+  for (int k = 0; k < 3; ++k) extended += hi[k] > lo[k];
+  if (extended < 2) return false;
+  return std::all_of(triangles.begin(), triangles.end(), [&](const auto& t) {
+    return Length(Cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]])) > 0;
+  });
+}
+
 }  // namespace
 
 std::optional<std::vector<Point2>> ConformalMap(std::span<const Point3> positions,
                                                std::span<const std::array<uint32_t, 3>> triangles) {
+  if (!CanBeMapped(positions, triangles)) return std::nullopt;
   CgalMesh mesh;
   std::vector<VertexIndex> vertex;
   vertex.reserve(positions.size());

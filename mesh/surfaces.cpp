@@ -73,20 +73,40 @@ std::vector<uint32_t> Flood(uint32_t seed, const std::vector<std::vector<uint32_
   return group;
 }
 
+// Whether the triangle's normal means anything: its corners are floats, each rounded by up to half an ulp of the
+// largest coordinate, and a sliver's cross product can turn by more than `sinAngle` under that rounding (a fan of
+// 40,000 triangles cut from one polygon has slivers whose rounding flips them over). Such a triangle follows its
+// neighbours into their surface and does not vote on planarity.
+bool NormalIsReliable(const Scene& scene, uint32_t t, float sinAngle) {
+  const Point3 a = scene.Corner(t, 0), b = scene.Corner(t, 1), c = scene.Corner(t, 2);
+  float largest = 0;
+  for (const Point3& p : {a, b, c}) largest = std::max({largest, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+  const float rounding = largest * 0x1p-24f;
+  const float crossError = 4 * rounding * (Length(b - a) + Length(c - a) + Length(c - b));
+  return crossError < sinAngle * Length(scene.AreaVector(t));
+}
+
 std::vector<std::vector<uint32_t>> SmoothGroups(const Scene& scene, const std::vector<std::vector<uint32_t>>& neighbours,
                                                 const SurfaceOptions& o) {
   const float minCrease = CosDegrees(o.creaseDegrees), minCone = CosDegrees(o.coneDegrees);
+  const float sinPlanar = std::sin(o.planarDegrees * kPi / 180.0f);
+  std::vector<uint8_t> reliable(scene.triangles.size());
+  for (uint32_t t = 0; t < scene.triangles.size(); ++t) reliable[t] = NormalIsReliable(scene, t, sinPlanar);
   std::vector<uint8_t> taken(scene.triangles.size(), 0);
   std::vector<std::vector<uint32_t>> groups;
-  for (uint32_t seed = 0; seed < scene.triangles.size(); ++seed) {
-    if (taken[seed]) continue;
+  const auto grow = [&](uint32_t seed) {
     const Normal3 seedNormal = scene.FrontNormal(seed);
     groups.push_back(Flood(seed, neighbours, taken, [&](uint32_t from, uint32_t to) {
+      if (scene.triangles[to].material != scene.triangles[seed].material) return false;
+      if (!reliable[to]) return true;
       const Normal3 n = scene.FrontNormal(to);
-      return scene.triangles[to].material == scene.triangles[seed].material &&
-             Dot(n, scene.FrontNormal(from)) >= minCrease && Dot(n, seedNormal) >= minCone;
+      return Dot(n, reliable[from] ? scene.FrontNormal(from) : seedNormal) >= minCrease && Dot(n, seedNormal) >= minCone;
     }));
-  }
+  };
+  for (uint32_t seed = 0; seed < scene.triangles.size(); ++seed)  // groups grow from triangles with a normal
+    if (!taken[seed] && reliable[seed]) grow(seed);
+  for (uint32_t seed = 0; seed < scene.triangles.size(); ++seed)  // then slivers that no such group reached
+    if (!taken[seed]) grow(seed);
   return groups;
 }
 
@@ -98,8 +118,10 @@ Vector3 AreaVectorSum(const Scene& scene, const std::vector<uint32_t>& triangles
 
 bool IsPlanar(const Scene& scene, const std::vector<uint32_t>& triangles, float planarDegrees) {
   const Normal3 mean = NormalFrom(AreaVectorSum(scene, triangles));
-  const float minCos = CosDegrees(planarDegrees);
-  return std::all_of(triangles.begin(), triangles.end(), [&](uint32_t t) { return Dot(scene.FrontNormal(t), mean) >= minCos; });
+  const float minCos = CosDegrees(planarDegrees), sinPlanar = std::sin(planarDegrees * kPi / 180.0f);
+  return std::all_of(triangles.begin(), triangles.end(), [&](uint32_t t) {
+    return !NormalIsReliable(scene, t, sinPlanar) || Dot(scene.FrontNormal(t), mean) >= minCos;
+  });
 }
 
 Surface MakeSurface(const Scene& scene, std::vector<uint32_t> triangles) {

@@ -14,6 +14,9 @@
 //      (mesh/lscm.h, CGAL) scaled to its area. A group that is not a disc, that CGAL cannot map, or whose
 //      worst triangle area distortion max(A_uv/A, A/A_uv) exceeds `maxAreaDistortion`, is cut in two across
 //      its longest extent, and each part is tried again.
+// A sliver whose normal float rounding could turn by more than `planarDegrees` (a polygon of thousands of corners,
+// fan-triangulated, has slivers that rounding flips over) has no normal to trust: it joins whichever group reaches
+// it across an edge, and does not vote on planarity.
 #pragma once
 
 #include <array>

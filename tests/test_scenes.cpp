@@ -151,6 +151,21 @@ std::string AddTexture(const std::string& mtlPath) {
   return png;
 }
 
+std::string WriteDiscPolygon(const std::string& dir, int corners) {
+  std::string obj = "mtllib d.mtl\n";
+  for (int i = 0; i < corners; ++i) {
+    const double a = 2 * M_PI * i / corners;
+    obj += fmt::format("v {:.9f} 0 {:.9f}\n", std::cos(a), std::sin(a));
+  }
+  obj += "usemtl floor\nf";
+  for (int i = corners; i >= 1; --i) obj += fmt::format(" {}", i);  // counter-clockwise seen from above
+  obj += "\nv -0.2 1 -0.2\nv 0.2 1 -0.2\nv 0.2 1 0.2\nv -0.2 1 0.2\nusemtl lamp\n";
+  obj += fmt::format("f {} {} {} {}\n", corners + 1, corners + 2, corners + 3, corners + 4);
+  WriteText(dir + "/d.mtl", "newmtl floor\nKd 0 0 0\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
+  WriteText(dir + "/d.obj", obj);
+  return dir + "/d.obj";
+}
+
 std::string WriteSquareLightOverFloor(const std::string& directory, float lightSide, float radiance, float height,
                                       float floorSide, int floorCells, float floorAlbedo) {
   WriteText(directory + "/scene.mtl", fmt::format("newmtl black\nKd {1} {1} {1}\nnewmtl light\nKd 0 0 0\nKe {0} {0} {0}\n",

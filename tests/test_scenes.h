@@ -20,6 +20,11 @@ void WriteText(const std::string& path, const std::string& text);
 // grey pixels) beside it; returns the PNG's path. No face uses the material; the texture is still loaded.
 std::string AddTexture(const std::string& mtlPath);
 
+// A disc of radius 1 m in the plane y = 0, cut as one OBJ polygon of `corners` corners (as CAD exports write flat
+// caps), under a 0.4 m square light of radiance 10 facing down 1 m above its centre; both black, so H is direct
+// light only. Returns the OBJ path (dir/d.obj).
+std::string WriteDiscPolygon(const std::string& dir, int corners);
+
 // A square light of side `lightSide` and radiance `radiance` (grey), facing down at height `height`, centred
 // over a square floor of side `floorSide` in the plane y = 0, both centred on the y axis, black (Kd 0) unless
 // floorAlbedo is given. The light is black, so no light returns to the floor: its H is Lambert's either way.

@@ -5,6 +5,7 @@
 //    then matches its closed form Phi / (1 - rho).
 //  - h far below the photon spacing: finite, with a warning; h far above the surface: every vertex reads the
 //    surface's mean irradiance, no blow-up at the edges.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -249,6 +250,48 @@ TEST(Stability, ALightCuttingThroughTheFloorLightsItAsItsUpperPartWould) {
       double(kPhotons) / phi);
   const test::Chi2Result r = test::Chi2Test(observed, expected);
   EXPECT_GT(r.pValue, 1e-3) << "chi2 " << r.statistic << " dof " << r.degreesOfFreedom << "\n" << r.histograms;
+}
+
+}  // namespace
+}  // namespace pb
+
+namespace pb {
+namespace {
+
+TEST(Stability, APolygonOfTensOfThousandsOfCornersBakesWithBrightEdges) {
+  // 40,000 corners used to crash the chart builder, and 20,000 took 22 s: the boundary correction summed every
+  // boundary edge at each vertex. The prepared scene keeps the disc's area, N/2 sin(2 pi/N) m^2.
+  const test::TracedScene forty(test::WriteDiscPolygon(test::TempDirectory("disc-40000"), 40000));
+  double floorArea = 0;
+  for (uint32_t t = 0; t < forty.scene.triangles.size(); ++t)
+    if (!forty.scene.MaterialOf(t).IsEmissive()) floorArea += forty.scene.Area(t);
+  EXPECT_NEAR(floorArea, 20000 * std::sin(2 * M_PI / 40000), 1e-3);
+
+  // Baked at 20,000 corners, every vertex is on the rim. The mean H there must be Lambert's, averaged round
+  // the rim: about 63 independent kernel half-discs of ~160 photons each give 1% noise, and the radial gradient
+  // (d ln E / dr = -2 /m) biases the half-disc about +3.5%; a rim read as inside (M = 1) would give half.
+  const std::string scene = test::WriteDiscPolygon(test::TempDirectory("disc-20000"), 20000);
+  const Baked baked = BakeQuietly(scene, 0.05f, 500000);
+  const std::vector<test::V3> light = {{-0.2, 1, -0.2}, {0.2, 1, -0.2}, {0.2, 1, 0.2}, {-0.2, 1, 0.2}};
+  double reference = 0;
+  constexpr int kAngles = 360;
+  for (int i = 0; i < kAngles; ++i) {
+    const double a = 2 * M_PI * (i + 0.5) / kAngles;
+    reference += test::LambertPolygonIrradiance({std::cos(a), 0, std::sin(a)}, {0, 1, 0}, light, 10.0) / kAngles;
+  }
+  const std::vector<double>& x = baked.ply.vertex.at("x");
+  const std::vector<double>& y = baked.ply.vertex.at("y");
+  const std::vector<double>& quality = baked.ply.vertex.at("quality");
+  double sum = 0;
+  size_t rim = 0;
+  for (size_t i = 0; i < quality.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(quality[i]) && quality[i] >= 0) << i;
+    if (std::abs(y[i]) > 1e-6 || std::abs(x[i]) > 1.001) continue;  // the light's own vertices
+    sum += quality[i];
+    ++rim;
+  }
+  EXPECT_GE(rim, 20000u);
+  EXPECT_NEAR(sum / double(rim) / reference, 1.035, 0.06) << "mean rim H " << sum / double(rim) << ", Lambert " << reference;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include "mesh/errors.h"
+#include "mesh/lscm.h"
 #include "mesh/surfaces.h"
 #include "tests/test_scenes.h"
 
@@ -207,6 +208,23 @@ TEST(Surfaces, GroupsConnectedCoplanarTrianglesOfOneMaterial) {
   const Point2 a = chart.ToUv({0, 0, 0}), b = chart.ToUv({1, 0, 1});
   EXPECT_NEAR(LengthSquared(a - b), 2.0f, 1e-6f);
   EXPECT_NEAR(set.surfaces[0].area, 1.0, 1e-6);
+}
+
+// A flat polygon of 40,000 corners, fan-triangulated, has slivers whose float corners leave their normals
+// meaningless (some flip over). They must join the floor's one planar surface rather than split it into
+// zero-area surfaces, or make it "curved" and send slivers to CGAL's LSCM, which crashed on them.
+TEST(Surfaces, SliversOfAHugePolygonJoinItsPlanarSurface) {
+  const Scene scene = LoadObj(test::WriteDiscPolygon(test::TempDirectory("surfaces-disc"), 40000)).scene;
+  const SurfaceSet set = BuildSurfaces(scene);
+  ASSERT_EQ(set.surfaces.size(), 2u);  // the floor and the lamp
+  EXPECT_EQ(set.CurvedCount(), 0u);
+  EXPECT_NEAR(set.surfaces[0].area, 20000 * std::sin(2 * M_PI / 40000), 1e-4);
+}
+
+TEST(Surfaces, ConformalMapRefusesAPatchWithoutArea) {
+  const std::vector<Point3> line = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  const std::vector<std::array<uint32_t, 3>> strip = {{0, 1, 2}, {1, 3, 2}};
+  EXPECT_FALSE(ConformalMap(line, strip).has_value());
 }
 
 TEST(Surfaces, BundledBoxHasItsSeventeenSurfaces) {

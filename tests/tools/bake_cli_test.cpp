@@ -389,17 +389,21 @@ TEST(BakeCli, APlantedSymlinkIsNotFollowed) {
   EXPECT_EQ(test::ReadBytes(dir + "/out.ply"), "new");
 }
 
-// Text from scene files in any encoding: a Latin-1 material name ("Terraind\xe6k") is written to the JSON report
-// as U+FFFD, not an abort after the PLY was replaced.
+// Text from scene files in any encoding: a Latin-1 material name ("Terraind\xe6k"), object name ("Bygning\xf8")
+// and scene path ("sc\xe6ne.obj") are written to the JSON report as U+FFFD, not an abort after the PLY was
+// replaced.
 TEST(BakeCli, ANonUtf8NameIsReplacedInTheReport) {
   const std::string dir = test::TempDirectory("cli-latin1");
   test::WriteText(dir + "/m.mtl", "newmtl Terraind\xe6k\nKd 0.5 0.5 0.5\nnewmtl lamp\nKe 1 1 1\n");
-  test::WriteText(dir + "/s.obj", "mtllib m.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nusemtl Terraind\xe6k\n"
-                                  "f 1 4 3 2\nv 0 1 0\nv 0.2 1 0\nv 0.2 1 0.2\nv 0 1 0.2\nusemtl lamp\nf 5 6 7 8\n");
-  const BakeRun run = RunBake(dir + "/s.obj -q -o " + dir + "/out.ply --photons 1000 --report " + dir + "/r.json");
+  const std::string scene = dir + "/sc\xe6ne.obj";
+  test::WriteText(scene, "mtllib m.mtl\no Bygning\xf8\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nusemtl Terraind\xe6k\n"
+                         "f 1 4 3 2\nv 0 1 0\nv 0.2 1 0\nv 0.2 1 0.2\nv 0 1 0.2\nusemtl lamp\nf 5 6 7 8\n");
+  const BakeRun run = RunBake(scene + " -q -o " + dir + "/out.ply --photons 1000 --report " + dir + "/r.json");
   ASSERT_EQ(run.status, 0) << run.output;
   const nlohmann::json r = nlohmann::json::parse(test::ReadBytes(dir + "/r.json"));
   EXPECT_EQ(r.at("surfaces").at(0).at("material").get<std::string>(), "Terraind\xef\xbf\xbdk");
+  EXPECT_EQ(r.at("surfaces").at(0).at("object").get<std::string>(), "Bygning\xef\xbf\xbd");
+  EXPECT_NE(r.dump().find("sc\xef\xbf\xbdne.obj"), std::string::npos) << "the scene path, replaced";
 }
 
 // Ke so large that Phi = pi Ke A overflows float (1e36 on a 20 x 20 m light) is refused, not a NaN photon count.
