@@ -57,6 +57,10 @@ double EdgeMass(Point2 a, Point2 b, Point2 x, Kernel kernel, double h) {
   return signedDistance > 0 ? mass : -mass;
 }
 
+// c - x, never -0: atan2 tells -0 from +0 (atan2(-0, -1) = -pi), and a corner on the cut must get the angle its
+// classification as above the cut (offset >= 0) implies.
+double Offset(float c, double x) { return (double(c) - x) + 0.0; }
+
 double SegmentDistanceSquared(Point2 a, Point2 b, Point2 x) {
   const double ex = double(b.u) - a.u, ey = double(b.v) - a.v, px = double(x.u) - a.u, py = double(x.v) - a.v;
   const double l2 = ex * ex + ey * ey;
@@ -100,6 +104,7 @@ double TriangleBoxOverlapArea(const Triangle2& triangle, const Bounds2& box) {
 SurfaceRegion::SurfaceRegion(std::span<const Triangle2> triangles) {
   std::unordered_set<HalfEdgeKey, HalfEdgeHash> halfEdges;
   for (Triangle2 t : triangles) {
+    for (Point2& p : t) p = {p.u + 0.0f, p.v + 0.0f};  // -0 to +0: one corner, one atan2 angle (KernelMass)
     if (SignedArea(t) < 0) std::swap(t[1], t[2]);
     area_ += SignedArea(t);
     for (const Point2& p : t) bounds_.Extend(p);
@@ -162,7 +167,7 @@ int SurfaceRegion::CutCrossingsBeyond(Point2 x, double radius) const {
     const size_t c = size_t(row) * nu_ + cu;
     for (uint32_t i = cellStart_[c]; i < cellStart_[c + 1]; ++i) {
       const Edge& e = edges_[cellEdges_[i]];
-      const bool aAbove = double(e.a.v) - y >= 0, bAbove = double(e.b.v) - y >= 0;
+      const bool aAbove = Offset(e.a.v, y) >= 0, bAbove = Offset(e.b.v, y) >= 0;
       if (aAbove == bAbove) continue;
       const double t = (y - e.a.v) / (double(e.b.v) - e.a.v);
       const double uc = std::clamp(e.a.u + t * (double(e.b.u) - e.a.u), double(std::min(e.a.u, e.b.u)),
@@ -184,7 +189,7 @@ int SurfaceRegion::CutCrossingsBeyond(Point2 x, double radius) const {
 double SurfaceRegion::KernelMass(Point2 x, Kernel kernel, double h) const {
   const std::vector<uint32_t> near = EdgesWithin(x, h);
   if (near.empty()) return 1.0;
-  const auto theta = [&](Point2 p) { return std::atan2(double(p.v) - x.v, double(p.u) - x.u); };
+  const auto theta = [&](Point2 p) { return std::atan2(Offset(p.v, x.v), Offset(p.u, x.u)); };
   double mass = 0, nearTurn = 0;
   for (uint32_t i : near) {
     const Edge& e = edges_[i];

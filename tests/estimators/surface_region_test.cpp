@@ -162,6 +162,19 @@ TEST(SurfaceRegion, InteriorEdgesCancelSoTheBoundaryIsFour) {
   EXPECT_NEAR(SurfaceRegion(Square(0, 2, 5)).Area(), 4.0, 1e-5);
 }
 
+// Charts put -0 where a projection rounds to zero (the box's back wall has corners at v = -0). atan2 tells -0
+// from +0, so a corner at -0 on the cut once got the angle -pi while counted as above it: the box's floor corner
+// read 4x too dark.
+TEST(SurfaceRegion, NegativeZeroCoordinatesAreZero) {
+  const float z = -0.0f;
+  const std::vector<Triangle2> square = {{Point2{z, z}, Point2{-1, z}, Point2{-1, -1}}, {Point2{z, z}, Point2{-1, -1}, Point2{z, -1}}};
+  const SurfaceRegion region(square);
+  for (const Point2 x : {Point2{0, 0}, Point2{z, z}})
+    EXPECT_NEAR(region.KernelMass(x, Kernel::kEpanechnikov, 0.1), 0.25, 1e-9) << "the corner";
+  EXPECT_NEAR(region.KernelMass({-0.5f, z}, Kernel::kEpanechnikov, 0.1), 0.5, 1e-9) << "an edge";
+  EXPECT_NEAR(region.KernelMass({z, -0.5f}, Kernel::kEpanechnikov, 0.1), 0.5, 1e-9) << "an edge";
+}
+
 TEST(SurfaceRegion, TJunctionsCancelNumerically) {
   // Two cells of different subdivision share an edge that only one of them splits.
   std::vector<Triangle2> t = {{Point2{0, 0}, Point2{1, 0}, Point2{1, 1}}, {Point2{0, 0}, Point2{1, 1}, Point2{0, 1}}};
