@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "estimators/quadrature.h"
@@ -15,6 +16,18 @@ constexpr int kMaxCellsPerAxis = 1024;
 
 double Cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
 double SignedArea(const Triangle2& t) { return pb::SignedArea(t[0], t[1], t[2]); }
+
+// Counter-clockwise copies, with -0 made +0: one corner, one atan2 angle (KernelMass).
+std::vector<Triangle2> CounterClockwise(std::span<const Triangle2> triangles) {
+  std::vector<Triangle2> out;
+  out.reserve(triangles.size());
+  for (Triangle2 t : triangles) {
+    for (Point2& p : t) p = {p.u + 0.0f, p.v + 0.0f};
+    if (SignedArea(t) < 0) std::swap(t[1], t[2]);
+    out.push_back(t);
+  }
+  return out;
+}
 
 uint64_t Bits(Point2 p) {
   const float c[2] = {p.u + 0.0f, p.v + 0.0f};  // + 0.0f maps -0 to +0
@@ -30,6 +43,22 @@ struct HalfEdgeKey {
 struct HalfEdgeHash {
   size_t operator()(const HalfEdgeKey& k) const { return std::hash<uint64_t>()(k.a * 0x9E3779B97F4A7C15ull ^ k.b); }
 };
+
+// The half-edges of counter-clockwise `triangles` whose reverse none of them has: the boundary of their union,
+// with the union on the left, in triangle order. Interior edges cancel exactly; T-junctions leave collinear
+// pieces that cancel numerically.
+std::vector<std::array<Point2, 2>> Boundary(const std::vector<Triangle2>& triangles) {
+  std::unordered_set<HalfEdgeKey, HalfEdgeHash> halfEdges;
+  for (const Triangle2& t : triangles)
+    for (int k = 0; k < 3; ++k) halfEdges.insert({Bits(t[k]), Bits(t[(k + 1) % 3])});
+  std::vector<std::array<Point2, 2>> boundary;
+  for (const Triangle2& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const Point2 a = t[k], b = t[(k + 1) % 3];
+      if (!halfEdges.contains({Bits(b), Bits(a)})) boundary.push_back({a, b});
+    }
+  return boundary;
+}
 
 // Signed integral of K_h(|y - x|) over the fan triangle (x, a, b): positive when a -> b turns counter-clockwise
 // about x. Parameterised by arc length s along the edge from the foot of the perpendicular from x.
@@ -101,21 +130,31 @@ double TriangleBoxOverlapArea(const Triangle2& triangle, const Bounds2& box) {
   return std::fabs(twiceArea) / 2;
 }
 
-SurfaceRegion::SurfaceRegion(std::span<const Triangle2> triangles) {
-  std::unordered_set<HalfEdgeKey, HalfEdgeHash> halfEdges;
-  for (Triangle2 t : triangles) {
-    for (Point2& p : t) p = {p.u + 0.0f, p.v + 0.0f};  // -0 to +0: one corner, one atan2 angle (KernelMass)
-    if (SignedArea(t) < 0) std::swap(t[1], t[2]);
+SurfaceRegion::SurfaceRegion(std::span<const Triangle2> triangles, std::span<const Triangle2> holes)
+    : triangles_(CounterClockwise(triangles)), holes_(CounterClockwise(holes)) {
+  for (const Triangle2& t : triangles_) {
     area_ += SignedArea(t);
     for (const Point2& p : t) bounds_.Extend(p);
-    triangles_.push_back(t);
-    for (int k = 0; k < 3; ++k) halfEdges.insert({Bits(t[k]), Bits(t[(k + 1) % 3])});
   }
-  for (const Triangle2& t : triangles_)
-    for (int k = 0; k < 3; ++k) {
-      const Point2 a = t[k], b = t[(k + 1) % 3];
-      if (!halfEdges.contains({Bits(b), Bits(a)})) edges_.push_back({a, b});
+  for (const Triangle2& t : holes_) area_ -= SignedArea(t);
+  for (const auto& [a, b] : Boundary(triangles_)) edges_.push_back({a, b});
+  if (!holes_.empty()) {
+    // The holes' boundary, reversed; where it runs along the triangles' own boundary, the two cancel.
+    std::unordered_map<HalfEdgeKey, size_t, HalfEdgeHash> outer;
+    for (size_t e = 0; e < edges_.size(); ++e) outer.emplace(HalfEdgeKey{Bits(edges_[e].a), Bits(edges_[e].b)}, e);
+    std::vector<uint8_t> cancelled(edges_.size(), 0);
+    std::vector<Edge> inner;
+    for (const auto& [a, b] : Boundary(holes_)) {
+      const auto it = outer.find({Bits(a), Bits(b)});
+      if (it != outer.end() && !cancelled[it->second]) cancelled[it->second] = 1;
+      else inner.push_back({b, a});
     }
+    std::vector<Edge> kept;
+    for (size_t e = 0; e < edges_.size(); ++e)
+      if (!cancelled[e]) kept.push_back(edges_[e]);
+    kept.insert(kept.end(), inner.begin(), inner.end());
+    edges_ = std::move(kept);
+  }
   if (edges_.empty()) return;
 
   const double su = double(bounds_.hi.u) - bounds_.lo.u, sv = double(bounds_.hi.v) - bounds_.lo.v;
@@ -203,21 +242,26 @@ double SurfaceRegion::KernelMass(Point2 x, Kernel kernel, double h) const {
 std::vector<double> SurfaceRegion::GridOverlapAreas(Point2 lo, float side, int nu, int nv) const {
   std::vector<double> area(size_t(nu) * nv, 0.0);
   const auto cell = [&](float c, float origin, int n) { return std::clamp(int(std::floor((c - origin) / side)), 0, n - 1); };
-  for (const Triangle2& t : triangles_) {
+  const auto add = [&](const Triangle2& t, double sign) {
     Bounds2 tb;
     for (const Point2& p : t) tb.Extend(p);
     for (int iv = cell(tb.lo.v, lo.v, nv); iv <= cell(tb.hi.v, lo.v, nv); ++iv)
       for (int iu = cell(tb.lo.u, lo.u, nu); iu <= cell(tb.hi.u, lo.u, nu); ++iu) {
         const Bounds2 box{{lo.u + iu * side, lo.v + iv * side}, {lo.u + (iu + 1) * side, lo.v + (iv + 1) * side}};
-        area[size_t(iv) * nu + iu] += TriangleBoxOverlapArea(t, box);
+        area[size_t(iv) * nu + iu] += sign * TriangleBoxOverlapArea(t, box);
       }
-  }
+  };
+  for (const Triangle2& t : triangles_) add(t, 1);
+  for (const Triangle2& t : holes_) add(t, -1);
+  if (!holes_.empty())
+    for (double& a : area) a = std::max(a, 0.0);  // a hole's clipped area can exceed its cell's by rounding
   return area;
 }
 
 double SurfaceRegion::OverlapArea(const Bounds2& box) const {
   double area = 0;
   for (const Triangle2& t : triangles_) area += TriangleBoxOverlapArea(t, box);
+  for (const Triangle2& t : holes_) area -= TriangleBoxOverlapArea(t, box);
   return area;
 }
 

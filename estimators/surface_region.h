@@ -5,6 +5,8 @@
 //                         at x that lies on the surface (1 inside, 1/2 on a straight edge, 1/4 at a square
 //                         corner, when h is small against the surface);
 //   OverlapArea(box)    = area of box intersected with Omega [m^2], for histogram buckets.
+// Omega is a union of triangles, less any holes (triangles inside it): its boundary edges are the triangles' and,
+// reversed, the holes'.
 //
 // KernelMass is exact up to round-off: by the divergence theorem in polar coordinates about x, the integral
 // over Omega is a signed sum over Omega's boundary edges e of integral_e G(r/h) dtheta, with G the kernel's
@@ -30,8 +32,10 @@ using Triangle2 = std::array<Point2, 3>;
 
 class SurfaceRegion {
  public:
-  // Triangles in chart coordinates [m]; orientation does not matter (each is used counter-clockwise).
-  explicit SurfaceRegion(std::span<const Triangle2> triangles);
+  // Triangles in chart coordinates [m]; orientation does not matter (each is used counter-clockwise). Omega is
+  // their union less the union of `holes`, triangles that lie inside it (the part other geometry covers,
+  // mesh/surface_cover.h).
+  explicit SurfaceRegion(std::span<const Triangle2> triangles, std::span<const Triangle2> holes = {});
 
   // For x in Omega (closure included). Points outside Omega far from its boundary also return 1.
   double KernelMass(Point2 x, Kernel kernel, double h) const;
@@ -56,7 +60,7 @@ class SurfaceRegion {
   int CutCrossingsBeyond(Point2 x, double radius) const;
   std::array<int, 2> CellOf(double u, double v) const;
 
-  std::vector<Triangle2> triangles_;
+  std::vector<Triangle2> triangles_, holes_;
   std::vector<Edge> edges_;
   double area_ = 0;
   Bounds2 bounds_;

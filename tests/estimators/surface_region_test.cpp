@@ -144,6 +144,27 @@ TEST_P(RegionEveryKernel, MatchesBruteForceWhereTheBoundaryIsLongOrHasAHole) {
     for (double h : {0.05, 0.15, 0.25})
       EXPECT_NEAR(tentRegion.KernelMass(x, k, h), PolarMass(x, k, h, {tentLoop}), 1e-6)
           << "tent, x = (" << x.u << ", " << x.v << "), h = " << h;
+  // The same square with its hole given as holes (SurfaceRegion(triangles, holes)): the whole square, less two
+  // triangles of its middle; and a notch, a hole against the square's left edge, whose edges there cancel.
+  const std::vector<Triangle2> middle = {{Point2{0.4f, 0.4f}, Point2{0.6f, 0.4f}, Point2{0.6f, 0.6f}},
+                                         {Point2{0.4f, 0.4f}, Point2{0.6f, 0.6f}, Point2{0.4f, 0.6f}}};
+  const SurfaceRegion cut(Square(0, 1, 5), middle);
+  EXPECT_NEAR(cut.Area(), 0.96, 1e-6);
+  EXPECT_NEAR(cut.OverlapArea({{0.3f, 0.3f}, {0.5f, 0.5f}}), 0.04 - 0.01, 1e-6);
+  for (const Point2 x : {Point2{0.3f, 0.4f}, Point2{0.7f, 0.5f}, Point2{0.5f, 0.3f}, Point2{0.4f, 0.5f}})
+    for (double h : {0.05, 0.15, 0.35}) {
+      const double expected = x.u == 0.4f ? PolarMass({0.399999f, 0.5f}, k, h, {outer, hole}) : PolarMass(x, k, h, {outer, hole});
+      EXPECT_NEAR(cut.KernelMass(x, k, h), expected, x.u == 0.4f ? 1e-5 : 1e-6)
+          << "square less two triangles, x = (" << x.u << ", " << x.v << "), h = " << h;
+    }
+  const std::vector<Triangle2> notchTriangles = {{Point2{0, 0.4f}, Point2{0.3f, 0.4f}, Point2{0.3f, 0.6f}},
+                                                 {Point2{0, 0.4f}, Point2{0.3f, 0.6f}, Point2{0, 0.6f}}};
+  const SurfaceRegion notched(Square(0, 1, 5), notchTriangles);
+  const Loop notch = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0.6}, {0.3, 0.6}, {0.3, 0.4}, {0, 0.4}};
+  for (const Point2 x : {Point2{0.1f, 0.3f}, Point2{0.4f, 0.5f}, Point2{0.05f, 0.65f}})
+    for (double h : {0.05, 0.2})
+      EXPECT_NEAR(notched.KernelMass(x, k, h), PolarMass(x, k, h, {notch}), 1e-6)
+          << "notched square, x = (" << x.u << ", " << x.v << "), h = " << h;
   Rng rng(11, 0);
   for (int n = 0; n < 8; ++n) {
     const double r = 0.5 * std::sqrt(rng.Uniform()) * 0.98, a = 2 * M_PI * rng.Uniform(), h = 0.02 + 0.3 * rng.Uniform();
