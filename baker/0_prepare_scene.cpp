@@ -43,15 +43,22 @@ void RequireLight(const Scene& scene, const std::vector<AreaLight>& lights) {
 
 }  // namespace
 
-SurfaceRegions BuildRegions(const SurfaceSet& surfaces) {
+SurfaceRegions BuildRegions(const SurfaceSet& surfaces, const std::vector<SurfaceCover>& covers) {
   SurfaceRegions regions(surfaces.surfaces.size());
   tbb::parallel_for(size_t(0), regions.size(), [&](size_t s) {
-    regions[s] = std::make_unique<SurfaceRegion>(ChartTriangles(surfaces, surfaces.surfaces[s]));
+    regions[s] = std::make_unique<SurfaceRegion>(ChartTriangles(surfaces, surfaces.surfaces[s]), covers[s].Pieces());
   });
   return regions;
 }
 
-PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock) {
+SurfaceRegions BuildCoveredRegions(const std::vector<SurfaceCover>& covers) {
+  SurfaceRegions regions(covers.size());
+  for (size_t s = 0; s < covers.size(); ++s)
+    if (!covers[s].Empty()) regions[s] = std::make_unique<SurfaceRegion>(covers[s].Pieces());
+  return regions;
+}
+
+PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock, const CoverSettings& cover) {
   PreparedScene p{std::move(scene)};
   if (p.scene.Recentred()) p.warnings.push_back(RecentringNote(p.scene));
   p.surfaces = clock.Time("surfaces", [&] { return BuildSurfaces(p.scene); });
@@ -59,13 +66,15 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
   RequireLight(p.scene, p.lights);
   p.plan = clock.Time("plan", [&] { return PlanTransport(p.scene, p.surfaces, p.lights, effects); });
   p.rays = clock.Time("bvh", [&] { return std::make_unique<RayScene>(p.scene); });
-  p.regions = clock.Time("regions", [&] { return BuildRegions(p.surfaces); });
+  p.covers = clock.Time("covers", [&] { return FindCovers(p.scene, p.surfaces, *p.rays, cover); });
+  p.regions = clock.Time("regions", [&] { return BuildRegions(p.surfaces, p.covers); });
+  p.coveredRegions = BuildCoveredRegions(p.covers);
   return p;
 }
 
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock) {
   LoadedScene loaded = clock.Time("load", [&] { return LoadObj(settings.path, {settings.scale}); });
-  PreparedScene p = PrepareScene(std::move(loaded.scene), settings.effects, clock);
+  PreparedScene p = PrepareScene(std::move(loaded.scene), settings.effects, clock, settings.cover);
   p.warnings.insert(p.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
   return p;
 }

@@ -1,7 +1,7 @@
 // Stage 0: the prepared scene, the one noun every tool, benchmark and test starts from (pbrt-v4's BasicScene:
 // one scene, many back ends). Built once from the scene file: the loaded scene (lengths in metres after
 // --scale, re-centred about its origin for float precision), its surfaces and their (u,v) charts, each surface's
-// region in its chart (for edge correction), the area lights, the transport plan (which effects the scene calls
+// region in its chart (for edge correction) less the part other geometry covers, the area lights, the transport plan (which effects the scene calls
 // for, baker/0_plan_transport.h) and the Embree ray scene. Nothing in it changes once built.
 #pragma once
 
@@ -15,35 +15,43 @@
 #include "mesh/lights.h"
 #include "mesh/ray_scene.h"
 #include "mesh/scene.h"
+#include "estimators/surface_cover.h"
 #include "mesh/surfaces.h"
 
 namespace pb {
 
-// Each surface's region in its chart, by surface index.
+// Each surface's region in its chart, by surface index: the surface less what covers it.
 using SurfaceRegions = std::vector<std::unique_ptr<SurfaceRegion>>;
-SurfaceRegions BuildRegions(const SurfaceSet& surfaces);
+SurfaceRegions BuildRegions(const SurfaceSet& surfaces, const std::vector<SurfaceCover>& covers);
+// The covered part's region of each surface that something covers; null for the others.
+SurfaceRegions BuildCoveredRegions(const std::vector<SurfaceCover>& covers);
 
 // What the scene is made from.
 struct SceneSettings {
   std::string path;          // OBJ file; its MTL files are found relative to it
   float scale = 1.0f;        // metres per scene unit; range (0, inf), typical 1 or 0.001 (millimetres)
   EffectOverrides effects;   // --effects; none: what the materials call for
+  CoverSettings cover;       // the lattice on which covered parts are found (spacing 0: none is)
 };
 
 struct PreparedScene {
   Scene scene;
   std::vector<std::string> warnings;  // the loader's "file:line: warning/note: ..." lines, and the re-centring note
   SurfaceSet surfaces;
-  SurfaceRegions regions;
+  std::vector<SurfaceCover> covers;  // what other geometry covers of each surface (estimators/surface_cover.h)
+  SurfaceRegions regions;            // each surface's open region: its chart triangles less its cover
+  SurfaceRegions coveredRegions;     // its cover's region, or null
   std::vector<AreaLight> lights;  // at least one
   TransportPlan plan;
   std::unique_ptr<RayScene> rays;
 };
 
-// Loads and prepares the scene, timing each part on `clock` ("load", "surfaces", "plan", "bvh", "regions").
+// Loads and prepares the scene, timing each part on `clock` ("load", "surfaces", "plan", "bvh", "covers",
+// "regions").
 // InputError for a bad file (with file:line), a scene with no light, or no light that reaches a receiver.
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock);
 // The same from a scene already loaded (tests that build scenes in memory).
-PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock);
+PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock,
+                           const CoverSettings& cover = {});
 
 }  // namespace pb

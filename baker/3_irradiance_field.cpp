@@ -25,7 +25,10 @@ PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins
   tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
     EstimatorSettings own = settings;
     own.bandwidth = bandwidths_[s];
-    estimators_[s] = MakeDensityEstimator(own, *scene.regions[s], bins.Uv(s), bins.Flux(s));
+    estimators_[s] = scene.covers[s].Empty()
+                         ? MakeDensityEstimator(own, *scene.regions[s], bins.Uv(s), bins.Flux(s))
+                         : MakeCoveredDensityEstimator(own, *scene.regions[s], *scene.coveredRegions[s], scene.covers[s],
+                                                       bins.Uv(s), bins.Flux(s));
   });
 }
 

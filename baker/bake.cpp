@@ -132,7 +132,11 @@ Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFil
   return lit;
 }
 
-SceneSettings SceneOf(const BakeOptions& o) { return {o.scenePath, o.scale, ParseEffectOverrides(o.effectsText)}; }
+// The scene as the options describe it. Covered parts are found on a lattice of spacing h / 2.
+SceneSettings SceneOf(const BakeOptions& o) {
+  const float h = o.autoBandwidth ? EstimatorSettings{}.bandwidth : o.estimator.bandwidth;
+  return {o.scenePath, o.scale, ParseEffectOverrides(o.effectsText), {.spacing = o.findCovers ? h / 2 : 0.0f}};
+}
 
 }  // namespace
 

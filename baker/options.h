@@ -47,6 +47,9 @@ struct BakeOptions {
   // [0, 10000]; the default, 10000, is unlimited in practice (Russian roulette ends paths; baker/1_trace_photons.h).
   uint32_t maxBounces = kDefaultMaxBounces;
   bool quiet = false;             // no progress or summary on stderr.
+  // --no-cover: do not find the parts of surfaces that other geometry covers (estimators/surface_cover.h); they
+  // are found on a lattice of spacing h / 2 (the default h's with --h auto).
+  bool findCovers = true;
   std::string mapsDirectory;      // --maps: one irradiance map (EXR) per surface here; empty for none.
   float texel = 0.02f;            // --texel: map texel side [m]; range (0, inf), typical 0.005-0.05.
   RefineSettings refine;          // --refine, --tolerance, --max-vertices, --subdivide (baker/4_refine_mesh.h)

@@ -16,7 +16,7 @@ std::string Text(Rgb c) { return fmt::format("({:.4g}, {:.4g}, {:.4g})", c.r, c.
 nlohmann::json OptionsJson(const BakeOptions& o) {
   return {{"scene", o.scenePath},        {"output", o.outputPath}, {"estimator", EstimatorName(o.estimator.kind)},
           {"kernel", KernelName(o.estimator.kernel)}, {"k", o.estimator.neighbours},
-          {"edge_correction", o.estimator.edgeCorrection},
+          {"edge_correction", o.estimator.edgeCorrection}, {"find_covers", o.findCovers},
           {"h_m", o.autoBandwidth ? nlohmann::json("auto") : nlohmann::json(o.estimator.bandwidth)},          {"photons", o.photons},   {"seed", o.seed},
           {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly},
           {"max_bounces", o.maxBounces},
@@ -81,6 +81,12 @@ std::string SurfaceTable(const BakeReport& r) {
   const std::vector<SurfaceReport>& surfaces = r.surfaces;
   std::string s = fmt::format("  charts    {} planar, {} curved (LSCM), worst area distortion {:.3f}\n",
                               surfaces.size() - r.curvedCharts, r.curvedCharts, r.worstAreaDistortion);
+  double covered = 0;
+  size_t coveredSurfaces = 0;
+  for (const SurfaceReport& sr : surfaces)
+    if (sr.coveredArea > 0) covered += sr.coveredArea, ++coveredSurfaces;
+  s += fmt::format("  covered   {:.4g} m^2 of {} surfaces lies under or inside other geometry: a domain of its own\n",
+                   covered, coveredSurfaces);
   s += fmt::format("  {:>4}  {:<22} {:<14} {:>9} {:>11} {:>9} {:>12} {:>7} {:>6}\n", "surf", "object", "material",
                    "area m^2", "front hits", "back hits", "mean H W/m^2", "h m", "chart");
   for (size_t i = 0; i < surfaces.size() && i < kRows; ++i) {
@@ -143,7 +149,7 @@ std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet
     const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
     out.push_back({object, scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.backHits[s],
                    bins.FrontFlux(s) / float(surface.area), surface.planar, surface.areaDistortion,
-                   field.Bandwidth(s)});
+                   field.Bandwidth(s), field.Prepared().covers[s].Area()});
   }
   return out;
 }
@@ -227,7 +233,7 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
     j["surfaces"].push_back({{"object", s.object}, {"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
                              {"back_hits", s.backHits}, {"mean_irradiance_W_m2", Json(s.meanIrradiance)},
                              {"chart", s.planar ? "planar" : "conformal"}, {"area_distortion", s.areaDistortion},
-                             {"h_m", s.bandwidth}});
+                             {"h_m", s.bandwidth}, {"covered_area_m2", s.coveredArea}});
   for (const auto& [name, seconds] : r.stageSeconds) j["seconds"][name] = seconds;
   j["seconds"]["total"] = r.TotalSeconds();
   for (Effect e : kAllEffects) {

@@ -40,6 +40,7 @@ struct SurfaceReport {
   bool planar = true;
   double areaDistortion = 1;  // worst max(A_uv / A, A / A_uv) over its triangles
   float bandwidth = 0;        // h [m] its estimate used
+  double coveredArea = 0;     // [m^2] that other geometry covers (estimators/surface_cover.h)
 };
 
 struct BakeReport {

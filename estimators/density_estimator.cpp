@@ -1,5 +1,7 @@
 #include "estimators/density_estimator.h"
 
+#include <vector>
+
 #include <algorithm>
 #include <cmath>
 
@@ -21,6 +23,38 @@ std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& 
       return std::make_unique<NearestEstimator>(uv, flux, settings.neighbours, region, settings.edgeCorrection);
   }
   return nullptr;
+}
+
+namespace {
+
+class CoveredEstimator final : public DensityEstimator {
+ public:
+  CoveredEstimator(const SurfaceCover& cover, std::unique_ptr<DensityEstimator> open, std::unique_ptr<DensityEstimator> covered)
+      : cover_(cover), open_(std::move(open)), covered_(std::move(covered)) {}
+  Rgb Estimate(Point2 x) const override { return Domain(x).Estimate(x); }
+  double RelativeNoise(Point2 x) const override { return Domain(x).RelativeNoise(x); }
+  WithNoise EstimateWithNoise(Point2 x) const override { return Domain(x).EstimateWithNoise(x); }
+
+ private:
+  const DensityEstimator& Domain(Point2 x) const { return cover_.Covered(x) ? *covered_ : *open_; }
+  const SurfaceCover& cover_;
+  std::unique_ptr<DensityEstimator> open_, covered_;
+};
+
+}  // namespace
+
+std::unique_ptr<DensityEstimator> MakeCoveredDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& open,
+                                                              const SurfaceRegion& covered, const SurfaceCover& cover,
+                                                              std::span<const Point2> uv, std::span<const Rgb> flux) {
+  std::vector<Point2> openUv, coveredUv;
+  std::vector<Rgb> openFlux, coveredFlux;
+  for (size_t i = 0; i < uv.size(); ++i) {
+    const bool inside = cover.Covered(uv[i]);
+    (inside ? coveredUv : openUv).push_back(uv[i]);
+    (inside ? coveredFlux : openFlux).push_back(flux[i]);
+  }
+  return std::make_unique<CoveredEstimator>(cover, MakeDensityEstimator(settings, open, openUv, openFlux),
+                                            MakeDensityEstimator(settings, covered, coveredUv, coveredFlux));
 }
 
 double UniformRelativeNoise(const EstimatorSettings& settings, double photonsPerArea) {

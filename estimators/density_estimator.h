@@ -4,7 +4,8 @@
 //   kernel     sum_j phi_j K_h(|x - x_j|) / M(x)            estimators/kernel_estimator.h
 //   histogram  (flux in x's bucket of side h) / (bucket area on the surface)   estimators/histogram_estimator.h
 //   knn        (k-1)/k (flux of the k nearest) / (area of their disc on the surface)   estimators/nearest_estimator.h
-// M(x) is the kernel mass on the surface (estimators/surface_region.h).
+// M(x) is the kernel mass on the surface (estimators/surface_region.h). Where other geometry covers part of the
+// surface, the covered part is a domain of its own (MakeCoveredDensityEstimator).
 #pragma once
 
 #include <array>
@@ -19,6 +20,7 @@
 #include "estimators/surface_region.h"
 #include "mesh/color.h"
 #include "mesh/geometry.h"
+#include "estimators/surface_cover.h"
 
 namespace pb {
 
@@ -76,6 +78,14 @@ double UniformRelativeNoise(const EstimatorSettings& settings, double photonsPer
 // `region` must outlive the estimator; the photon arrays are copied.
 std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& region,
                                                        std::span<const Point2> uv, std::span<const Rgb> flux);
+
+// The same on a surface part of which other geometry covers (estimators/surface_cover.h): two domains, the open region
+// (the surface less the cover's pieces) and the covered one (the pieces), each estimated from the photons that
+// landed in it, each edge-corrected over itself. A point is answered by the domain it lies in, so no light
+// crosses the contact line. `open`, `covered` and `cover` must outlive the estimator.
+std::unique_ptr<DensityEstimator> MakeCoveredDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& open,
+                                                              const SurfaceRegion& covered, const SurfaceCover& cover,
+                                                              std::span<const Point2> uv, std::span<const Rgb> flux);
 
 std::optional<EstimatorKind> ParseEstimator(std::string_view name);
 std::string EstimatorName(EstimatorKind kind);

@@ -28,18 +28,18 @@
 
 namespace pb {
 
-using Triangle2 = std::array<Point2, 3>;
-
 class SurfaceRegion {
  public:
   // Triangles in chart coordinates [m]; orientation does not matter (each is used counter-clockwise). Omega is
   // their union less the union of `holes`, triangles that lie inside it (the part other geometry covers,
-  // mesh/surface_cover.h).
+  // estimators/surface_cover.h).
   explicit SurfaceRegion(std::span<const Triangle2> triangles, std::span<const Triangle2> holes = {});
 
   // For x in Omega (closure included). Points outside Omega far from its boundary also return 1.
   double KernelMass(Point2 x, Kernel kernel, double h) const;
   double OverlapArea(const Bounds2& box) const;
+  // Whether x lies in Omega (its winding number about Omega's boundary is positive); either on the boundary.
+  bool Contains(Point2 x) const { return CutCrossingsBeyond(x, 0) > 0; }
   // Area on the surface [m^2] of each cell of the nu x nv grid of squares of side `side` from corner `lo`,
   // row-major (v outer); each triangle is clipped only against the cells its bounding box touches.
   std::vector<double> GridOverlapAreas(Point2 lo, float side, int nu, int nv) const;

@@ -3,6 +3,8 @@
 // in a surface chart (u,v) [m]. They are distinct types so that an offset or a transform cannot mix them up.
 #pragma once
 
+#include <array>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -57,6 +59,9 @@ inline float LengthSquared(Point2 d) { return d.u * d.u + d.v * d.v; }
 inline double SignedArea(Point2 a, Point2 b, Point2 c) {
   return 0.5 * ((double(b.u) - a.u) * (double(c.v) - a.v) - (double(c.u) - a.u) * (double(b.v) - a.v));
 }
+
+// A triangle in a chart [m].
+using Triangle2 = std::array<Point2, 3>;
 
 // Axis-aligned bounds in a chart [m].
 struct Bounds2 {

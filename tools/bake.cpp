@@ -55,6 +55,8 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("--photons", o.photons, "photons emitted over all lights, split by power (N_i = n Phi_i / Phi); "
                                          "range 1 to 2^40, typical 1e6-1e7")
       ->capture_default_str();
+  app.add_flag("!--no-cover", o.findCovers, "do not find where other geometry covers a surface (a block on a floor); "
+                                           "light then bleeds under objects and is lost beside them");
   app.add_option("--seed", o.seed, "random seed; any integer. Same seed, same bytes, for any --threads")
       ->capture_default_str();
   app.add_option("--threads", o.threads, "worker threads; 0 = all cores; range 0-1024")->capture_default_str();

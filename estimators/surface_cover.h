@@ -1,0 +1,66 @@
+// Where other geometry covers a planar surface: the part of its (u,v) chart [m] that light cannot reach because
+// the surface runs inside or under another object (a block standing on a floor, a book lying on a table, a wall
+// through the floor, a cupboard pushed against a wall). That part is not in the surface's estimation domain: it
+// is a domain of its own, lit only by the photons that land in it (none, under a closed block), so no kernel
+// carries light across the contact line, and the boundary correction applies along it (baker/0_prepare_scene.h).
+//
+// A chart point is covered when all but one of kCoverRays fixed directions over its front hemisphere (a
+// cosine-weighted spiral, the lowest 10 degrees above the plane) first meet the back of a triangle: the point lies
+// inside a closed object. The one spared ray forgives a crack in the object's mesh; a one-sided table top over a
+// floor lets its grazing rays out, so the floor under it stays open. The test runs on a square lattice of spacing
+// s [m] over the chart; points off the surface are open, so a contact line that reaches the surface's edge ends
+// there. On each lattice edge whose ends differ, the change is found by bisection to s / 1024, and each
+// lattice cell's covered part is the convex polygon through its covered corners and those crossings (marching
+// squares; a cell covered on one diagonal only takes the two corners as joined). A straight contact line is thus
+// found to s / 1024 whatever s; covered features narrower than s can be missed.
+//
+// Only planar, non-emissive surfaces are tested; a curved surface or a light has an empty cover.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "mesh/geometry.h"
+#include "mesh/ray_scene.h"
+#include "mesh/scene.h"
+#include "mesh/surfaces.h"
+
+namespace pb {
+
+inline constexpr int kCoverRays = 16;
+
+struct CoverSettings {
+  float spacing = 0.025f;            // s [m], the lattice spacing; 0 tests nothing (every cover is empty)
+  uint64_t maxPointsPerSurface = 1u << 20;  // a larger surface gets a coarser lattice, s = its chart's side / 1024
+};
+
+class SurfaceCover {
+ public:
+  bool Empty() const { return pieces_.empty(); }
+  // Whether chart point uv is in the covered part (the pieces' union, for uv on the surface).
+  bool Covered(Point2 uv) const;
+  // The covered part as chart triangles [m], inside the surface's own chart triangles.
+  const std::vector<Triangle2>& Pieces() const { return pieces_; }
+  double Area() const;
+  float Spacing() const { return spacing_; }
+
+ private:
+  friend class CoverBuilder;
+  // The covered polygon of lattice cell (i, j), counter-clockwise; empty when none of its corners is covered.
+  std::vector<Point2> CellPolygon(int i, int j) const;
+  Point2 Lattice(int i, int j) const { return {lo_.u + float(i) * spacing_, lo_.v + float(j) * spacing_}; }
+  bool CoveredPoint(int i, int j) const { return covered_[size_t(j) * nu_ + i] != 0; }
+
+  Point2 lo_;
+  float spacing_ = 0;
+  int nu_ = 0, nv_ = 0;            // lattice points per axis
+  std::vector<uint8_t> covered_;   // per lattice point, row-major (v outer)
+  std::vector<float> crossing_;    // per lattice edge (2 per point: +u, then +v): where along it the cover changes
+  std::vector<Triangle2> pieces_;
+};
+
+// One cover per surface of `surfaces`.
+std::vector<SurfaceCover> FindCovers(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays,
+                                     const CoverSettings& settings);
+
+}  // namespace pb
