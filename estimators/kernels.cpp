@@ -50,6 +50,33 @@ double KernelRadialMass(Kernel kernel, double t) {
   return 0.0;
 }
 
+double KernelRadialMoment(Kernel kernel, int n, double t) {
+  t = std::min(std::max(t, 0.0), 1.0);
+  // c (1 - s^2)^p = c sum_j C(p, j) (-1)^j s^(2j), so its moment is c sum_j C(p, j) (-1)^j t^(2j+n+2) / (2j+n+2).
+  const auto polynomial = [&](int p) {
+    double sum = 0, binomial = 1;
+    for (int j = 0; j <= p; ++j) {
+      sum += (j % 2 ? -binomial : binomial) * std::pow(t, 2 * j + n + 2) / (2 * j + n + 2);
+      binomial = binomial * (p - j) / (j + 1);
+    }
+    return (p + 1) / kPiD * sum;
+  };
+  switch (kernel) {
+    case Kernel::kUniform: return polynomial(0);
+    case Kernel::kEpanechnikov: return polynomial(1);
+    case Kernel::kBiweight: return polynomial(2);
+    case Kernel::kTriweight: return polynomial(3);
+    case Kernel::kCone: return 3.0 / kPiD * (std::pow(t, n + 2) / (n + 2) - std::pow(t, n + 3) / (n + 3));
+    case Kernel::kGaussian: {
+      const double e = std::exp(-2.0 * t * t);
+      if (n == 0) return kGaussianNorm * (1.0 - e) / 4.0;
+      if (n == 1) return kGaussianNorm * (-t * e / 4.0 + std::sqrt(kPiD / 2.0) / 8.0 * std::erf(std::sqrt(2.0) * t));
+      return kGaussianNorm * (1.0 - (1.0 + 2.0 * t * t) * e) / 8.0;
+    }
+  }
+  return 0.0;
+}
+
 double KernelRadialMassOverSquare(Kernel kernel, double t) {
   if (t >= 1.0) return KernelRadialMass(kernel, 1.0) / (t * t);
   const double x = t * t, q = 1.0 - x;

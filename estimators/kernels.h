@@ -54,6 +54,12 @@ double KernelProfile(Kernel kernel, double t);
 // Used to integrate a kernel over a polygon exactly in r (estimators/surface_region.h).
 double KernelRadialMass(Kernel kernel, double t);
 
+// Radial moments G_n(t) = integral_0^t k(s) s^(n+1) ds for n = 0, 1, 2 (G_0 is G above), closed forms for every
+// kernel. Integrated over angle they give the kernel's moments over a region: its mass (n = 0), first moment
+// (n = 1, times the unit direction) and second moment (n = 2, times the direction's outer product), in units of h
+// (estimators/surface_region.h, KernelMoments).
+double KernelRadialMoment(Kernel kernel, int n, double t);
+
 // G(t) / t^2, evaluated without cancellation (its limit k(0)/2 at t = 0). Smooth in t^2, which makes the
 // boundary integral of estimators/surface_region.cpp a smooth integrand.
 double KernelRadialMassOverSquare(Kernel kernel, double t);

@@ -86,6 +86,58 @@ double EdgeMass(Point2 a, Point2 b, Point2 x, Kernel kernel, double h) {
   return signedDistance > 0 ? mass : -mass;
 }
 
+// An edge's contribution to the kernel's moments about x beyond what G_n(1) everywhere would give (surface_region.h,
+// Moments): over the part of the edge inside the support, the integral of (G_n(t) - G_n(1)) times 1, u or u u^T
+// over the angle it subtends (u the unit direction from x). G_n(t) vanishes like t^(n+2) at x, so G_n(t) d(theta) =
+// G_n(t) d / r^2 ds is smooth along the edge; the G_n(1) part is subtracted in closed form. Zero for an edge
+// outside the support or through x.
+KernelMomentsAt EdgeMomentsInside(Point2 a, Point2 b, Point2 x, Kernel kernel, double h) {
+  KernelMomentsAt m{0, {0, 0}, {0, 0, 0}};
+  const double px = double(a.u) - x.u, py = double(a.v) - x.v;
+  const double ex = double(b.u) - a.u, ey = double(b.v) - a.v, length = std::hypot(ex, ey);
+  if (length == 0) return m;
+  const double tx = ex / length, ty = ey / length, signedDistance = Cross(px, py, tx, ty), d = std::fabs(signedDistance);
+  if (d <= 1e-12 * (length + std::hypot(px, py)) || d >= h) return m;
+  const double sa = (px * ex + py * ey) / length, sb = sa + length;
+  const double sh = std::sqrt(h * h - d * d), lo = std::max(sa, -sh), hi = std::min(sb, sh);
+  if (!(lo < hi)) return m;
+  const double sign = signedDistance > 0 ? 1 : -1, fx = px - sa * tx, fy = py - sa * ty;  // f: x to the foot
+  const double g[3] = {KernelRadialMoment(kernel, 0, 1), KernelRadialMoment(kernel, 1, 1), KernelRadialMoment(kernel, 2, 1)};
+  // All six integrands at once, at arc length s: (G_n(t) - 0) u^(n) d / r^2 (the G_n(1) part comes after).
+  const auto at = [&](double s, int k) {
+    const double ux = fx + s * tx, uy = fy + s * ty, r2 = ux * ux + uy * uy, r = std::sqrt(r2), t = r / h;
+    const double w = d / r2;
+    switch (k) {
+      case 0: return KernelRadialMoment(kernel, 0, t) * w;
+      case 1: return KernelRadialMoment(kernel, 1, t) * w * ux / r;
+      case 2: return KernelRadialMoment(kernel, 1, t) * w * uy / r;
+      case 3: return KernelRadialMoment(kernel, 2, t) * w * ux * ux / r2;
+      case 4: return KernelRadialMoment(kernel, 2, t) * w * ux * uy / r2;
+      default: return KernelRadialMoment(kernel, 2, t) * w * uy * uy / r2;
+    }
+  };
+  double integral[6];
+  for (int k = 0; k < 6; ++k) {
+    const auto f = [&](double s) { return at(s, k); };
+    integral[k] = 0;
+    if (lo < 0) integral[k] += GaussLegendre(f, lo, std::min(hi, 0.0));  // split at the foot: the cone's kink
+    if (hi > 0) integral[k] += GaussLegendre(f, std::max(lo, 0.0), hi);
+  }
+  // The closed forms over the same angle: integral of 1, u and u u^T d(theta) from the direction at lo to hi.
+  const double angle = std::atan(hi / d) - std::atan(lo / d);
+  const double rl = std::hypot(d, lo), rh = std::hypot(d, hi);
+  const double cl = (fx + lo * tx) / rl, sl = (fy + lo * ty) / rl, ch = (fx + hi * tx) / rh, shi = (fy + hi * ty) / rh;
+  // Signed as the edge turns about x: d(theta) has the sign of signedDistance along increasing s.
+  const double turn = sign * angle;
+  const double first[2] = {shi - sl, cl - ch};  // integral of (cos, sin) d(theta) = (sin, -cos)
+  const double sin2 = 2 * shi * ch - 2 * sl * cl, cos2 = (ch * ch - shi * shi) - (cl * cl - sl * sl);
+  const double second[3] = {turn / 2 + sin2 / 4, -cos2 / 4, turn / 2 - sin2 / 4};
+  m.mass = sign * integral[0] - g[0] * turn;
+  m.first = {sign * integral[1] - g[1] * first[0], sign * integral[2] - g[1] * first[1]};
+  m.second = {sign * integral[3] - g[2] * second[0], sign * integral[4] - g[2] * second[1], sign * integral[5] - g[2] * second[2]};
+  return m;
+}
+
 // c - x, never -0: atan2 tells -0 from +0 (atan2(-0, -1) = -pi), and a corner on the cut must get the angle its
 // classification as above the cut (offset >= 0) implies.
 double Offset(float c, double x) { return (double(c) - x) + 0.0; }
@@ -237,6 +289,42 @@ double SurfaceRegion::KernelMass(Point2 x, Kernel kernel, double h) const {
   }
   const double farAngle = -nearTurn + kTwoPi * CutCrossingsBeyond(x, h);
   return std::clamp(mass + farAngle / kTwoPi, 0.0, 1.0);
+}
+
+// As KernelMass, the far boundary enters through closed forms: with G_n(1) everywhere, the boundary's integrals of
+// u d(theta) and of the sin 2theta, cos 2theta parts of u u^T d(theta) telescope to zero round its closed loops
+// (sin and cos of each corner's angle are single-valued), and its theta / 2 part is half the angle A it subtends.
+// An edge through x subtends nothing, so its share of the telescoped sums is taken back out.
+KernelMomentsAt SurfaceRegion::Moments(Point2 x, Kernel kernel, double h) const {
+  const double g0 = KernelRadialMoment(kernel, 0, 1), g1 = KernelRadialMoment(kernel, 1, 1), g2 = KernelRadialMoment(kernel, 2, 1);
+  const std::vector<uint32_t> near = EdgesWithin(x, h);
+  if (near.empty()) return {1.0, {0, 0}, {kTwoPi / 2 * g2, 0, kTwoPi / 2 * g2}};
+  const auto direction = [&](Point2 p) { return std::atan2(Offset(p.v, x.v), Offset(p.u, x.u)); };
+  KernelMomentsAt inside{0, {0, 0}, {0, 0, 0}};  // the near edges' parts within the support, beyond G_n(1)
+  double through[5] = {0, 0, 0, 0, 0};           // the telescoped shares of edges through x: u, then sin 2t, cos 2t
+  double nearTurn = 0, nearAngle = 0;
+  for (uint32_t i : near) {
+    const Edge& e = edges_[i];
+    const double ta = direction(e.a), tb = direction(e.b);
+    nearTurn += tb - ta;
+    const double angle = EdgeMass(e.a, e.b, x, Kernel::kUniform, 0) * kTwoPi;  // its signed angle; 0 through x
+    nearAngle += angle;
+    if (angle == 0) {
+      through[0] += std::sin(tb) - std::sin(ta);
+      through[1] += std::cos(ta) - std::cos(tb);
+      through[2] += std::sin(2 * tb) - std::sin(2 * ta);
+      through[3] += std::cos(2 * tb) - std::cos(2 * ta);
+    }
+    const KernelMomentsAt m = EdgeMomentsInside(e.a, e.b, x, kernel, h);
+    inside.mass += m.mass;
+    for (int k = 0; k < 2; ++k) inside.first[k] += m.first[k];
+    for (int k = 0; k < 3; ++k) inside.second[k] += m.second[k];
+  }
+  const double angle = nearAngle - nearTurn + kTwoPi * CutCrossingsBeyond(x, h);
+  return {g0 * angle + inside.mass,
+          {inside.first[0] - g1 * through[0], inside.first[1] - g1 * through[1]},
+          {g2 * (angle / 2 - through[2] / 4) + inside.second[0], g2 * through[3] / 4 + inside.second[1],
+           g2 * (angle / 2 + through[2] / 4) + inside.second[2]}};
 }
 
 std::vector<double> SurfaceRegion::GridOverlapAreas(Point2 lo, float side, int nu, int nv) const {

@@ -28,6 +28,17 @@
 
 namespace pb {
 
+// The kernel's mass, first and second moments over Omega about x, offsets in units of h (dimensionless):
+//   mass = integral over Omega of K_h(|y - x|) dy                         (KernelMass, unclamped)
+//   first = integral of K_h (y - x) / h dy                                 (u, v)
+//   second = integral of K_h (y - x)(y - x)^T / h^2 dy                     (uu, uv, vv)
+// Local linear density estimation needs all three (estimators/kernel_estimator.h).
+struct KernelMomentsAt {
+  double mass = 0;
+  std::array<double, 2> first{};
+  std::array<double, 3> second{};
+};
+
 class SurfaceRegion {
  public:
   // Triangles in chart coordinates [m]; orientation does not matter (each is used counter-clockwise). Omega is
@@ -37,6 +48,8 @@ class SurfaceRegion {
 
   // For x in Omega (closure included). Points outside Omega far from its boundary also return 1.
   double KernelMass(Point2 x, Kernel kernel, double h) const;
+  // The mass and moments together (KernelMomentsAt), by the same boundary integral, each edge's moments along it.
+  KernelMomentsAt Moments(Point2 x, Kernel kernel, double h) const;
   double OverlapArea(const Bounds2& box) const;
   // Whether x lies in Omega (its winding number about Omega's boundary is positive); either on the boundary.
   bool Contains(Point2 x) const { return CutCrossingsBeyond(x, 0) > 0; }

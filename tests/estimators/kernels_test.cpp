@@ -67,18 +67,29 @@ TEST_P(EveryKernel, IsRadiallySymmetricNonNegativeAndNonIncreasing) {
   EXPECT_EQ(KernelDensity(GetParam(), 4 * h * h, h), 0.0f);
 }
 
-TEST_P(EveryKernel, RadialMassIsTheIntegralOfTheProfile) {
-  for (double t : {0.0, 0.1, 0.5, 0.9, 1.0, 2.0}) {
-    double direct = 0;
-    const int steps = 100000;
-    const double tt = std::min(t, 1.0);
-    for (int i = 0; i < steps; ++i) {
-      const double s = (i + 0.5) * tt / steps;
-      direct += KernelProfile(GetParam(), s) * s * tt / steps;
-    }
-    EXPECT_NEAR(KernelRadialMass(GetParam(), t), direct, 1e-9) << t;
+// integral_0^min(t, 1) k(s) s^(n+1) ds by the midpoint rule.
+double DirectRadialMoment(Kernel kernel, int n, double t) {
+  double direct = 0;
+  const int steps = 100000;
+  const double tt = std::min(t, 1.0);
+  for (int i = 0; i < steps; ++i) {
+    const double s = (i + 0.5) * tt / steps;
+    direct += KernelProfile(kernel, s) * std::pow(s, n + 1) * tt / steps;
   }
+  return direct;
+}
+
+TEST_P(EveryKernel, RadialMassIsTheIntegralOfTheProfile) {
+  for (double t : {0.0, 0.1, 0.5, 0.9, 1.0, 2.0})
+    EXPECT_NEAR(KernelRadialMass(GetParam(), t), DirectRadialMoment(GetParam(), 0, t), 1e-9) << t;
   EXPECT_NEAR(KernelRadialMass(GetParam(), 1.0), 1.0 / (2.0 * M_PI), 1e-12);
+}
+
+TEST_P(EveryKernel, RadialMomentsAreIntegralsOfTheProfile) {
+  for (int n = 0; n < 3; ++n)
+    for (double t : {0.0, 0.1, 0.5, 0.9, 1.0, 2.0})
+      EXPECT_NEAR(KernelRadialMoment(GetParam(), n, t), DirectRadialMoment(GetParam(), n, t), 1e-9) << "n = " << n << ", t = " << t;
+  EXPECT_DOUBLE_EQ(KernelRadialMoment(GetParam(), 0, 0.7), KernelRadialMass(GetParam(), 0.7));
 }
 
 TEST_P(EveryKernel, MomentsMatchDirectIntegration) {

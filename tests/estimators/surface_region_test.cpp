@@ -32,36 +32,92 @@ using Loop = std::vector<std::array<double, 2>>;
 const Loop kLShape = {{0, 0}, {1, 0}, {1, 0.5}, {0.5, 0.5}, {0.5, 1}, {0, 1}};
 
 // Independent reference for x strictly inside the region bounded by `loops`: in polar coordinates about x, march
-// each ray through the loops' edges and add 2 pi * [G(t_out) - G(t_in)] / (2 pi) dtheta over its inside intervals
-// (exact in r), by the midpoint rule in theta.
-double PolarMass(Point2 x, Kernel kernel, double h, const std::vector<Loop>& loops = {kLShape}, int angles = 20000) {
-  double sum = 0;
+// each ray through the loops' edges and add [G(t_out) - G(t_in)] dtheta over its inside intervals (exact in r), by
+// the midpoint rule in theta.
+// Its mass and moments: along each ray, the inside intervals add G_n(t_out) - G_n(t_in) times 1, u or u u^T.
+KernelMomentsAt PolarMoments(Point2 x, Kernel kernel, double h, const std::vector<Loop>& loops, int angles = 20000) {
+  KernelMomentsAt m;
   for (int a = 0; a < angles; ++a) {
     const double theta = (a + 0.5) * 2 * M_PI / angles, dx = std::cos(theta), dy = std::sin(theta);
     std::vector<double> crossings;
     for (const Loop& loop : loops)
-    for (size_t i = 0; i < loop.size(); ++i) {
-      const auto p = loop[i], q = loop[(i + 1) % loop.size()];
-      const double ex = q[0] - p[0], ey = q[1] - p[1], wx = p[0] - x.u, wy = p[1] - x.v;
-      const double denominator = dx * ey - dy * ex;
-      if (denominator == 0) continue;
-      const double t = (wx * ey - wy * ex) / denominator, s = (wx * dy - wy * dx) / denominator;
-      if (t > 0 && s >= 0 && s < 1) crossings.push_back(t);
-    }
+      for (size_t i = 0; i < loop.size(); ++i) {
+        const auto p = loop[i], q = loop[(i + 1) % loop.size()];
+        const double ex = q[0] - p[0], ey = q[1] - p[1], wx = p[0] - x.u, wy = p[1] - x.v;
+        const double denominator = dx * ey - dy * ex;
+        if (denominator == 0) continue;
+        const double t = (wx * ey - wy * ex) / denominator, s = (wx * dy - wy * dx) / denominator;
+        if (t > 0 && s >= 0 && s < 1) crossings.push_back(t);
+      }
     std::sort(crossings.begin(), crossings.end());
-    double enter = 0, mass = 0;
+    double enter = 0;
     bool inside = true;
+    double g[3] = {0, 0, 0};
     for (double t : crossings) {
-      if (inside) mass += KernelRadialMass(kernel, t / h) - KernelRadialMass(kernel, enter / h);
+      if (inside)
+        for (int n = 0; n < 3; ++n) g[n] += KernelRadialMoment(kernel, n, t / h) - KernelRadialMoment(kernel, n, enter / h);
       inside = !inside;
       enter = t;
     }
-    sum += mass;
+    const double w = 2 * M_PI / angles;
+    m.mass += g[0] * w;
+    m.first[0] += g[1] * dx * w;
+    m.first[1] += g[1] * dy * w;
+    m.second[0] += g[2] * dx * dx * w;
+    m.second[1] += g[2] * dx * dy * w;
+    m.second[2] += g[2] * dy * dy * w;
   }
-  return sum * 2 * M_PI / angles;
+  return m;
+}
+
+double PolarMass(Point2 x, Kernel kernel, double h, const std::vector<Loop>& loops = {kLShape}, int angles = 20000) {
+  return PolarMoments(x, kernel, h, loops, angles).mass;
+}
+
+void ExpectMoments(const KernelMomentsAt& actual, const KernelMomentsAt& expected, double tolerance, const std::string& where) {
+  EXPECT_NEAR(actual.mass, expected.mass, tolerance) << where;
+  for (int k = 0; k < 2; ++k) EXPECT_NEAR(actual.first[k], expected.first[k], tolerance) << where << " first " << k;
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(actual.second[k], expected.second[k], tolerance) << where << " second " << k;
 }
 
 class RegionEveryKernel : public testing::TestWithParam<Kernel> {};
+
+// Local linear estimation needs the kernel's first and second moments over the region, from the same boundary
+// integral as its mass: checked against the polar march inside an L-shape and a square with a hole, and against
+// their half-plane values on an edge (first = 2 G_1(1) times the inward normal, second = (pi / 2) G_2(1) I).
+TEST_P(RegionEveryKernel, MomentsMatchBruteForceAndHalfPlanes) {
+  const Kernel k = GetParam();
+  std::vector<Triangle2> l = {{Point2{0, 0}, Point2{1, 0}, Point2{1, 0.5f}},
+                              {Point2{0, 0}, Point2{1, 0.5f}, Point2{0.5f, 0.5f}},
+                              {Point2{0, 0}, Point2{0.5f, 0.5f}, Point2{0, 1}},
+                              {Point2{0, 1}, Point2{0.5f, 0.5f}, Point2{0.5f, 1}}};
+  const SurfaceRegion region(l);
+  Rng rng(5, 0);
+  for (int i = 0; i < 10; ++i) {
+    Point2 x{rng.Uniform(), rng.Uniform()};
+    if (x.u > 0.5f && x.v > 0.5f) x = {x.u / 2, x.v};
+    const double h = 0.05 + 0.4 * rng.Uniform();
+    ExpectMoments(region.Moments(x, k, h), PolarMoments(x, k, h, {kLShape}), 2e-5,
+                  "L, x = (" + std::to_string(x.u) + ", " + std::to_string(x.v) + "), h = " + std::to_string(h));
+  }
+  const std::vector<Triangle2> middle = {{Point2{0.4f, 0.4f}, Point2{0.6f, 0.4f}, Point2{0.6f, 0.6f}},
+                                         {Point2{0.4f, 0.4f}, Point2{0.6f, 0.6f}, Point2{0.4f, 0.6f}}};
+  const SurfaceRegion holed(Square(0, 1, 3), middle);
+  const Loop outer = {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, hole = {{0.4, 0.4}, {0.4, 0.6}, {0.6, 0.6}, {0.6, 0.4}};
+  for (const Point2 x : {Point2{0.3f, 0.4f}, Point2{0.7f, 0.55f}, Point2{0.5f, 0.25f}, Point2{0.1f, 0.9f}})
+    for (double h : {0.15, 0.35})
+      ExpectMoments(holed.Moments(x, k, h), PolarMoments(x, k, h, {outer, hole}), 2e-5,
+                    "holed, x = (" + std::to_string(x.u) + ", " + std::to_string(x.v) + "), h = " + std::to_string(h));
+  const double g1 = KernelRadialMoment(k, 1, 1), g2 = KernelRadialMoment(k, 2, 1);
+  const SurfaceRegion square(Square(0, 1, 4));
+  ExpectMoments(square.Moments({0.5f, 0.0f}, k, 0.1), {0.5, {0, 2 * g1}, {M_PI / 2 * g2, 0, M_PI / 2 * g2}}, 1e-9,
+                "on the bottom edge");
+  ExpectMoments(square.Moments({0.25f, 1.0f}, k, 0.1), {0.5, {0, -2 * g1}, {M_PI / 2 * g2, 0, M_PI / 2 * g2}}, 1e-9,
+                "on the top edge, at an interior vertex");
+  ExpectMoments(square.Moments({0.5f, 0.5f}, k, 0.1), {1, {0, 0}, {M_PI * g2, 0, M_PI * g2}}, 1e-12, "inside");
+  EXPECT_NEAR(square.Moments({0.0f, 0.0f}, k, 0.1).mass, 0.25, 1e-9) << "a corner";
+  EXPECT_NEAR(square.Moments({0.0f, 0.0f}, k, 0.1).first[0], g1, 1e-9) << "a corner: integral of cos over a quarter";
+}
 
 TEST_P(RegionEveryKernel, KnownFractionsInsideOnEdgesAndAtCorners) {
   const SurfaceRegion square(Square(0, 1, 4));
