@@ -16,7 +16,8 @@ std::string Text(Rgb c) { return fmt::format("({:.4g}, {:.4g}, {:.4g})", c.r, c.
 nlohmann::json OptionsJson(const BakeOptions& o) {
   return {{"scene", o.scenePath},        {"output", o.outputPath}, {"estimator", EstimatorName(o.estimator.kind)},
           {"kernel", KernelName(o.estimator.kernel)}, {"k", o.estimator.neighbours},
-          {"edge_correction", o.estimator.edgeCorrection}, {"find_covers", o.findCovers},
+          {"edge_correction", o.estimator.edgeCorrection}, {"local_linear", o.estimator.localLinear},
+          {"find_covers", o.findCovers},
           {"h_m", o.autoBandwidth ? nlohmann::json("auto") : nlohmann::json(o.estimator.bandwidth)},          {"photons", o.photons},   {"seed", o.seed},
           {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly},
           {"max_bounces", o.maxBounces},

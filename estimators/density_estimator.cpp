@@ -16,7 +16,7 @@ std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& 
   const SurfaceRegion* correction = settings.edgeCorrection ? &region : nullptr;
   switch (settings.kind) {
     case EstimatorKind::kKernel:
-      return std::make_unique<KernelEstimator>(uv, flux, settings.bandwidth, settings.kernel, correction);
+      return std::make_unique<KernelEstimator>(uv, flux, settings.bandwidth, settings.kernel, correction, settings.localLinear);
     case EstimatorKind::kHistogram:
       return std::make_unique<HistogramEstimator>(uv, flux, settings.bandwidth, region, settings.edgeCorrection);
     case EstimatorKind::kNearest:

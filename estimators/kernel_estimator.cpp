@@ -14,8 +14,8 @@ constexpr double kMinCellBudget = 1 << 12;
 }  // namespace
 
 KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> flux, float h, Kernel kernel,
-                                 const SurfaceRegion* correction)
-    : h_(h), kernel_(kernel), correction_(correction),
+                                 const SurfaceRegion* correction, bool localLinear)
+    : h_(h), kernel_(kernel), correction_(correction), localLinear_(localLinear),
       minimumMass_(correction ? MinimumKernelMass(correction->Area(), kernel, h) : kMinEdgeMass) {
   PB_CHECK(h > 0 && std::isfinite(h), "bandwidth is positive and finite");
   PB_CHECK_EQ(uv.size(), flux.size());  // one flux per photon
@@ -53,22 +53,36 @@ int KernelEstimator::CellIndex(float coordinate, float lo, int count) const {
   return std::clamp(int(std::floor((coordinate - lo) / cellSize_)), 0, count - 1);
 }
 
-Rgb KernelEstimator::Estimate(Point2 x) const {
-  NoiseSums unused;
-  return Normalised(KernelSum<false>(x, unused), x);
-}
+Rgb KernelEstimator::Estimate(Point2 x) const { return Evaluate<false>(x).irradiance; }
 
-// The kernel mass M(x) cancels in the ratio, as does 1/h^2.
-double KernelEstimator::RelativeNoise(Point2 x) const {
-  NoiseSums noise;
-  KernelSum<true>(x, noise);
-  return noise.Relative();
-}
+// The kernel mass M(x) (or the fit's denominator) cancels in the ratio, as does 1/h^2.
+double KernelEstimator::RelativeNoise(Point2 x) const { return Evaluate<true>(x).relativeNoise; }
 
-DensityEstimator::WithNoise KernelEstimator::EstimateWithNoise(Point2 x) const {
+DensityEstimator::WithNoise KernelEstimator::EstimateWithNoise(Point2 x) const { return Evaluate<true>(x); }
+
+template <bool kNoise>
+DensityEstimator::WithNoise KernelEstimator::Evaluate(Point2 x) const {
   NoiseSums noise;
-  const Rgb sum = KernelSum<true>(x, noise);
+  if (const std::optional<LinearFit> fit = LinearFitAt(x)) {
+    const Rgb sum = WithSquaredProfile(kernel_, [&](auto profile) { return ProfileSum<kNoise, true>(x, profile, noise, *fit); });
+    const float scale = float(1.0 / (double(h_) * h_ * fit->denominator));
+    return {{std::max(sum.r * scale, 0.0f), std::max(sum.g * scale, 0.0f), std::max(sum.b * scale, 0.0f)}, noise.Relative()};
+  }
+  const Rgb sum = KernelSum<kNoise>(x, noise);
   return {Normalised(sum, x), noise.Relative()};
+}
+
+std::optional<KernelEstimator::LinearFit> KernelEstimator::LinearFitAt(Point2 x) const {
+  if (!localLinear_ || correction_ == nullptr || uv_.empty()) return std::nullopt;
+  const KernelMomentsAt m = correction_->Moments(x, kernel_, h_);
+  if (m.first[0] == 0 && m.first[1] == 0) return std::nullopt;  // inside: the plain estimate
+  const double det = m.second[0] * m.second[2] - m.second[1] * m.second[1];
+  if (!(det > 0) || m.mass < minimumMass_) return std::nullopt;
+  const double cu = (m.second[2] * m.first[0] - m.second[1] * m.first[1]) / det;
+  const double cv = (m.second[0] * m.first[1] - m.second[1] * m.first[0]) / det;
+  const double denominator = m.mass - (cu * m.first[0] + cv * m.first[1]);
+  if (!(denominator > 0.01 * m.mass)) return std::nullopt;  // ill-conditioned: renormalise
+  return LinearFit{float(cu), float(cv), denominator};
 }
 
 Rgb KernelEstimator::Normalised(Rgb profileSum, Point2 x) const {
@@ -81,7 +95,7 @@ Rgb KernelEstimator::Normalised(Rgb profileSum, Point2 x) const {
 template <bool kNoise>
 Rgb KernelEstimator::KernelSum(Point2 x, NoiseSums& noise) const {
   if (uv_.empty()) return {};
-  return WithSquaredProfile(kernel_, [&](auto profile) { return ProfileSum<kNoise>(x, profile, noise); });
+  return WithSquaredProfile(kernel_, [&](auto profile) { return ProfileSum<kNoise, false>(x, profile, noise, {}); });
 }
 
 template <typename Visit>
@@ -97,9 +111,9 @@ void KernelEstimator::ForEachCellNear(Point2 x, Visit visit) const {
 
 // In cell order: in float within a cell (a few hundred terms), in double across cells. The noise sums do not
 // touch the flux sum, so Estimate and EstimateWithNoise agree bit for bit.
-template <bool kNoise, typename Profile>
-Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile, NoiseSums& noise) const {
-  const float inverseH2 = 1.0f / (h_ * h_);
+template <bool kNoise, bool kLinear, typename Profile>
+Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile, NoiseSums& noise, LinearFit fit) const {
+  const float inverseH2 = 1.0f / (h_ * h_), inverseH = 1.0f / h_;
   RgbSum sum;
   ForEachCellNear(x, [&](uint32_t begin, uint32_t end) {
     Rgb cell;
@@ -107,7 +121,8 @@ Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile, NoiseSums& noise) con
     for (uint32_t i = begin; i < end; ++i) {
       const float t2 = LengthSquared(uv_[i] - x) * inverseH2;
       if (t2 >= 1.0f) continue;
-      const float k = profile(t2);
+      float k = profile(t2);
+      if constexpr (kLinear) k *= 1.0f - (fit.cu * (uv_[i].u - x.u) + fit.cv * (uv_[i].v - x.v)) * inverseH;
       cell += photonFlux_[i] * k;
       if constexpr (kNoise) {
         const float w = Luminance(photonFlux_[i]) * k;
