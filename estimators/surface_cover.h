@@ -31,7 +31,8 @@ inline constexpr int kCoverRays = 16;
 
 struct CoverSettings {
   float spacing = 0.025f;            // s [m], the lattice spacing; 0 tests nothing (every cover is empty)
-  uint64_t maxPointsPerSurface = 1u << 20;  // a larger surface gets a coarser lattice, s = its chart's side / 1024
+  // A surface whose lattice would have more points gets a coarser one: the spacing doubled until it fits.
+  uint64_t maxPointsPerSurface = 1u << 20;
 };
 
 class SurfaceCover {
