@@ -114,7 +114,46 @@ std::array<double, 2> BarycentricsIn(const Scene& scene, uint32_t t, const Point
 }
 
 SurfacePointSampler::SurfacePointSampler(const Scene& scene, const SurfaceSet& surfaces, const SplitMesh& base)
-    : scene_(scene), surfaces_(surfaces), base_(base), splitFace_(SplitFaceOfTriangle(scene, surfaces)) {}
+    : scene_(scene), surfaces_(surfaces), base_(base), splitFace_(SplitFaceOfTriangle(scene, surfaces)) {
+  for (const Surface& s : surfaces.surfaces) grids_.push_back(BuildChartGrid(surfaces, s));
+}
+
+SurfacePointSampler::ChartGrid SurfacePointSampler::BuildChartGrid(const SurfaceSet& surfaces, const Surface& surface) {
+  ChartGrid g;
+  for (uint32_t t : surface.triangles)
+    for (const Point2& p : surfaces.cornerUv[t]) g.bounds.Extend(p);
+  const double su = double(g.bounds.hi.u) - g.bounds.lo.u, sv = double(g.bounds.hi.v) - g.bounds.lo.v;
+  const int perAxis = std::clamp(int(std::ceil(std::sqrt(double(surface.triangles.size())))), 1, 1024);
+  g.cell = float(std::max({su, sv, 1e-30}) / perAxis);
+  g.nu = std::clamp(int(su / g.cell) + 1, 1, perAxis + 1);
+  g.nv = std::clamp(int(sv / g.cell) + 1, 1, perAxis + 1);
+  const auto cellOf = [&](float c, float lo, int n) { return std::clamp(int(std::floor((c - lo) / g.cell)), 0, n - 1); };
+  std::vector<std::vector<uint32_t>> cells(size_t(g.nu) * g.nv);
+  for (uint32_t t : surface.triangles) {
+    Bounds2 b;
+    for (const Point2& p : surfaces.cornerUv[t]) b.Extend(p);
+    for (int j = cellOf(b.lo.v, g.bounds.lo.v, g.nv); j <= cellOf(b.hi.v, g.bounds.lo.v, g.nv); ++j)
+      for (int i = cellOf(b.lo.u, g.bounds.lo.u, g.nu); i <= cellOf(b.hi.u, g.bounds.lo.u, g.nu); ++i)
+        cells[size_t(j) * g.nu + i].push_back(t);
+  }
+  g.start.push_back(0);
+  for (const auto& c : cells) {
+    g.triangles.insert(g.triangles.end(), c.begin(), c.end());
+    g.start.push_back(uint32_t(g.triangles.size()));
+  }
+  return g;
+}
+
+std::optional<uint32_t> SurfacePointSampler::TriangleHolding(uint32_t surface, Point2 uv) const {
+  const ChartGrid& g = grids_[surface];
+  const float fu = (uv.u - g.bounds.lo.u) / g.cell, fv = (uv.v - g.bounds.lo.v) / g.cell;
+  if (!(fu >= 0 && fv >= 0)) return std::nullopt;
+  const int i = std::min(int(fu), g.nu - 1), j = std::min(int(fv), g.nv - 1);
+  const size_t c = size_t(j) * g.nu + i;
+  for (uint32_t k = g.start[c]; k < g.start[c + 1]; ++k)  // ascending: the first that holds uv, as a scan finds
+    if (BarycentricsInChart(surfaces_.cornerUv[g.triangles[k]], uv).inside) return g.triangles[k];
+  return std::nullopt;
+}
 
 SurfacePoint SurfacePointSampler::Interpolated(uint32_t surface, uint32_t triangle, const std::array<double, 2>& b) const {
   const Surface& s = surfaces_.surfaces[surface];
@@ -146,7 +185,9 @@ SurfacePoint SurfacePointSampler::AtChartPoint(uint32_t surface, Point2 uv) cons
   uint32_t best = surfaces_.surfaces[surface].triangles.front();
   Point2 nearest = uv;
   double bestDistance2 = INFINITY;
+  if (const std::optional<uint32_t> holding = TriangleHolding(surface, uv)) best = *holding, bestDistance2 = 0;
   for (uint32_t t : surfaces_.surfaces[surface].triangles) {
+    if (bestDistance2 == 0) break;
     const std::array<Point2, 3>& c = surfaces_.cornerUv[t];
     if (BarycentricsInChart(c, uv).inside) {
       best = t, nearest = uv, bestDistance2 = 0;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <cstdint>
 #include <vector>
 
@@ -66,17 +67,31 @@ class SurfacePointSampler {
   // The point at position p of `surface`, on (or in the plane of) scene triangle `triangle`. On planar surfaces
   // the chart is the plane's own projection, so p need not lie inside the triangle (as after decimation).
   SurfacePoint At(uint32_t surface, uint32_t triangle, const Point3d& p) const;
-  // The point of `surface` at chart position uv; off the surface, the surface's nearest point in the chart.
-  // Linear in the surface's triangle count.
+  // The point of `surface` at chart position uv; off the surface, the surface's nearest point in the chart. On
+  // the surface, a grid of its chart triangles finds it in constant time; off it, the search is linear in the
+  // surface's triangle count.
   SurfacePoint AtChartPoint(uint32_t surface, Point2 uv) const;
 
  private:
+  // A uniform grid over one surface's chart: the triangles whose bounds meet cell c are
+  // triangles[start[c] .. start[c+1]), ascending.
+  struct ChartGrid {
+    Bounds2 bounds;
+    float cell = 1;
+    int nu = 1, nv = 1;
+    std::vector<uint32_t> start, triangles;
+  };
+  static ChartGrid BuildChartGrid(const SurfaceSet& surfaces, const Surface& surface);
+  // The first of the surface's triangles (in its order) whose chart triangle holds uv, if any.
+  std::optional<uint32_t> TriangleHolding(uint32_t surface, Point2 uv) const;
+
   SurfacePoint Interpolated(uint32_t surface, uint32_t triangle, const std::array<double, 2>& b) const;
 
   const Scene& scene_;
   const SurfaceSet& surfaces_;
   const SplitMesh& base_;
   std::vector<uint32_t> splitFace_;  // scene triangle -> its face in `base`
+  std::vector<ChartGrid> grids_;     // per surface
 };
 
 }  // namespace pb
