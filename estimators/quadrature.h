@@ -16,15 +16,16 @@ inline constexpr std::array<double, 8> kGaussWeights = {
     0.1246289712555339, 0.0951585116824928, 0.0622535239386479, 0.0271524594117541};
 }  // namespace detail
 
-// Integral of f over [a, b] split into `panels` equal panels.
+// Integral of f over [a, b] split into `panels` equal panels. f returns a double, or any value type with +, and *
+// and / by a double (several integrands evaluated at once, sharing their work at each node).
 template <typename F>
-double GaussLegendre(F&& f, double a, double b, int panels = 1) {
+auto GaussLegendre(F&& f, double a, double b, int panels = 1) {
   const double width = (b - a) / panels;
-  double sum = 0;
+  decltype(f(a)) sum{};
   for (int p = 0; p < panels; ++p) {
     const double mid = a + (p + 0.5) * width, half = width / 2;
     for (size_t i = 0; i < detail::kGaussNodes.size(); ++i)
-      sum += detail::kGaussWeights[i] * (f(mid - half * detail::kGaussNodes[i]) + f(mid + half * detail::kGaussNodes[i]));
+      sum = sum + detail::kGaussWeights[i] * (f(mid - half * detail::kGaussNodes[i]) + f(mid + half * detail::kGaussNodes[i]));
   }
   return sum * width / 2;
 }

@@ -86,6 +86,27 @@ double EdgeMass(Point2 a, Point2 b, Point2 x, Kernel kernel, double h) {
   return signedDistance > 0 ? mass : -mass;
 }
 
+// Six values integrated together (GaussLegendre): an edge's mass and moment integrands.
+struct Six {
+  std::array<double, 6> v{};
+  Six operator+(const Six& o) const {
+    Six r;
+    for (int k = 0; k < 6; ++k) r.v[k] = v[k] + o.v[k];
+    return r;
+  }
+  Six operator*(double c) const {
+    Six r;
+    for (int k = 0; k < 6; ++k) r.v[k] = v[k] * c;
+    return r;
+  }
+  Six operator/(double c) const {
+    Six r;
+    for (int k = 0; k < 6; ++k) r.v[k] = v[k] / c;
+    return r;
+  }
+  friend Six operator*(double c, const Six& s) { return s * c; }
+};
+
 // An edge's contribution to the kernel's moments about x beyond what G_n(1) everywhere would give (surface_region.h,
 // Moments): over the part of the edge inside the support, the integral of (G_n(t) - G_n(1)) times 1, u or u u^T
 // over the angle it subtends (u the unit direction from x). G_n(t) vanishes like t^(n+2) at x, so G_n(t) d(theta) =
@@ -103,26 +124,18 @@ KernelMomentsAt EdgeMomentsInside(Point2 a, Point2 b, Point2 x, Kernel kernel, d
   if (!(lo < hi)) return m;
   const double sign = signedDistance > 0 ? 1 : -1, fx = px - sa * tx, fy = py - sa * ty;  // f: x to the foot
   const double g[3] = {KernelRadialMoment(kernel, 0, 1), KernelRadialMoment(kernel, 1, 1), KernelRadialMoment(kernel, 2, 1)};
-  // All six integrands at once, at arc length s: (G_n(t) - 0) u^(n) d / r^2 (the G_n(1) part comes after).
-  const auto at = [&](double s, int k) {
+  // All six integrands at once, at arc length s: G_n(t) u^(n) d / r^2 (the G_n(1) part comes after); each G_n
+  // once per node.
+  const auto at = [&](double s) {
     const double ux = fx + s * tx, uy = fy + s * ty, r2 = ux * ux + uy * uy, r = std::sqrt(r2), t = r / h;
-    const double w = d / r2;
-    switch (k) {
-      case 0: return KernelRadialMoment(kernel, 0, t) * w;
-      case 1: return KernelRadialMoment(kernel, 1, t) * w * ux / r;
-      case 2: return KernelRadialMoment(kernel, 1, t) * w * uy / r;
-      case 3: return KernelRadialMoment(kernel, 2, t) * w * ux * ux / r2;
-      case 4: return KernelRadialMoment(kernel, 2, t) * w * ux * uy / r2;
-      default: return KernelRadialMoment(kernel, 2, t) * w * uy * uy / r2;
-    }
+    const double w = d / r2, g0 = KernelRadialMoment(kernel, 0, t), g1 = KernelRadialMoment(kernel, 1, t),
+                 g2 = KernelRadialMoment(kernel, 2, t);
+    return Six{{g0 * w, g1 * w * ux / r, g1 * w * uy / r, g2 * w * ux * ux / r2, g2 * w * ux * uy / r2, g2 * w * uy * uy / r2}};
   };
-  double integral[6];
-  for (int k = 0; k < 6; ++k) {
-    const auto f = [&](double s) { return at(s, k); };
-    integral[k] = 0;
-    if (lo < 0) integral[k] += GaussLegendre(f, lo, std::min(hi, 0.0));  // split at the foot: the cone's kink
-    if (hi > 0) integral[k] += GaussLegendre(f, std::max(lo, 0.0), hi);
-  }
+  Six sum{};
+  if (lo < 0) sum = sum + GaussLegendre(at, lo, std::min(hi, 0.0));  // split at the foot: the cone's kink
+  if (hi > 0) sum = sum + GaussLegendre(at, std::max(lo, 0.0), hi);
+  const std::array<double, 6>& integral = sum.v;
   // The closed forms over the same angle: integral of 1, u and u u^T d(theta) from the direction at lo to hi.
   const double angle = std::atan(hi / d) - std::atan(lo / d);
   const double rl = std::hypot(d, lo), rh = std::hypot(d, hi);
