@@ -60,7 +60,7 @@ PilotIntegrals Integrate(const Pilot& p, double surfaceArea) {
       const double lap = (p.H(i - 1, j) + p.H(i + 1, j) + p.H(i, j - 1) + p.H(i, j + 1) - 4 * H) / g2;
       const auto var = [&](int a, int b) { return p.flux2[p.Index(a, b)] / (g2 * g2); };  // Var of a cell's H
       const double lapNoise = (var(i - 1, j) + var(i + 1, j) + var(i, j - 1) + var(i, j + 1) + 16 * var(i, j)) / (g2 * g2);
-      r.curvature += std::max(lap * lap - lapNoise, 0.0) / (H * H) * g2;
+      r.curvature += (lap * lap - lapNoise) / (H * H) * g2;  // unbiased; clipped only in total
       stencilArea += g2;
       ++r.stencils;
     }

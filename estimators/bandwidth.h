@@ -8,7 +8,8 @@
 // and integrating both over the surface and minimising over h gives
 //   h^6 = 2 R integral(phi2 / H^2) / (mu2^2 integral((lap H / H)^2)).
 // Both integrals come from a pilot histogram of ~400 photons per cell; lap H by the 5-point stencil on cells
-// whose neighbours lie wholly on the surface, with the stencil's own noise variance subtracted. Where the
+// whose neighbours lie wholly on the surface, with the stencil's own noise variance subtracted cell by cell and
+// the sum clipped at 0 only as a whole (clipping each cell would add the noise back where the light is flat). Where the
 // light is flat (no measurable curvature), h is capped at a quarter of the surface's size; where photons are
 // too few for a pilot, h holds 50 photons on average. h is never below the radius that holds 20 photons.
 // A histogram bucket of side b is the box kernel with R = 1 and mu2 = 1/12 (in units of b).

@@ -34,7 +34,7 @@ struct EstimatorSettings {
   float bandwidth = 0.05f;    // h [m]: kernel support radius, or histogram bucket side
   uint32_t neighbours = 50;   // k of the knn estimator, >= 2
   bool edgeCorrection = true;  // renormalise by the part of the kernel, bucket or disc on the surface
-  bool localLinear = false;    // the kernel estimator at edges: a local linear fit (kernel_estimator.h), not only renormalised
+  bool localLinear = true;     // the kernel estimator at edges: a local linear fit (kernel_estimator.h), not only renormalised
 };
 
 // Smallest kernel mass M(x) divided by: a corner sharper than about 11 degrees (M < 1/32) is corrected only as

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 
 #include "estimators/surface_region.h"
@@ -75,6 +76,7 @@ class CoverBuilder {
     ClassifyLattice();
     if (std::find(c_.covered_.begin(), c_.covered_.end(), 1) == c_.covered_.end()) return {};
     FindCrossings();
+    FindCorners();
     CutPieces();
     return std::move(c_);
   }
@@ -147,6 +149,72 @@ class CoverBuilder {
     return coveredAtA ? lo : hi;  // on the covered side: no photon that reached the surface lands in the cover
   }
 
+  // Cells whose polygon has one crossing where the cover ends and one where it begins again: where the contact
+  // line turns a corner between them, the corner (SurfaceCover::corners_).
+  void FindCorners() {
+    std::vector<std::optional<Point2>> corner(size_t(c_.nu_) * c_.nv_);
+    tbb::parallel_for(0, c_.nv_ - 1, [&](int j) {
+      for (int i = 0; i + 1 < c_.nu_; ++i) corner[size_t(j) * c_.nu_ + i] = CornerIn(i, j);
+    });
+    for (size_t cell = 0; cell < corner.size(); ++cell)
+      if (corner[cell]) c_.corners_.emplace(cell, *corner[cell]);
+  }
+
+  std::optional<Point2> CornerIn(int i, int j) const {
+    const std::array<SurfaceCover::CellEdge, 4> edges = c_.EdgesOf(i, j);
+    const SurfaceCover::CellEdge *exit = nullptr, *entry = nullptr;
+    int changes = 0;
+    for (const SurfaceCover::CellEdge& e : edges) {
+      if (e.coveredA == e.coveredB) continue;
+      ++changes;
+      (e.coveredA ? exit : entry) = &e;
+    }
+    if (changes != 2) return std::nullopt;  // uniform, or a saddle
+    const std::optional<Line2> out = ContactLineAt(*exit), in = ContactLineAt(*entry);
+    if (!out || !in) return std::nullopt;
+    const std::optional<Point2> x = Intersection(*out, *in);
+    if (!x || !c_.InCell(*x, i, j)) return std::nullopt;
+    if (!Convex(c_.CellPolygon(i, j, &*x))) return std::nullopt;
+    const Point2 chordMiddle = Between(out->through, in->through, 0.5);
+    if (!CoveredAt(Between(chordMiddle, *x, 0.5))) return std::nullopt;  // the turn is not where the lines say
+    return x;
+  }
+
+  struct Line2 {
+    Point2 through, second;  // two points on it
+  };
+
+  // The contact line through the crossing on lattice edge e, from a second crossing s / 4 into the cell along a
+  // parallel segment whose ends are covered as e's are. None when the line turns within s / 4 of the edge.
+  std::optional<Line2> ContactLineAt(const SurfaceCover::CellEdge& e) const {
+    const float d = 0.25f * c_.spacing_;
+    const Point2 a{e.a.u + d * e.inward.u, e.a.v + d * e.inward.v}, b{e.b.u + d * e.inward.u, e.b.v + d * e.inward.v};
+    if (CoveredAt(a) != e.coveredA || CoveredAt(b) != e.coveredB) return std::nullopt;
+    return Line2{e.crossing, Between(a, b, Bisect(a, b, e.coveredA))};
+  }
+
+  // Where two lines meet, unless they are within 10 degrees of parallel (a straight contact line: no corner).
+  static std::optional<Point2> Intersection(const Line2& p, const Line2& q) {
+    const double pu = double(p.second.u) - p.through.u, pv = double(p.second.v) - p.through.v;
+    const double qu = double(q.second.u) - q.through.u, qv = double(q.second.v) - q.through.v;
+    const double cross = pu * qv - pv * qu;
+    if (!(std::fabs(cross) > std::sin(10 * M_PI / 180) * std::hypot(pu, pv) * std::hypot(qu, qv))) return std::nullopt;
+    const double a = ((double(q.through.u) - p.through.u) * qv - (double(q.through.v) - p.through.v) * qu) / cross;
+    return Point2{float(p.through.u + a * pu), float(p.through.v + a * pv)};
+  }
+
+  static Point2 Between(Point2 a, Point2 b, double t) {
+    return {float(a.u + t * (double(b.u) - a.u)), float(a.v + t * (double(b.v) - a.v))};
+  }
+
+  static bool Convex(const std::vector<Point2>& polygon) {
+    for (size_t k = 0; k < polygon.size(); ++k) {
+      const size_t n = polygon.size();
+      if (SignedArea(polygon[k], polygon[(k + 1) % n], polygon[(k + 2) % n]) < 0) return false;
+    }
+    return true;
+  }
+
   // Each cell's covered polygon, cut to each surface triangle that its box meets, as triangles.
   void CutPieces() {
     std::unordered_map<size_t, std::vector<uint32_t>> trianglesOfCell;
@@ -189,24 +257,45 @@ class CoverBuilder {
   SurfaceCover c_;
 };
 
-std::vector<Point2> SurfaceCover::CellPolygon(int i, int j) const {
+std::array<SurfaceCover::CellEdge, 4> SurfaceCover::EdgesOf(int i, int j) const {
   const std::array<std::array<int, 2>, 4> corner = {{{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}}};
-  // The lattice edge between corners k and k + 1, by its first end (the lower i or j) and axis. Its crossing is
-  // computed from that end, so the two cells that share an edge share the point bit for bit.
-  const std::array<std::array<int, 3>, 4> edge = {{{i, j, 0}, {i + 1, j, 1}, {i, j + 1, 0}, {i, j, 1}}};
-  std::vector<Point2> polygon;
+  // Each edge's crossing is stored at its first end (the lower i or j) and computed from there, so the two cells
+  // that share an edge share the point bit for bit.
+  const std::array<std::array<int, 3>, 4> stored = {{{i, j, 0}, {i + 1, j, 1}, {i, j + 1, 0}, {i, j, 1}}};
+  const std::array<Point2, 4> inward = {{{0, 1}, {-1, 0}, {0, -1}, {1, 0}}};
+  std::array<CellEdge, 4> edges;
   for (int k = 0; k < 4; ++k) {
-    const std::array<int, 2> a = corner[k], b = corner[(k + 1) % 4];
-    const bool ca = CoveredPoint(a[0], a[1]), cb = CoveredPoint(b[0], b[1]);
-    if (ca) polygon.push_back(Lattice(a[0], a[1]));
-    if (ca != cb) {
-      const auto [ei, ej, axis] = edge[k];
-      const float t = crossing_[(size_t(ej) * nu_ + ei) * 2 + axis];
-      const Point2 p = Lattice(ei, ej), q = Lattice(ei + (axis == 0), ej + (axis == 1));
-      polygon.push_back({p.u + t * (q.u - p.u), p.v + t * (q.v - p.v)});
-    }
+    const auto [ia, ja] = corner[k];
+    const auto [ib, jb] = corner[(k + 1) % 4];
+    CellEdge& e = edges[k];
+    e = {Lattice(ia, ja), Lattice(ib, jb), CoveredPoint(ia, ja), CoveredPoint(ib, jb), inward[k], {}};
+    if (e.coveredA == e.coveredB) continue;
+    const auto [ei, ej, axis] = stored[k];
+    const float t = crossing_[(size_t(ej) * nu_ + ei) * 2 + axis];
+    const Point2 p = Lattice(ei, ej), q = Lattice(ei + (axis == 0), ej + (axis == 1));
+    e.crossing = {p.u + t * (q.u - p.u), p.v + t * (q.v - p.v)};
+  }
+  return edges;
+}
+
+std::vector<Point2> SurfaceCover::CellPolygon(int i, int j, const Point2* corner) const {
+  if (corner == nullptr) {
+    const auto found = corners_.find(size_t(j) * nu_ + i);
+    if (found != corners_.end()) corner = &found->second;
+  }
+  std::vector<Point2> polygon;
+  for (const CellEdge& e : EdgesOf(i, j)) {
+    if (e.coveredA) polygon.push_back(e.a);
+    if (e.coveredA == e.coveredB) continue;
+    polygon.push_back(e.crossing);
+    if (e.coveredA && corner != nullptr) polygon.push_back(*corner);  // the line turns before it re-enters
   }
   return polygon;
+}
+
+bool SurfaceCover::InCell(Point2 uv, int i, int j) const {
+  const Point2 lo = Lattice(i, j), hi = Lattice(i + 1, j + 1);
+  return uv.u > lo.u && uv.u < hi.u && uv.v > lo.v && uv.v < hi.v;
 }
 
 bool SurfaceCover::Covered(Point2 uv) const {

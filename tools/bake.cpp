@@ -40,9 +40,10 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
       ->default_str(fmt::format("{}", e.bandwidth));
   app.add_option("--k", e.neighbours, "photons per estimate of --estimator knn; range 2-1e6, typical 20-200")
       ->capture_default_str();
-  app.add_flag("--local-linear", e.localLinear, "kernel estimator: at surface edges and contact lines, fit the light "
-                                               "locally linear (Walter et al. 1997) instead of only renormalising; "
-                                               "removes the edges' gradient bias, at the cost of more noise there");
+  app.add_flag("!--renormalise-edges", e.localLinear,
+               "kernel estimator: at surface edges and contact lines, only renormalise by the kernel's mass there, "
+               "instead of fitting the light locally linear (Walter et al. 1997); less noise at edges, but the "
+               "gradient bias stays");
   app.add_flag("!--no-edge-correction", e.edgeCorrection, "do not renormalise estimates by the part of the kernel, "
                                                          "bucket or disc that lies on the surface (edges darken)");
 }

@@ -1,6 +1,8 @@
 // --h auto on the closed-form scene (1 x 1 m light 1 m above a black 4 x 4 m floor): the bandwidth it picks
-// must land within a factor of 2 of the h that minimises the relative RMSE over all floor vertices, which this
-// test finds by scanning h on a geometric grid (ratio 2^(1/4)) over the same photons.
+// must land within a factor of 2 of the h that minimises the relative RMSE over the floor's interior vertices
+// (farther from its edges than the largest h scanned), which this test finds by scanning h on a geometric grid
+// (ratio 2^(1/4)) over the same photons. The interior, because that is the error the plug-in rule models; at the
+// edges the local linear correction trades the bias away for variance (estimators/kernel_estimator.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,6 +18,7 @@ namespace pb {
 namespace {
 
 TEST(AutoBandwidth, LandsWithinAFactorOfTwoOfTheScannedOptimum) {
+  constexpr float kInterior = 2.0f - 0.45f;  // beyond the largest scanned h from the floor's edges
   const std::string dir = test::TempDirectory("auto-bandwidth");
   const test::TracedScene prepared(test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 80));
   const Scene& scene = prepared.scene;
@@ -33,7 +36,7 @@ TEST(AutoBandwidth, LandsWithinAFactorOfTwoOfTheScannedOptimum) {
     int n = 0;
     for (size_t v = 0; v < baked.mesh.VertexCount(); ++v) {
       const Point3 p = baked.mesh.positions[v];
-      if (p.y != 0.0f) continue;
+      if (p.y != 0.0f || std::fabs(p.x) > kInterior || std::fabs(p.z) > kInterior) continue;
       const double exact = test::SquareLightIrradiance(p.x, p.z);
       sum += std::pow((baked.irradiance[v].g - exact) / exact, 2), ++n;
     }

@@ -70,7 +70,8 @@ TEST(ClosedForm, SquareLightOverBlackFloorMatchesLambert) {
 // The expected error of each estimator at each vertex is computed from the exact E by quadrature, then
 // averaged: predicted relative MSE = mean over vertices of (bias^2 + variance) / E^2, where, for photons of
 // flux phi landing with density E / phi,
-//   kernel:    E[H] = integral_floor K(x-y) E(y) dy / M(x),    Var H = phi integral_floor K^2 E dy / M^2
+//   kernel:    E[H] = integral_floor W(x,y) E(y) dy,    Var H = phi integral_floor W^2 E dy, with W the local
+//              linear fit's weight K(x-y) (1 - c.(y-x)) / (m0 - c.m1) (KernelMoments; K / M(x) when renormalised)
 //   knn:       as kernel with the uniform kernel of radius r(x), pi r^2 E(x) / phi = k; Var H / H^2 = 1/(k-2)
 //   histogram: E[H] = mean of E over x's bucket on the floor, Var H = phi E[H] / area; x sits on a bucket
 //              corner, so the largest of the four candidate buckets' errors is used (an upper bound).
@@ -88,20 +89,38 @@ struct Moments {
   double mean = 0, variance = 0;
 };
 
-// Kernel-weighted moments over the floor, by the midpoint rule in polar coordinates about (x, z).
-Moments KernelMoments(double x, double z, Kernel kernel, double h, double phi) {
+// Kernel-weighted moments over the floor, by the midpoint rule in polar coordinates about (x, z). With
+// `localLinear`, the weights are the local linear fit's (kernel_estimator.h): w = K(t) (1 - c.t) / (m0 - c.m1),
+// with m0, m1, m2 the kernel's moments over the floor and c = m2^-1 m1 (0 inside, where it is renormalisation's).
+Moments KernelMoments(double x, double z, Kernel kernel, double h, double phi, bool localLinear) {
   constexpr int kRings = 24, kAngles = 96;
-  double mass = 0, first = 0, second = 0;
+  struct Node {
+    double dx, dz, k, area, e;  // offset [m], kernel [1/m^2], quadrature area [m^2], Lambert's E
+  };
+  std::vector<Node> nodes;
+  double m0 = 0, mx = 0, mz = 0, sxx = 0, sxz = 0, szz = 0;
   for (int i = 0; i < kRings; ++i) {
     const double r = (i + 0.5) * h / kRings, k = KernelProfile(kernel, r / h) / (h * h);
     for (int j = 0; j < kAngles; ++j) {
-      const double a = (j + 0.5) * 2 * M_PI / kAngles, px = x + r * std::cos(a), pz = z + r * std::sin(a);
-      if (!Floor::Inside(px, pz)) continue;
-      const double w = r * (h / kRings) * (2 * M_PI / kAngles), e = Exact(px, pz);
-      mass += k * w, first += k * e * w, second += k * k * e * w;
+      const double a = (j + 0.5) * 2 * M_PI / kAngles, dx = r * std::cos(a), dz = r * std::sin(a);
+      if (!Floor::Inside(x + dx, z + dz)) continue;
+      const double area = r * (h / kRings) * (2 * M_PI / kAngles), w = k * area;
+      nodes.push_back({dx, dz, k, area, Exact(x + dx, z + dz)});
+      m0 += w, mx += w * dx, mz += w * dz, sxx += w * dx * dx, sxz += w * dx * dz, szz += w * dz * dz;
     }
   }
-  return {first / mass, phi * second / (mass * mass)};
+  double cx = 0, cz = 0;
+  const double det = sxx * szz - sxz * sxz;
+  if (localLinear && std::fabs(mx) + std::fabs(mz) > 1e-9 * m0 * h && det > 0)
+    cx = (szz * mx - sxz * mz) / det, cz = (sxx * mz - sxz * mx) / det;
+  const double denominator = m0 - (cx * mx + cz * mz);
+  double first = 0, second = 0;
+  for (const Node& n : nodes) {
+    const double w = n.k * (1 - (cx * n.dx + cz * n.dz)) / denominator;  // per unit area
+    first += w * n.e * n.area;
+    second += w * w * n.e * n.area;
+  }
+  return {first, phi * second};
 }
 
 Moments BucketMoments(double x0, double z0, double side, double phi) {
@@ -123,10 +142,11 @@ double RelativeMse(const Moments& m, double exact) {
 double PredictedRelativeMse(const EstimatorSettings& e, double x, double z, double phi) {
   const double exact = Exact(x, z);
   switch (e.kind) {
-    case EstimatorKind::kKernel: return RelativeMse(KernelMoments(x, z, e.kernel, e.bandwidth, phi), exact);
+    case EstimatorKind::kKernel:
+      return RelativeMse(KernelMoments(x, z, e.kernel, e.bandwidth, phi, e.localLinear), exact);
     case EstimatorKind::kNearest: {
       const double r = std::sqrt(e.neighbours * phi / (M_PI * exact));
-      Moments m = KernelMoments(x, z, Kernel::kUniform, r, phi);
+      Moments m = KernelMoments(x, z, Kernel::kUniform, r, phi, false);
       m.variance = m.mean * m.mean / (e.neighbours - 2.0);
       return RelativeMse(m, exact);
     }

@@ -6,8 +6,8 @@
 //   - each vertex is within 5 sigma of E, and copies of one vertex on the two sides of a chart seam differ by
 //     at most 5 sigma of their difference.
 // sigma: grey albedo with survival = albedo keeps every photon's flux at phi = Phi / N, so the kernel estimate
-// has variance phi H R(K) / (M h^2), with R(K) the kernel's roughness and M >= 1/4 its mass on the chart (a
-// chart corner; 1/2 on a seam, 1 inside). 1% is allowed on top for the flat facets' geometry (a facet's
+// has variance phi H R(K) V / h^2 inside, with R(K) the kernel's roughness; V = 1 inside, and the local linear
+// fit raises it to V = kSeamVariance on a seam and kCornerVariance at a chart's corner. 1% is allowed on top for the flat facets' geometry (a facet's
 // centre is nearer the light than its corners: ~0.3% at this tessellation).
 // The sphere's irradiance maps (--maps) read the same light: every texel wholly on the receiver is within the
 // same bound of E, and the maps' mean is the vertices' mean.
@@ -32,13 +32,19 @@ namespace {
 constexpr float kAlbedo = 0.5f;
 constexpr uint64_t kPhotons = 1'000'000;
 constexpr float kH = 0.1f;
+// The local linear estimate's variance over the interior's, for the Epanechnikov kernel at a point on a straight
+// edge (the kernel's half on the chart) and at a right-angled corner (its quarter), from integral w^2 with w the
+// fit's weight (kernel_estimator.h); renormalisation's are 2 and 4.
+constexpr double kSeamVariance = 6.95, kCornerVariance = 30.5;
 
 struct CurvedBake {
   BakeReport report;
   test::PlyData ply;
   double phi = 0;  // flux per photon [W]
-  double Sigma(double H) const {
-    return std::sqrt(phi * H * MomentsOf(Kernel::kEpanechnikov).roughness / (0.25 * double(kH) * kH));
+  // The standard deviation of a vertex's H where the local linear fit sees `variance` times the interior's
+  // variance: kSeamVariance on a seam, kCornerVariance at a chart's corner.
+  double Sigma(double H, double variance) const {
+    return std::sqrt(phi * H * MomentsOf(Kernel::kEpanechnikov).roughness * variance / (double(kH) * kH));
   }
 };
 
@@ -83,7 +89,7 @@ std::vector<double> SeamScores(const CurvedBake& b) {
       const double cosine = V.at("nx")[a] * V.at("nx")[c] + V.at("ny")[a] * V.at("ny")[c] + V.at("nz")[a] * V.at("nz")[c];
       if (cosine < std::cos(20 * M_PI / 180)) continue;  // a crease: H may differ
       const double ha = V.at("irradiance_g")[a], hc = V.at("irradiance_g")[c];
-      z.push_back(std::fabs(ha - hc) / (std::sqrt(2.0) * b.Sigma((ha + hc) / 2)));
+      z.push_back(std::fabs(ha - hc) / (std::sqrt(2.0) * b.Sigma((ha + hc) / 2, kSeamVariance)));
     }
   std::sort(z.begin(), z.end());
   EXPECT_GT(z.size(), 50u) << "no chart seams: the receiver was not cut into charts";
@@ -124,7 +130,7 @@ TEST(Curved, SphereAroundAPointLightIsUniformAndMatchesTheEnergyBalance) {
     if (!IsReceiver(b.ply, v)) continue;
     const double H = b.ply.vertex.at("irradiance_g")[v];
     ASSERT_TRUE(std::isfinite(H));
-    EXPECT_LE(std::fabs(H - exact), 5 * b.Sigma(exact) + 0.01 * exact) << "vertex " << v;
+    EXPECT_LE(std::fabs(H - exact), 5 * b.Sigma(exact, kCornerVariance) + 0.01 * exact) << "vertex " << v;
     sum += H, ++n;
   }
   EXPECT_NEAR(sum / n / exact, 1.0, 0.02);
@@ -150,7 +156,7 @@ TEST(Curved, SphereMapsReadTheVerticesIrradianceOnEveryCoveredTexel) {
       for (int i = 0; i < map.width; ++i) {
         if (coverage[size_t(j) * size_t(map.width) + size_t(i)] < 0.999f) continue;  // partly off the surface
         const double H = map.At(i, j).g;
-        ASSERT_LE(std::fabs(H - exact), 5 * b.Sigma(exact) + 0.01 * exact)
+        ASSERT_LE(std::fabs(H - exact), 5 * b.Sigma(exact, kCornerVariance) + 0.01 * exact)
             << "surface " << s << " texel (" << i << ", " << j << "): " << H << " W/m^2 against " << exact;
         texelSum += H, ++texels;
       }
@@ -167,13 +173,15 @@ TEST(Curved, CylinderAndBlobBakeWithoutSeams) {
     const CurvedBake b = BakeCurved(shape, name);
     ExpectSeveralBoundedCharts(b.report);
     for (size_t v = 0; v < b.ply.VertexCount(); ++v) ASSERT_TRUE(std::isfinite(b.ply.vertex.at("irradiance_g")[v]));
-    // Noise alone gives a median z of ~0.5 and a 95th percentile of ~1.4 (sigma assumes M = 1/4; seams have
-    // M ~ 1/2). Where the light has a steep gradient across a seam, renormalisation leaves a first-order bias
-    // (~0.3 h |grad H| on each side, in opposite directions), so the worst few seams exceed 5 sigma; the
-    // README says so. These bounds catch a chart whose scale or orientation is wrong, which shifts whole seams.
+    // Noise alone gives |N(0, 1)|: a median z of 0.67 and a 95th percentile of 1.96. The local linear fit
+    // leaves no first-order bias across a seam, but chart corners (variance up to kCornerVariance) and the
+    // charts' second-order differences widen the tail: measured medians 0.70 (cylinder) and 0.90 (blob), 95th
+    // percentiles 2.04 and 2.76. These bounds catch a chart whose scale or orientation is wrong, which shifts
+    // whole seams by many sigma.
     const std::vector<double> z = SeamScores(b);
+    std::printf("%s: seam z median %.3f p95 %.3f max %.3f\n", name, Percentile(z, 0.5), Percentile(z, 0.95), z.back());
     EXPECT_LE(Percentile(z, 0.5), 1.0) << name;
-    EXPECT_LE(Percentile(z, 0.95), 2.5) << name;
+    EXPECT_LE(Percentile(z, 0.95), 3.5) << name;
   }
 }
 

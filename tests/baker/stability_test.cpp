@@ -141,17 +141,22 @@ TEST(Stability, ExtremeBandwidthsStayFiniteAndHonest) {
   for (const std::string& w : tiny.report.warnings) warned |= w.find("below the photon spacing") != std::string::npos;
   EXPECT_TRUE(warned) << "h = 1 micrometre is far below the photon spacing";
 
-  // h = 100 m over a 2 m floor: the kernel is flat across the floor, and boundary renormalisation turns the
-  // estimate into the floor's flux over its area at every vertex, corners included.
+  // h = 100 m over a 2 m floor: the kernel is flat across the floor, and the local linear fit turns the estimate
+  // into the least-squares plane through the floor's photons. Its expectation is the floor's mean (the light is
+  // centred, so the plane is level); its variance at a point p is the mean's times 1 + (p - c)^T S^-1 (p - c)
+  // with c and S the photons' centroid and covariance: 7 at a corner of the square for uniform positions (S =
+  // I/3; photons crowding under the light add a little). The mean's relative noise is 1/sqrt(hits), all of
+  // equal flux. Measured: the worst vertex 0.77 / sqrt(hits) from the mean.
   const Baked huge = BakeQuietly(scene, 100.0f, 20000);
   const SurfaceReport& floor = huge.report.surfaces[0];
   const double mean = Luminance(floor.meanIrradiance);
   ASSERT_GT(mean, 0);
+  const double cornerSigma = std::sqrt(7.0 / double(floor.frontHits)) * mean;
   const std::vector<double>& q = huge.ply.vertex.at("quality");
   const std::vector<double>& y = huge.ply.vertex.at("y");
   for (size_t i = 0; i < huge.report.vertices; ++i) {
     if (y[i] != 0.0) continue;  // the light's vertices
-    ASSERT_NEAR(q[i], mean, 1e-3 * mean) << i;
+    ASSERT_NEAR(q[i], mean, 5 * cornerSigma) << i;
   }
 }
 
