@@ -26,8 +26,8 @@ struct Block {
 template <bool kInterreflect, bool kSpecular>
 class PhotonTracer {
  public:
-  PhotonTracer(const Scene& scene, const RayScene& rays, const TransportPlan& plan, uint32_t maxBounces)
-      : scene_(scene), rays_(rays), maxBounces_(maxBounces), reflection_(plan.On(Effect::kReflection)),
+  PhotonTracer(const Scene& scene, const RayScene& rays, const TransportPlan& plan, uint32_t maxBounces, bool storeDirect)
+      : scene_(scene), rays_(rays), maxBounces_(maxBounces), storeDirect_(storeDirect), reflection_(plan.On(Effect::kReflection)),
         refraction_(plan.On(Effect::kRefraction)), caustics_(plan.On(Effect::kCaustics)) {}
 
   // Traces one photon from `light`, appending its hits to `block`. `attenuation` is the fraction of its flux it still carries: 1 at emission.
@@ -50,7 +50,7 @@ class PhotonTracer {
         if (!caustics_) return Forbid(attenuation, block.stats);
         ++block.stats.causticHits;
       }
-      block.hits.emplace_back(attenuation, -direction, hit->triangle, onFront, hit->b1, hit->b2);
+      if (bounce > 0 || storeDirect_) block.hits.emplace_back(attenuation, -direction, hit->triangle, onFront, hit->b1, hit->b2);
       const Rgb albedo = scene_.AlbedoAt(material, hit->triangle, hit->b1, hit->b2);
       if constexpr (!kInterreflect && !kSpecular) return StopAtFirstSurface(albedo, attenuation, block.stats);
       const float uEvent = rng.Uniform();
@@ -116,6 +116,7 @@ class PhotonTracer {
   const Scene& scene_;
   const RayScene& rays_;
   uint32_t maxBounces_;  // scattering events after the first hit
+  bool storeDirect_;     // TraceSettings::storeDirect
   bool reflection_, refraction_, caustics_;
 };
 
@@ -229,7 +230,7 @@ bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<Are
   for (const WorkItem& w : work) total = std::max(total, w.block + 1);
   std::vector<Block> blocks = TakeBlocks(store, total);
   const auto run = [&]<bool kInterreflect, bool kSpecular>() {
-    const PhotonTracer<kInterreflect, kSpecular> tracer(scene, rays, plan, settings.maxBounces);
+    const PhotonTracer<kInterreflect, kSpecular> tracer(scene, rays, plan, settings.maxBounces, settings.storeDirect);
     return TraceWork(tracer, lights, work, blocks, settings.seed, log);
   };
   const bool bounce = plan.On(Effect::kInterreflection), specular = plan.NeedsSpecularKernel();

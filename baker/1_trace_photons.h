@@ -40,6 +40,9 @@ struct TraceSettings {
   // Scattering events a photon may undergo after its first hit: 0 stores direct light only. A photon still going
   // after its last allowed event is truncated; its flux is tallied with the forbidden flux.
   uint32_t maxBounces = kDefaultMaxBounces;
+  // Whether a photon's first hit, straight from its light, is stored: false when the direct light is sampled at
+  // the points instead (--direct sampled, estimators/light_sampler.h). Later hits are stored either way.
+  bool storeDirect = true;
 };
 
 // A store of no photons for these lights.

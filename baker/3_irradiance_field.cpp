@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <bit>
 #include <cmath>
 
 #include "estimators/bandwidth.h"
@@ -43,9 +44,23 @@ double PhotonIrradiance::UniformNoise(uint32_t s, uint64_t hits, double area) co
   return UniformRelativeNoise(own, double(hits) / area);
 }
 
+DirectIrradiance::DirectIrradiance(const PreparedScene& scene, uint32_t samples, uint64_t seed)
+    : sampler_(scene.scene, scene.lights, *scene.rays), samples_(samples), seed_(seed) {}
+
+IrradianceSample DirectIrradiance::WithNoise(const SurfacePoint& p) const {
+  const auto bits = [](float f) { return uint64_t(std::bit_cast<uint32_t>(f == 0.0f ? 0.0f : f)); };
+  Rng rng(seed_, SplitMix64((uint64_t(p.surface) << 32) ^ bits(p.uv.u)) ^ bits(p.uv.v));
+  const DirectSample d = sampler_.Irradiance(p.position, p.normal, samples_, rng);
+  return {d.irradiance, d.relativeNoise};
+}
+
 IrradianceField::IrradianceField(const PreparedScene& scene, std::unique_ptr<PhotonIrradiance> photons)
     : scene_(&scene), photons_(photons.get()) {
   contributions_.push_back(std::move(photons));
+}
+
+void IrradianceField::Add(std::unique_ptr<IrradianceContribution> contribution) {
+  contributions_.push_back(std::move(contribution));
 }
 
 Rgb IrradianceField::Irradiance(const SurfacePoint& p) const {
@@ -80,12 +95,15 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
 }
 
 IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins,
-                                     const EstimatorSettings& settings, bool automaticBandwidth, StageClock& clock) {
+                                     const EstimatorSettings& settings, bool automaticBandwidth, StageClock& clock,
+                                     const DirectSettings& direct, uint64_t seed) {
   std::vector<float> bandwidths =
       clock.Time("bandwidth", [&] { return SurfaceBandwidths(scene.regions, bins, settings, automaticBandwidth); });
-  return clock.Time("estimators", [&] {
+  IrradianceField field = clock.Time("estimators", [&] {
     return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, settings, std::move(bandwidths)));
   });
+  if (direct.mode == DirectLight::kSampled) field.Add(std::make_unique<DirectIrradiance>(scene, direct.samples, seed));
+  return field;
 }
 
 BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise) {

@@ -8,10 +8,11 @@
 // Vertices, refinement, maps, noise warnings and --target-noise all ask the field; nothing else converts a photon
 // density in a chart to irradiance per unit surface area (PerSurfaceArea, below).
 //
-// Today H has one contribution: the photons' density estimate on the point's own surface (kernel, histogram or k
-// nearest; estimators/density_estimator.h), with its own bandwidth h [m] per surface. The field is a sum so that
-// other contributions join it as they come (direct light sampled at the point, with the photons then carrying only
-// the rest); their noises add in variance.
+// H is a sum of contributions, whose noises add in variance:
+//   photons  the photons' density estimate on the point's own surface (kernel, histogram or k nearest;
+//            estimators/density_estimator.h), with its own bandwidth h [m] per surface;
+//   direct   with --direct sampled, the direct light computed at the point by shadow rays to the lights
+//            (estimators/light_sampler.h); the photons then carry only the light scattered at least once.
 #pragma once
 
 #include <memory>
@@ -22,9 +23,11 @@
 #include "baker/0_prepare_scene.h"
 #include "baker/2_bin_photons.h"
 #include "baker/baked_mesh.h"
+#include "baker/options.h"
 #include "baker/progress.h"
 #include "baker/stage_clock.h"
 #include "estimators/density_estimator.h"
+#include "estimators/light_sampler.h"
 #include "mesh/errors.h"
 #include "mesh/split_mesh.h"
 
@@ -81,6 +84,22 @@ class PhotonIrradiance final : public IrradianceContribution {
   std::vector<std::unique_ptr<DensityEstimator>> estimators_;
 };
 
+// The direct light at a point, sampled there (estimators/light_sampler.h) with `samples` shadow rays. The random
+// numbers of point p come from a stream keyed by the seed and p's surface and chart position, so the same point
+// reads the same value on any thread, in any order.
+class DirectIrradiance final : public IrradianceContribution {
+ public:
+  DirectIrradiance(const PreparedScene& scene, uint32_t samples, uint64_t seed);
+  std::string_view Name() const override { return "direct"; }
+  Rgb At(const SurfacePoint& p) const override { return WithNoise(p).irradiance; }
+  IrradianceSample WithNoise(const SurfacePoint& p) const override;
+
+ private:
+  LightSampler sampler_;
+  uint32_t samples_;
+  uint64_t seed_;
+};
+
 // The light at a point: H, R, Le and the relative noise of H (0 unless asked for).
 struct SurfaceLight {
   Rgb irradiance, albedo, emitted;
@@ -92,6 +111,8 @@ class IrradianceField {
  public:
   // `scene` must outlive the field.
   IrradianceField(const PreparedScene& scene, std::unique_ptr<PhotonIrradiance> photons);
+  // Adds a term of H after the photons'.
+  void Add(std::unique_ptr<IrradianceContribution> contribution);
 
   Rgb Irradiance(const SurfacePoint& p) const;
   SurfaceLight Light(const SurfacePoint& p) const;
@@ -112,8 +133,10 @@ class IrradianceField {
 };
 
 // The field of the photons in `bins`: bandwidths ("bandwidth") and estimators ("estimators") timed on `clock`.
+// With --direct sampled (`direct`), the direct light sampled at the points joins it (seeded by `seed`).
 IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins,
-                                     const EstimatorSettings& settings, bool automaticBandwidth, StageClock& clock);
+                                     const EstimatorSettings& settings, bool automaticBandwidth, StageClock& clock,
+                                     const DirectSettings& direct = {}, uint64_t seed = 1);
 
 // H, R and Le at every vertex of `mesh`, in parallel; with `withNoise`, also each vertex's relative noise
 // (BakedMesh::irradianceNoise), from the same queries: H is the same bit for bit either way.

@@ -100,7 +100,7 @@ struct Lit {
 // Stages 2 and 3 from the photons in `lit`; each vertex's noise too with --target-noise.
 void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, StageClock& clock, const Log& log) {
   lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons); });
-  lit.field.emplace(BuildIrradianceField(scene, lit.bins, o.estimator, o.autoBandwidth, clock));
+  lit.field.emplace(BuildIrradianceField(scene, lit.bins, o.estimator, o.autoBandwidth, clock, o.direct, o.seed));
   lit.baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, o.targetNoise.has_value());
   });

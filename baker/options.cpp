@@ -33,6 +33,15 @@ void RequireReachableNoise(const EstimatorSettings& e, float target) {
 
 }  // namespace
 
+std::optional<DirectLight> ParseDirectLight(std::string_view name) {
+  if (name == "photons") return DirectLight::kPhotons;
+  if (name == "sampled") return DirectLight::kSampled;
+  return std::nullopt;
+}
+
+std::string DirectLightName(DirectLight mode) { return mode == DirectLight::kSampled ? "sampled" : "photons"; }
+std::string DirectLightNames() { return "photons, sampled"; }
+
 void BakeOptions::Validate() const {
   // Lengths far outside these lose the estimate to float precision (h^2 under- or overflows against the scene).
   Require(Within(estimator.bandwidth, kMinLength, 1e4), "--h", "must be a length in [1e-6, 1e4] m");
@@ -40,6 +49,7 @@ void BakeOptions::Validate() const {
   Require(photons >= 1 && photons <= (uint64_t(1) << 40), "--photons", "must lie in [1, 2^40]");
   Require(threads <= 1024, "--threads", "must lie in [0, 1024]");
   Require(Within(scale, kMinLength, 1e6), "--scale", "must lie in [1e-6, 1e6] metres per scene unit");
+  Require(direct.samples >= 1 && direct.samples <= 1'000'000, "--direct-samples", "must lie in [1, 1000000]");
   Require(maxBounces <= kDefaultMaxBounces, "--max-bounces", fmt::format("must lie in [0, {}]", kDefaultMaxBounces));
   Require(!exposure || FinitePositive(*exposure), "--exposure", "must be a finite number > 0");
   Require(Within(texel, kMinLength, 1e4), "--texel", "must be a length in [1e-6, 1e4] m");

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "estimators/density_estimator.h"
 
@@ -15,6 +16,20 @@ namespace pb {
 // The default bounce limit, --max-bounces: unlimited in practice, since Russian roulette ends a path long before
 // (a path survives 10,000 bounces of albedo 0.99 with probability 2e-44); it only stops a closed white box.
 inline constexpr uint32_t kDefaultMaxBounces = 10'000;
+
+// --direct: how the light that reaches a surface straight from a light (no scattering between) is computed.
+//   kSampled: at every point that is asked (vertex, refined vertex, texel) by shadow rays to the lights
+//             (estimators/light_sampler.h); photons are then stored only after their first scattering, so the
+//             kernel estimates only the rest (interreflection, and caustics by mirrors and glass).
+//   kPhotons: from the photons, like every other bounce (the paper's method).
+enum class DirectLight : uint8_t { kPhotons, kSampled };
+std::optional<DirectLight> ParseDirectLight(std::string_view name);  // "photons" or "sampled"
+std::string DirectLightName(DirectLight mode);
+std::string DirectLightNames();  // comma-separated, for --help and error messages
+struct DirectSettings {
+  DirectLight mode = DirectLight::kPhotons;
+  uint32_t samples = 64;  // --direct-samples: shadow rays per point; range [1, 1e6], typical 16-256
+};
 
 // --refine, --tolerance, --max-vertices, --subdivide (baker/4_refine_mesh.h).
 struct RefineSettings {
@@ -46,6 +61,7 @@ struct BakeOptions {
   // --max-bounces: scattering events a photon may undergo after its first hit; 0 = direct light only; range
   // [0, 10000]; the default, 10000, is unlimited in practice (Russian roulette ends paths; baker/1_trace_photons.h).
   uint32_t maxBounces = kDefaultMaxBounces;
+  DirectSettings direct;          // --direct, --direct-samples
   bool quiet = false;             // no progress or summary on stderr.
   // --no-cover: do not find the parts of surfaces that other geometry covers (estimators/surface_cover.h); they
   // are found on a lattice of spacing h / 2 (the default h's with --h auto).

@@ -210,6 +210,10 @@ void CheckOrigin(const std::string& path, const PhotonOrigin& file, const Photon
   if (file.seed != bake.seed) refuse(fmt::format("the photons were traced with --seed {}, not {}", file.seed, bake.seed));
   if (file.maxBounces != bake.maxBounces)
     refuse(fmt::format("the photons were traced with at most {} bounces, not {}", file.maxBounces, bake.maxBounces));
+  const uint32_t direct = 1u << uint32_t(Effect::kDirect);
+  if ((file.effects ^ bake.effects) == direct)
+    refuse(fmt::format("the photons were traced with --direct {}, not {}", file.effects & direct ? "photons" : "sampled",
+                       bake.effects & direct ? "photons" : "sampled"));
   if (file.effects != bake.effects)
     refuse(fmt::format("the photons were traced with other effects (--effects; bits {:05b}, this bake {:05b})",
                        file.effects, bake.effects));

@@ -30,7 +30,7 @@ struct PhotonOrigin {
   uint32_t sceneHash = 0;   // SceneHash of the loaded scene
   uint64_t seed = 0;
   uint32_t maxBounces = 0;
-  uint32_t effects = 0;     // SimulatedEffects of the plan
+  uint32_t effects = 0;     // SimulatedEffects of the plan, less direct light with --direct sampled
 };
 
 // CRC-32 of everything in the loaded scene that photons depend on: positions [m] (after --scale), triangles,

@@ -14,7 +14,9 @@ namespace pb {
 namespace {
 
 PhotonOrigin OriginOf(const BakeOptions& o, const PreparedScene& scene) {
-  return {SceneHash(scene.scene), o.seed, o.maxBounces, SimulatedEffects(scene.plan)};
+  uint32_t effects = SimulatedEffects(scene.plan);
+  if (o.direct.mode == DirectLight::kSampled) effects &= ~(1u << uint32_t(Effect::kDirect));  // not the photons'
+  return {SceneHash(scene.scene), o.seed, o.maxBounces, effects};
 }
 
 // Each vertex's share of the mesh's area: a third of each face it is a corner of [m^2].
@@ -56,7 +58,7 @@ PhotonStore OpenPhotonStore(const BakeOptions& o, const PreparedScene& scene, Pr
 
 void GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& o, const PreparedScene& scene,
                      ProgressiveReport& report, const Log& log) {
-  if (!ExtendPhotons(store, scene, {photons, o.seed, o.maxBounces}, log)) {
+  if (!ExtendPhotons(store, scene, {photons, o.seed, o.maxBounces, o.direct.mode == DirectLight::kPhotons}, log)) {
     report.interrupted = true;
     log.Warning(fmt::format("interrupted: tracing stopped after {} photons; the bake goes on with them and writes "
                             "valid outputs (Ctrl-C again to quit at once)", store.stats.emitted));

@@ -81,6 +81,14 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
           },
           "EFFECTS", "effects"))
       ->capture_default_str();
+  pb::tools::AddNamedOption(app, "--direct", o.direct.mode, pb::ParseDirectLight, pb::DirectLightName,
+                            pb::DirectLightNames(), "direct-light mode",
+                            "the light straight from the lights: 'sampled' computes it at every vertex and texel by "
+                            "shadow rays, and the photons carry only the rest; 'photons' takes it from the photons "
+                            "like every bounce (the paper's method; README, 'Direct light')");
+  app.add_option("--direct-samples", o.direct.samples,
+                 "shadow rays per point with --direct sampled; range 1-1e6, typical 16-256")
+      ->capture_default_str();
   app.add_option("--max-bounces", o.maxBounces,
                  "scattering events a photon may undergo after its first hit; 0 = direct light only; range 0-10000; "
                  "the default is unlimited in practice (Russian roulette ends paths)")

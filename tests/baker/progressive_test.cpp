@@ -130,6 +130,8 @@ TEST(PhotonFile, ResumeIsRefusedForAnotherSceneSeedEffectsOrBounceLimit) {
   EXPECT_TRUE(Contains(scale, "cannot resume: the photons were traced in a different scene")) << scale;
   const std::string effects = saved.ResumeMessage([](BakeOptions& o) { o.effectsText = "-interreflection"; });
   EXPECT_TRUE(Contains(effects, "cannot resume: the photons were traced with other effects")) << effects;
+  const std::string direct = saved.ResumeMessage([](BakeOptions& o) { o.direct.mode = DirectLight::kSampled; });
+  EXPECT_TRUE(Contains(direct, "cannot resume: the photons were traced with --direct photons, not sampled")) << direct;
   const std::string bounces = saved.ResumeMessage([](BakeOptions& o) { o.maxBounces = 3; });
   EXPECT_TRUE(Contains(bounces, "cannot resume: the photons were traced with at most 10000 bounces, not 3")) << bounces;
   // The same scene with its floor's albedo changed.

@@ -1,0 +1,121 @@
+#include "estimators/light_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "estimators/warps.h"
+#include "mesh/errors.h"
+
+namespace pb {
+namespace {
+
+constexpr double kUniformShare = 0.1;  // of the light choice spread evenly over the lights that can reach x
+
+// A random order of the cells 0..n-1 (Fisher-Yates).
+std::vector<uint32_t> Shuffled(uint32_t n, Rng& rng) {
+  std::vector<uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  for (uint32_t i = n; i > 1; --i) std::swap(order[i - 1], order[std::min(uint32_t(rng.Uniform() * float(i)), i - 1)]);
+  return order;
+}
+
+}  // namespace
+
+LightSampler::LightSampler(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays)
+    : scene_(scene), lights_(lights), rays_(rays) {
+  for (const AreaLight& light : lights) {
+    LightShape shape;
+    Vector3 weighted{0, 0, 0};
+    for (uint32_t t : light.triangles) {
+      const double area = 0.5 * Length(scene.AreaVector(t));
+      const Point3 c = scene.PointAt(t, 1.0f / 3, 1.0f / 3);
+      weighted = weighted + Vector3{c.x, c.y, c.z} * float(area / light.area);
+      for (float b1 : {0.0f, 1.0f})
+        for (float b2 : {0.0f, 1.0f})
+          if (b1 + b2 <= 1) shape.corners.push_back(scene.PointAt(t, b1, b2));
+    }
+    shape.centroid = {weighted.x, weighted.y, weighted.z};
+    shape.power = Luminance(light.radiance) * light.area;
+    shapes_.push_back(std::move(shape));
+  }
+}
+
+bool LightSampler::CanReach(const LightShape& shape, const AreaLight& light, Point3 p, Normal3 n) const {
+  const bool inFrontOfX = std::any_of(shape.corners.begin(), shape.corners.end(),
+                                      [&](Point3 c) { return Dot(c - p, n) > 0; });
+  if (!inFrontOfX) return false;
+  return std::any_of(light.triangles.begin(), light.triangles.end(), [&](uint32_t t) {
+    return Dot(p - scene_.PointAt(t, 0, 0), scene_.FrontNormal(t)) > 0;
+  });
+}
+
+std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
+  std::vector<double> guess(lights_.size(), 0.0);
+  size_t reachable = 0;
+  for (size_t i = 0; i < lights_.size(); ++i) {
+    if (!CanReach(shapes_[i], lights_[i], p, n)) continue;
+    ++reachable;
+    guess[i] = shapes_[i].power / std::max(double(LengthSquared(shapes_[i].centroid - p)), lights_[i].area);
+  }
+  if (reachable == 0) return {};
+  const double total = std::accumulate(guess.begin(), guess.end(), 0.0);
+  std::vector<double> cdf(lights_.size());
+  double sum = 0;
+  for (size_t i = 0; i < lights_.size(); ++i) {
+    const bool can = guess[i] > 0;
+    sum += can ? (1 - kUniformShare) * guess[i] / total + kUniformShare / double(reachable) : 0.0;
+    cdf[i] = sum;
+  }
+  for (double& c : cdf) c /= sum;
+  cdf.back() = 1;
+  return cdf;
+}
+
+// Ke V cos cos / d^2 times the light's area, for the point of `light` that u picks (uniform over its area).
+Rgb LightSampler::SampleOne(const AreaLight& light, Point3 p, Normal3 n, Point2 u) const {
+  const auto pick = SampleDiscreteCdf(light.triangleCdf, u.u);
+  PB_CHECK(pick.has_value(), "a light has at least one triangle");
+  const uint32_t triangle = light.triangles[pick->index];
+  const Barycentrics b = SampleUniformTriangle({pick->uRemapped, u.v});
+  const Vector3 toLight = scene_.PointAt(triangle, b.b1, b.b2) - p;
+  const float d2 = LengthSquared(toLight);
+  if (!(d2 > 0)) return {};
+  const float d = std::sqrt(d2);
+  const Vector3 w = toLight * (1.0f / d);
+  const float cosX = Dot(w, n), cosY = -Dot(w, scene_.FrontNormal(triangle));
+  if (cosX <= 0 || cosY <= 0) return {};
+  const Point3 origin = rays_.SpawnPoint(p, n);
+  const Vector3 span = scene_.PointAt(triangle, b.b1, b.b2) - origin;
+  const float length = Length(span);
+  if (rays_.Intersect(origin, span * (1.0f / length), length * (1 - 1e-4f))) return {};
+  return light.radiance * float(double(cosX) * cosY / d2 * light.area);
+}
+
+DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
+  const std::vector<double> cdf = SelectionCdf(p, n);
+  if (cdf.empty() || samples == 0) return {};
+  const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
+  const std::vector<uint32_t> cells = Shuffled(side * side, rng);
+  RgbSum sum;
+  double luminance = 0, squares = 0;
+  for (uint32_t j = 0; j < samples; ++j) {
+    const auto choice = SampleDiscreteCdf(cdf, std::min((float(j) + rng.Uniform()) / float(samples), 0x1.fffffep-1f));
+    const uint32_t cell = cells[j];
+    const Point2 jitter = rng.Uniform2();
+    const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
+    const Rgb f = SampleOne(lights_[choice->index], p, n, u) * float(1.0 / choice->pmf);
+    sum.Add(f);
+    const double y = Luminance(f);
+    luminance += y, squares += y * y;
+  }
+  const double mean = luminance / samples;
+  DirectSample result{sum.ToRgb() * float(1.0 / samples), 0.0};
+  if (mean > 0 && samples > 1) {
+    const double variance = std::max(squares / samples - mean * mean, 0.0) * samples / (samples - 1.0);
+    result.relativeNoise = std::sqrt(variance / samples) / mean;
+  }
+  return result;
+}
+
+}  // namespace pb

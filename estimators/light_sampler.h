@@ -1,0 +1,63 @@
+// Direct irradiance at a surface point [W/m^2], by sampling the lights with shadow rays: the light that reaches
+// the point straight from an emitter, with no scattering between (Shirley, Wang and Zimmerman 1996, "Monte Carlo
+// techniques for direct lighting calculations", ACM TOG 15(1)). For area lights of radiance Ke leaving their
+// front sides with a cosine distribution (mesh/lights.h),
+//   E_d(x) = sum_i integral_{A_i} Ke_i V(x, y) cos(theta_x) cos(theta_y) / |x - y|^2 dA(y),
+// with theta_x from x's normal and theta_y from the light's front normal; V is 1 when nothing blocks the segment.
+// Glass and mirrors block it too: light that reaches x through them is scattered light, which the photons carry.
+//
+// Each of S samples picks light i with probability p_i, a point y uniform over its area (pdf 1 / A_i), and weighs
+// Ke V cos cos / d^2 by A_i / p_i. p_i is 90% in proportion to an unoccluded guess of the light's share at x
+// (its power over the squared distance to its centroid, floored at its area), 10% uniform over the lights that
+// can reach x, so that no light is starved by a poor guess. The S samples are stratified over the light choice
+// (sample j's first number is (j + u) / S) and over the point on the light (a jittered grid on the unit square).
+// Lights wholly behind x's plane, or with x wholly behind theirs, get no samples. The result is unbiased; its
+// relative noise is the samples' standard error over their mean.
+//
+// Determinism: the point's random numbers come from a stream keyed by the caller (the surface point), so the same
+// point reads the same value on any thread.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "estimators/rng.h"
+#include "mesh/color.h"
+#include "mesh/geometry.h"
+#include "mesh/lights.h"
+#include "mesh/ray_scene.h"
+#include "mesh/scene.h"
+
+namespace pb {
+
+struct DirectSample {
+  Rgb irradiance;            // [W/m^2]
+  double relativeNoise = 0;  // standard error of the luminance over its mean; 0 when the mean is 0
+};
+
+class LightSampler {
+ public:
+  // All three must outlive the sampler.
+  LightSampler(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays);
+
+  // E_d at point p (local coordinates [m]) with unit normal n, from `samples` shadow rays drawn from `rng`.
+  DirectSample Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
+
+ private:
+  struct LightShape {
+    Point3 centroid;
+    double power = 0;  // luminance of Ke times the area [W/sr]
+    std::vector<Point3> corners;
+  };
+  // Light selection probabilities at p (summing to 1), as a CDF; empty when no light can reach p.
+  std::vector<double> SelectionCdf(Point3 p, Normal3 n) const;
+  bool CanReach(const LightShape& light, const AreaLight& area, Point3 p, Normal3 n) const;
+  Rgb SampleOne(const AreaLight& light, Point3 p, Normal3 n, Point2 u) const;
+
+  const Scene& scene_;
+  const std::vector<AreaLight>& lights_;
+  const RayScene& rays_;
+  std::vector<LightShape> shapes_;
+};
+
+}  // namespace pb
