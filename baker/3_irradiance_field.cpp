@@ -44,15 +44,44 @@ double PhotonIrradiance::UniformNoise(uint32_t s, uint64_t hits, double area) co
   return UniformRelativeNoise(own, double(hits) / area);
 }
 
-DirectIrradiance::DirectIrradiance(const PreparedScene& scene, uint32_t samples, uint64_t seed)
-    : sampler_(scene.scene, scene.lights, *scene.rays), samples_(samples), seed_(seed) {}
-
-IrradianceSample DirectIrradiance::WithNoise(const SurfacePoint& p) const {
+namespace {
+// The random numbers of point p: a stream keyed by the seed, p's surface and its chart position (-0 as +0).
+Rng PointStream(uint64_t seed, const SurfacePoint& p) {
   const auto bits = [](float f) { return uint64_t(std::bit_cast<uint32_t>(f == 0.0f ? 0.0f : f)); };
-  Rng rng(seed_, SplitMix64((uint64_t(p.surface) << 32) ^ bits(p.uv.u)) ^ bits(p.uv.v));
-  const DirectSample d = sampler_.Irradiance(p.position, p.normal, samples_, rng);
-  return {d.irradiance, d.relativeNoise};
+  return Rng(seed, SplitMix64((uint64_t(p.surface) << 32) ^ bits(p.uv.u)) ^ bits(p.uv.v));
 }
+
+// Where rays for point p start. A vertex where a wall meets the floor lies on the wall's plane too: half the rays
+// gathered there would leave through the wall, and shadow rays would graze it. The value at such a point is the
+// limit from inside its surface, so on a planar surface a point within kProbe of its region's boundary steps
+// kStep inward, along the region's kernel centroid about it (SurfaceRegion::Moments). [m]
+constexpr double kProbe = 2e-3, kStep = 2e-4;
+SurfacePoint RayStart(const PreparedScene& scene, const SurfacePoint& p) {
+  const Surface& surface = scene.surfaces.surfaces[p.surface];
+  if (!surface.planar) return p;
+  const KernelMomentsAt m = scene.regions[p.surface]->Moments(p.uv, Kernel::kUniform, kProbe);
+  const double length = std::hypot(m.first[0], m.first[1]);
+  if (!(length > 0)) return p;
+  const float du = float(kStep * m.first[0] / length), dv = float(kStep * m.first[1] / length);
+  SurfacePoint start = p;
+  start.position = p.position + surface.chart.frame.s * du + surface.chart.frame.t * dv;
+  start.uv = {p.uv.u + du, p.uv.v + dv};
+  return start;
+}
+}  // namespace
+
+IrradianceSample PointSampledIrradiance::WithNoise(const SurfacePoint& p) const {
+  Rng rng = PointStream(seed_, p);
+  const DirectSample e = Sample(RayStart(scene_, p).position, p.normal, count_, rng);
+  return {e.irradiance, e.relativeNoise};
+}
+
+DirectIrradiance::DirectIrradiance(const PreparedScene& scene, uint32_t samples, uint64_t seed)
+    : PointSampledIrradiance(scene, samples, seed), sampler_(scene.scene, scene.lights, *scene.rays) {}
+
+ReferenceIrradiance::ReferenceIrradiance(const PreparedScene& scene, uint32_t paths, uint64_t seed)
+    : PointSampledIrradiance(scene, paths, seed), lights_(scene.scene, scene.lights, *scene.rays),
+      gatherer_(scene.scene, *scene.rays, lights_) {}
 
 IrradianceField::IrradianceField(const PreparedScene& scene, std::unique_ptr<PhotonIrradiance> photons)
     : scene_(&scene), photons_(photons.get()) {
@@ -94,15 +123,18 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   return light;
 }
 
-IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins,
-                                     const EstimatorSettings& settings, bool automaticBandwidth, StageClock& clock,
-                                     const DirectSettings& direct, uint64_t seed) {
-  std::vector<float> bandwidths =
-      clock.Time("bandwidth", [&] { return SurfaceBandwidths(scene.regions, bins, settings, automaticBandwidth); });
+IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins, const FieldSettings& settings,
+                                     StageClock& clock) {
+  const EstimatorSettings& estimator = settings.estimator;
+  std::vector<float> bandwidths = clock.Time(
+      "bandwidth", [&] { return SurfaceBandwidths(scene.regions, bins, estimator, settings.automaticBandwidth); });
   IrradianceField field = clock.Time("estimators", [&] {
-    return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, settings, std::move(bandwidths)));
+    return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, estimator, std::move(bandwidths)));
   });
-  if (direct.mode == DirectLight::kSampled) field.Add(std::make_unique<DirectIrradiance>(scene, direct.samples, seed));
+  if (settings.referencePaths > 0)
+    field.Add(std::make_unique<ReferenceIrradiance>(scene, settings.referencePaths, settings.seed));
+  else if (settings.direct.mode == DirectLight::kSampled)
+    field.Add(std::make_unique<DirectIrradiance>(scene, settings.direct.samples, settings.seed));
   return field;
 }
 

@@ -12,7 +12,9 @@
 //   photons  the photons' density estimate on the point's own surface (kernel, histogram or k nearest;
 //            estimators/density_estimator.h), with its own bandwidth h [m] per surface;
 //   direct   with --direct sampled, the direct light computed at the point by shadow rays to the lights
-//            (estimators/light_sampler.h); the photons then carry only the light scattered at least once.
+//            (estimators/light_sampler.h); the photons then carry only the light scattered at least once;
+//   reference with --reference SPP, all of H by SPP paths gathered at the point (estimators/irradiance_gather.h),
+//            a path tracer's vertex bake; no photons are traced then.
 #pragma once
 
 #include <memory>
@@ -27,6 +29,7 @@
 #include "baker/progress.h"
 #include "baker/stage_clock.h"
 #include "estimators/density_estimator.h"
+#include "estimators/irradiance_gather.h"
 #include "estimators/light_sampler.h"
 #include "mesh/errors.h"
 #include "mesh/split_mesh.h"
@@ -84,20 +87,51 @@ class PhotonIrradiance final : public IrradianceContribution {
   std::vector<std::unique_ptr<DensityEstimator>> estimators_;
 };
 
-// The direct light at a point, sampled there (estimators/light_sampler.h) with `samples` shadow rays. The random
-// numbers of point p come from a stream keyed by the seed and p's surface and chart position, so the same point
-// reads the same value on any thread, in any order.
-class DirectIrradiance final : public IrradianceContribution {
+// A term of H computed at each point by Monte Carlo, with `count` samples. The random numbers of point p come from
+// a stream keyed by the seed and p's surface and chart position, so the same point reads the same value on any
+// thread, in any order. Rays start at RayStart(p): at a vertex on its surface's edge, just inside it.
+class PointSampledIrradiance : public IrradianceContribution {
+ public:
+  Rgb At(const SurfacePoint& p) const final { return WithNoise(p).irradiance; }
+  IrradianceSample WithNoise(const SurfacePoint& p) const final;
+
+ protected:
+  PointSampledIrradiance(const PreparedScene& scene, uint32_t count, uint64_t seed)
+      : scene_(scene), count_(count), seed_(seed) {}
+  // E at `position` on the side of `normal`, from `count` samples drawn from `rng`.
+  virtual DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const = 0;
+  const PreparedScene& scene_;
+
+ private:
+  uint32_t count_;
+  uint64_t seed_;
+};
+
+// The direct light at a point, sampled there with `samples` shadow rays (estimators/light_sampler.h).
+class DirectIrradiance final : public PointSampledIrradiance {
  public:
   DirectIrradiance(const PreparedScene& scene, uint32_t samples, uint64_t seed);
   std::string_view Name() const override { return "direct"; }
-  Rgb At(const SurfacePoint& p) const override { return WithNoise(p).irradiance; }
-  IrradianceSample WithNoise(const SurfacePoint& p) const override;
 
  private:
+  DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const override {
+    return sampler_.Irradiance(position, normal, count, rng);
+  }
   LightSampler sampler_;
-  uint32_t samples_;
-  uint64_t seed_;
+};
+
+// All of H at a point by `paths` paths gathered there (estimators/irradiance_gather.h).
+class ReferenceIrradiance final : public PointSampledIrradiance {
+ public:
+  ReferenceIrradiance(const PreparedScene& scene, uint32_t paths, uint64_t seed);
+  std::string_view Name() const override { return "reference"; }
+
+ private:
+  DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const override {
+    return gatherer_.Irradiance(position, normal, count, rng);
+  }
+  LightSampler lights_;
+  IrradianceGatherer gatherer_;
 };
 
 // The light at a point: H, R, Le and the relative noise of H (0 unless asked for).
@@ -132,11 +166,19 @@ class IrradianceField {
   std::vector<std::unique_ptr<IrradianceContribution>> contributions_;  // photons first
 };
 
-// The field of the photons in `bins`: bandwidths ("bandwidth") and estimators ("estimators") timed on `clock`.
-// With --direct sampled (`direct`), the direct light sampled at the points joins it (seeded by `seed`).
-IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins,
-                                     const EstimatorSettings& settings, bool automaticBandwidth, StageClock& clock,
-                                     const DirectSettings& direct = {}, uint64_t seed = 1);
+// What the field is made of: the photons' estimator, and the terms computed at the points.
+struct FieldSettings {
+  EstimatorSettings estimator;
+  bool automaticBandwidth = false;  // --h auto
+  DirectSettings direct;            // --direct sampled adds DirectIrradiance
+  uint32_t referencePaths = 0;      // --reference SPP: ReferenceIrradiance instead of direct light (0: none)
+  uint64_t seed = 1;                // of the point streams
+};
+
+// The field of the photons in `bins`: bandwidths ("bandwidth") and estimators ("estimators") timed on `clock`,
+// with the terms computed at the points that `settings` asks for.
+IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins, const FieldSettings& settings,
+                                     StageClock& clock);
 
 // H, R and Le at every vertex of `mesh`, in parallel; with `withNoise`, also each vertex's relative noise
 // (BakedMesh::irradianceNoise), from the same queries: H is the same bit for bit either way.

@@ -97,10 +97,14 @@ struct Lit {
   ProgressiveReport progress;
 };
 
+FieldSettings FieldSettingsOf(const BakeOptions& o) {
+  return {o.estimator, o.autoBandwidth, o.direct, o.referencePaths, o.seed};
+}
+
 // Stages 2 and 3 from the photons in `lit`; each vertex's noise too with --target-noise.
 void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, StageClock& clock, const Log& log) {
   lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons); });
-  lit.field.emplace(BuildIrradianceField(scene, lit.bins, o.estimator, o.autoBandwidth, clock, o.direct, o.seed));
+  lit.field.emplace(BuildIrradianceField(scene, lit.bins, FieldSettingsOf(o), clock));
   lit.baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, o.targetNoise.has_value());
   });
@@ -112,7 +116,8 @@ Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFil
   const InterruptScope interrupt;
   Lit lit;
   lit.photons = clock.Time("trace", [&] { return OpenPhotonStore(o, scene, lit.progress); });
-  for (uint64_t photons = std::max(o.photons, lit.progress.resumedPhotons);;) {
+  // --reference traces none: the field gathers all of H at the points.
+  for (uint64_t photons = o.referencePaths > 0 ? 0 : std::max(o.photons, lit.progress.resumedPhotons);;) {
     clock.Time("trace", [&] { GrowPhotonStore(lit.photons, photons, o, scene, lit.progress, log); });
     EstimateLight(lit, scene, o, clock, log);
     if (!o.targetNoise) break;
@@ -153,8 +158,10 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs) 
   if (o.refine.subdivide > 0) CheckSubdivisionMemory(scene.scene.triangles.size(), o.refine.subdivide);
   Lit lit = TraceAndEstimate(scene, o, outputs, clock, log);
   const IrradianceField& field = *lit.field;
-  journal.Warn(UnlitLightWarnings(scene, lit.photons), log);
-  journal.Warn(BandwidthWarnings(field, lit.bins, o.estimator.kind), log);
+  if (o.referencePaths == 0) {  // warnings about the photons
+    journal.Warn(UnlitLightWarnings(scene, lit.photons), log);
+    journal.Warn(BandwidthWarnings(field, lit.bins, o.estimator.kind), log);
+  }
   const float exposure = DisplayExposure(lit.baked, o.exposure);
 
   MapsWritten maps;

@@ -50,6 +50,9 @@ void BakeOptions::Validate() const {
   Require(threads <= 1024, "--threads", "must lie in [0, 1024]");
   Require(Within(scale, kMinLength, 1e6), "--scale", "must lie in [1e-6, 1e6] metres per scene unit");
   Require(direct.samples >= 1 && direct.samples <= 1'000'000, "--direct-samples", "must lie in [1, 1000000]");
+  Require(referencePaths <= 10'000'000, "--reference", "must lie in [0, 10000000] paths per point");
+  Require(referencePaths == 0 || (resumePath.empty() && savePhotonsPath.empty() && !targetNoise), "--reference",
+          "traces no photons, so it cannot be combined with --resume, --save-photons or --target-noise");
   Require(maxBounces <= kDefaultMaxBounces, "--max-bounces", fmt::format("must lie in [0, {}]", kDefaultMaxBounces));
   Require(!exposure || FinitePositive(*exposure), "--exposure", "must be a finite number > 0");
   Require(Within(texel, kMinLength, 1e4), "--texel", "must be a length in [1e-6, 1e4] m");

@@ -62,6 +62,9 @@ struct BakeOptions {
   // [0, 10000]; the default, 10000, is unlimited in practice (Russian roulette ends paths; baker/1_trace_photons.h).
   uint32_t maxBounces = kDefaultMaxBounces;
   DirectSettings direct;          // --direct, --direct-samples
+  // --reference: instead of tracing photons, gather this many paths at every point (a path tracer's vertex bake,
+  // unbiased: estimators/irradiance_gather.h); 0 = off; range [0, 1e7], typical 1024-16384.
+  uint32_t referencePaths = 0;
   bool quiet = false;             // no progress or summary on stderr.
   // --no-cover: do not find the parts of surfaces that other geometry covers (estimators/surface_cover.h); they
   // are found on a lattice of spacing h / 2 (the default h's with --h auto).

@@ -21,7 +21,7 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
           {"h_m", o.autoBandwidth ? nlohmann::json("auto") : nlohmann::json(o.estimator.bandwidth)},          {"photons", o.photons},   {"seed", o.seed},
           {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly},
           {"max_bounces", o.maxBounces}, {"direct", DirectLightName(o.direct.mode)},
-          {"direct_samples", o.direct.samples},
+          {"direct_samples", o.direct.samples}, {"reference_paths", o.referencePaths},
           {"effects", o.effectsText}, {"refine", o.refine.adaptive}, {"tolerance", o.refine.tolerance},
           {"max_vertices", o.refine.maxVertices}, {"subdivide", o.refine.subdivide}, {"resume", o.resumePath},
           {"save_photons", o.savePhotonsPath},

@@ -97,23 +97,24 @@ DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng
   if (cdf.empty() || samples == 0) return {};
   const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
   const std::vector<uint32_t> cells = Shuffled(side * side, rng);
-  RgbSum sum;
-  double luminance = 0, squares = 0;
+  SampleMean mean;
   for (uint32_t j = 0; j < samples; ++j) {
     const auto choice = SampleDiscreteCdf(cdf, std::min((float(j) + rng.Uniform()) / float(samples), 0x1.fffffep-1f));
     const uint32_t cell = cells[j];
     const Point2 jitter = rng.Uniform2();
     const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
-    const Rgb f = SampleOne(lights_[choice->index], p, n, u) * float(1.0 / choice->pmf);
-    sum.Add(f);
-    const double y = Luminance(f);
-    luminance += y, squares += y * y;
+    mean.Add(SampleOne(lights_[choice->index], p, n, u) * float(1.0 / choice->pmf));
   }
-  const double mean = luminance / samples;
-  DirectSample result{sum.ToRgb() * float(1.0 / samples), 0.0};
-  if (mean > 0 && samples > 1) {
-    const double variance = std::max(squares / samples - mean * mean, 0.0) * samples / (samples - 1.0);
-    result.relativeNoise = std::sqrt(variance / samples) / mean;
+  return mean.Result();
+}
+
+DirectSample SampleMean::Result() const {
+  if (n_ == 0) return {};
+  const double mean = luminance_ / n_;
+  DirectSample result{sum_.ToRgb() * float(1.0 / n_), 0.0};
+  if (mean > 0 && n_ > 1) {
+    const double variance = std::max(squares_ / n_ - mean * mean, 0.0) * n_ / (n_ - 1.0);
+    result.relativeNoise = std::sqrt(variance / n_) / mean;
   }
   return result;
 }

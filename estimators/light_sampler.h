@@ -35,6 +35,22 @@ struct DirectSample {
   double relativeNoise = 0;  // standard error of the luminance over its mean; 0 when the mean is 0
 };
 
+// The mean of independent samples of an irradiance, and the standard error of its luminance.
+class SampleMean {
+ public:
+  void Add(Rgb e) {
+    sum_.Add(e);
+    const double y = Luminance(e);
+    luminance_ += y, squares_ += y * y, ++n_;
+  }
+  DirectSample Result() const;
+
+ private:
+  RgbSum sum_;
+  double luminance_ = 0, squares_ = 0;
+  uint32_t n_ = 0;
+};
+
 class LightSampler {
  public:
   // All three must outlive the sampler.

@@ -19,7 +19,7 @@ namespace pb::test {
 inline IrradianceField FieldOf(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings,
                                bool automatic = false) {
   StageClock clock;
-  return BuildIrradianceField(scene, bins, settings, automatic, clock);
+  return BuildIrradianceField(scene, bins, {.estimator = settings, .automaticBandwidth = automatic}, clock);
 }
 
 struct StagedBake {

@@ -89,6 +89,9 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("--direct-samples", o.direct.samples,
                  "shadow rays per point with --direct sampled; range 1-1e6, typical 16-256")
       ->capture_default_str();
+  app.add_option("--reference", o.referencePaths,
+                 "trace no photons: gather this many paths at every vertex and texel instead, an unbiased path-traced "
+                 "vertex bake to measure against (README, 'A reference'); range 1-1e7, typical 1024-16384");
   app.add_option("--max-bounces", o.maxBounces,
                  "scattering events a photon may undergo after its first hit; 0 = direct light only; range 0-10000; "
                  "the default is unlimited in practice (Russian roulette ends paths)")

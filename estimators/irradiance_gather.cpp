@@ -1,0 +1,58 @@
+#include "estimators/irradiance_gather.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "estimators/scatter.h"
+#include "estimators/warps.h"
+
+namespace pb {
+
+IrradianceGatherer::IrradianceGatherer(const Scene& scene, const RayScene& rays, const LightSampler& lights,
+                                       uint32_t maxDepth)
+    : scene_(scene), rays_(rays), lights_(lights), maxDepth_(maxDepth) {}
+
+Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng) const {
+  Rgb radiance, throughput{1, 1, 1};
+  bool countEmission = false;  // only after a specular event: the light samples cover every other path to a light
+  for (uint32_t depth = 0; depth < maxDepth_; ++depth) {
+    const auto hit = rays_.Intersect(origin, d);
+    if (!hit) break;
+    const Normal3 front = scene_.FrontNormal(hit->triangle);
+    const bool onFront = Dot(d, front) < 0;
+    const Normal3 side = onFront ? front : -front;
+    const Material& material = scene_.MaterialOf(hit->triangle);
+    if (countEmission && onFront) radiance = radiance + throughput * material.emission;
+    const Point3 y = scene_.PointAt(hit->triangle, hit->b1, hit->b2);
+    const Rgb albedo = scene_.AlbedoAt(material, hit->triangle, hit->b1, hit->b2);
+    const float uEvent = rng.Uniform();
+    const Point2 uDirection = rng.Uniform2();
+    const ScatterSample s = SampleScatter(material, albedo, -d, front, TransportMode::kRadiance, uEvent, uDirection);
+    if (s.Absorbed()) break;
+    if (s.event == ScatterEvent::kDiffuse) {
+      // Kd / pi E_d(y), over the probability of this lobe: s.weight is Kd / P(diffuse) for cosine sampling.
+      const DirectSample direct = lights_.Irradiance(y, side, 1, rng);
+      radiance = radiance + throughput * s.weight * direct.irradiance * float(kInvPi);
+    }
+    countEmission = s.Specular();
+    throughput = throughput * s.weight;
+    origin = rays_.SpawnPoint(y, s.transmitted ? -side : side);
+    d = s.wi;
+  }
+  return radiance;
+}
+
+DirectSample IrradianceGatherer::Irradiance(Point3 p, Normal3 n, uint32_t paths, Rng& rng) const {
+  if (paths == 0) return {};
+  const Frame frame = Frame::FromNormal(n);
+  const Point3 origin = rays_.SpawnPoint(p, n);
+  SampleMean mean;
+  for (uint32_t k = 0; k < paths; ++k) {
+    const Rgb direct = lights_.Irradiance(p, n, 1, rng).irradiance;
+    const Vector3 w = frame.ToWorld(SampleCosineHemisphere(rng.Uniform2()).direction);
+    mean.Add(direct + ScatteredRadiance(origin, w, rng) * float(kPi));
+  }
+  return mean.Result();
+}
+
+}  // namespace pb
