@@ -28,7 +28,7 @@ std::string DirectLightName(DirectLight mode);
 std::string DirectLightNames();  // comma-separated, for --help and error messages
 struct DirectSettings {
   DirectLight mode = DirectLight::kPhotons;
-  uint32_t samples = 64;  // --direct-samples: shadow rays per point; range [1, 1e6], typical 16-256
+  uint32_t samples = 256;  // --direct-samples: shadow rays per point; range [1, 1e6], typical 64-1024
 };
 
 // --refine, --tolerance, --max-vertices, --subdivide (baker/4_refine_mesh.h).

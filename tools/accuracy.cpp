@@ -9,7 +9,10 @@
 // Writes DIR/accuracy.csv, DIR/accuracy.svg (error against seconds, log-log, with each estimator's best error per
 // second) and DIR/cheapest.md (the cheapest run reaching each error target).
 //
-// Usage: accuracy [--out DIR] [--quick] [--threads T]. --quick runs a handful of small configurations (a smoke
+// With --box, the bundled Cornell box instead, measured against a path-traced bake of --truth-paths per vertex
+// (bake --reference): photons only, --direct sampled, and the path tracer's own vertex bake, each a curve.
+//
+// Usage: accuracy [--out DIR] [--quick] [--box] [--threads T]. --quick runs a handful of small configurations (a smoke
 // test); the full sweep takes about 10 minutes on 2 cores.
 #include <fmt/format.h>
 #include <sys/resource.h>
@@ -42,8 +45,18 @@ struct Config {
   pb::EstimatorSettings estimator;
   bool autoBandwidth = false;
   uint64_t photons = 0;
+  pb::DirectSettings direct;    // --direct, --direct-samples
+  uint32_t referencePaths = 0;  // > 0: a path tracer's vertex bake (--reference) instead of photons
+  // The curve this run belongs to: the method on the box, the estimator on the closed form.
+  std::string Group(bool box) const {
+    if (referencePaths > 0) return "path tracer";
+    if (!box) return pb::EstimatorName(estimator.kind);
+    return direct.mode == pb::DirectLight::kSampled ? "sampled" : "photons";
+  }
   std::string Label() const {
-    std::string s = pb::EstimatorName(estimator.kind);
+    if (referencePaths > 0) return fmt::format("path tracer {} spp", referencePaths);
+    std::string s = direct.mode == pb::DirectLight::kSampled ? fmt::format("sampled x{} ", direct.samples) : "";
+    s += pb::EstimatorName(estimator.kind);
     if (estimator.kind == pb::EstimatorKind::kKernel) s += "/" + pb::KernelName(estimator.kernel);
     s += estimator.kind == pb::EstimatorKind::kNearest ? fmt::format(" k={}", estimator.neighbours)
          : autoBandwidth                               ? std::string(" h=auto")
@@ -75,22 +88,39 @@ double ExactIrradiance(double x, double z) {
                                             kRadiance);
 }
 
-// Floor vertices' H (luminance) from one bake, and the stage times.
+// The truth at each vertex that is measured: Lambert's formula on the closed form's floor (the light's vertices
+// are left out), or a long reference bake's H on the box, every vertex.
+struct Truth {
+  std::vector<double> reference;  // per vertex [W/m^2] (luminance); empty on the closed form
+  bool Measured(pb::Point3 p) const { return !reference.empty() || std::abs(p.y) <= 1e-6f; }
+  double At(size_t v, pb::Point3 p) const { return reference.empty() ? ExactIrradiance(p.x, p.z) : reference[v]; }
+  bool Edge(pb::Point3 p) const {
+    return reference.empty() && kFloorSide / 2 - std::max(std::abs(p.x), std::abs(p.z)) < kEdgeBand;
+  }
+};
+
+// Measured vertices' H (luminance) from one bake, and the stage times.
 struct Sample {
   std::vector<double> h, exact;
   std::vector<bool> edge;
   double seconds = 0, trace = 0, estimate = 0;
 };
 
-Sample BakeOnce(const std::string& scene, const Config& c, uint64_t seed, unsigned threads) {
+pb::BakeResult BakeMesh(const std::string& scene, const Config& c, uint64_t seed, unsigned threads) {
   pb::BakeOptions o;
   o.scenePath = scene;
+  o.direct = c.direct;
+  o.referencePaths = c.referencePaths;
   o.estimator = c.estimator;
   o.autoBandwidth = c.autoBandwidth;
   o.photons = c.photons;
   o.seed = seed;
   o.threads = threads;
-  const pb::BakeResult r = pb::BakeMesh(o, pb::Log(true));
+  return pb::BakeMesh(o, pb::Log(true));
+}
+
+Sample BakeOnce(const std::string& scene, const Truth& truth, const Config& c, uint64_t seed, unsigned threads) {
+  const pb::BakeResult r = BakeMesh(scene, c, seed, threads);
   Sample s;
   for (const auto& [stage, seconds] : r.report.stageSeconds) {
     s.seconds += seconds;
@@ -100,10 +130,10 @@ Sample BakeOnce(const std::string& scene, const Config& c, uint64_t seed, unsign
   const pb::SplitMesh& mesh = r.mesh.mesh;
   for (size_t v = 0; v < mesh.VertexCount(); ++v) {
     const pb::Point3 p = mesh.positions[v];
-    if (std::abs(p.y) > 1e-6f) continue;  // the light
+    if (!truth.Measured(p)) continue;
     s.h.push_back(pb::Luminance(r.mesh.irradiance[v]));
-    s.exact.push_back(ExactIrradiance(p.x, p.z));
-    s.edge.push_back(kFloorSide / 2 - std::max(std::abs(p.x), std::abs(p.z)) < kEdgeBand);
+    s.exact.push_back(truth.At(v, p));
+    s.edge.push_back(truth.Edge(p));
   }
   return s;
 }
@@ -136,13 +166,13 @@ ErrorSplit Errors(const Sample& a, const Sample& b) {
 }
 
 // Runs one configuration in a child process (two seeds), so that its peak memory is its own.
-Run Measure(const std::string& scene, const Config& c, unsigned threads) {
+Run Measure(const std::string& scene, const Truth& truth, const Config& c, unsigned threads) {
   int fds[2];
   if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
   const pid_t child = fork();
   if (child == 0) {
     close(fds[0]);
-    const Sample a = BakeOnce(scene, c, 1, threads), b = BakeOnce(scene, c, 2, threads);
+    const Sample a = BakeOnce(scene, truth, c, 1, threads), b = BakeOnce(scene, truth, c, 2, threads);
     const Measured m{a.seconds, a.trace, a.estimate, Errors(a, b)};
     _exit(write(fds[1], &m, sizeof m) == ssize_t(sizeof m) ? 0 : 1);
   }
@@ -183,24 +213,64 @@ std::vector<Config> Sweep(bool quick) {
   return configs;
 }
 
+// The box: photons only (the paper's method) and --direct sampled over photon counts, h and direct samples, and
+// the path tracer's vertex bake over samples per vertex.
+std::vector<Config> BoxSweep(bool quick) {
+  std::vector<Config> configs;
+  const auto add = [&](pb::DirectLight mode, uint32_t samples, float h, uint64_t n, uint32_t paths) {
+    Config c;
+    c.estimator.bandwidth = h;
+    c.photons = n;
+    c.direct = {mode, samples};
+    c.referencePaths = paths;
+    configs.push_back(c);
+  };
+  if (quick) {
+    add(pb::DirectLight::kSampled, 16, 0.05f, 100'000, 0);
+    add(pb::DirectLight::kPhotons, 64, 0.05f, 1, 64);
+    return configs;
+  }
+  for (uint64_t n : {1'000'000, 4'000'000, 16'000'000})
+    for (float h : {0.01f, 0.02f, 0.03f}) add(pb::DirectLight::kPhotons, 64, h, n, 0);
+  for (uint64_t n : {250'000, 1'000'000, 4'000'000})
+    for (float h : {0.05f, 0.08f, 0.12f})
+      for (uint32_t samples : {64u, 256u, 1024u}) add(pb::DirectLight::kSampled, samples, h, n, 0);
+  for (uint32_t paths : {64u, 256u, 1024u, 4096u}) add(pb::DirectLight::kPhotons, 64, 0.05f, 1, paths);
+  return configs;
+}
+
+// The box's truth: a path-traced bake with `paths` per vertex (seed 99, unlike every measured run).
+Truth BoxTruth(const std::string& scene, uint32_t paths, unsigned threads) {
+  Config c;
+  c.photons = 1;
+  c.referencePaths = paths;
+  const pb::BakeResult r = BakeMesh(scene, c, 99, threads);
+  Truth truth;
+  for (const pb::Rgb& h : r.mesh.irradiance) truth.reference.push_back(pb::Luminance(h));
+  return truth;
+}
+
 void WriteCsv(const std::string& path, const std::vector<Run>& runs) {
   pb::WriteFileAtomically(path, [&](std::ostream& out) {
     out << "estimator,kernel,h_m,auto_h,k,edge_correction,photons,seconds,trace_s,estimate_s,peak_mib,rmse_rel,"
-           "rmse_interior_rel,rmse_edge_rel,mean_bias_rel,max_error_rel,noise_rel,bias_rel\n";
+           "rmse_interior_rel,rmse_edge_rel,mean_bias_rel,max_error_rel,noise_rel,bias_rel,direct,direct_samples,"
+           "reference_paths\n";
     for (const Run& r : runs) {
       const pb::EstimatorSettings& e = r.config.estimator;
-      out << fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.1f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f}\n",
+      out << fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.1f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},"
+                         "{},{},{}\n",
                          pb::EstimatorName(e.kind), pb::KernelName(e.kernel), e.bandwidth, r.config.autoBandwidth,
                          e.neighbours, e.edgeCorrection, r.config.photons, r.seconds, r.traceSeconds,
                          r.estimateSeconds, r.peakMiB, r.error.rmse, r.error.rmseInterior, r.error.rmseEdge,
-                         r.error.bias, r.error.maxError, r.error.noise, r.error.systematic);
+                         r.error.bias, r.error.maxError, r.error.noise, r.error.systematic,
+                         pb::DirectLightName(r.config.direct.mode), r.config.direct.samples, r.config.referencePaths);
     }
   });
 }
 
 // Log-log SVG of relative RMSE against seconds: every run as a dot, and each estimator's lower envelope (the
 // best error reachable in a given time) as a line.
-void WriteSvg(const std::string& path, const std::vector<Run>& runs) {
+void WriteSvg(const std::string& path, const std::vector<Run>& runs, bool box) {
   constexpr double kW = 720, kH = 480, kLeft = 70, kBottom = 50, kTop = 20, kRight = 160;
   double t0 = 1e9, t1 = 0, e0 = 1e9, e1 = 0;
   for (const Run& r : runs) {
@@ -211,9 +281,10 @@ void WriteSvg(const std::string& path, const std::vector<Run>& runs) {
   const double le0 = std::floor(std::log10(e0)), le1 = std::ceil(std::log10(e1));
   const auto X = [&](double t) { return kLeft + (std::log10(t) - lt0) / (lt1 - lt0) * (kW - kLeft - kRight); };
   const auto Y = [&](double e) { return kH - kBottom - (std::log10(e) - le0) / (le1 - le0) * (kH - kBottom - kTop); };
-  const std::map<pb::EstimatorKind, std::string> colour = {
-      {pb::EstimatorKind::kKernel, "#1f77b4"}, {pb::EstimatorKind::kHistogram, "#d62728"},
-      {pb::EstimatorKind::kNearest, "#2ca02c"}};
+  std::vector<std::string> groups;  // in order of first appearance
+  for (const Run& r : runs)
+    if (std::find(groups.begin(), groups.end(), r.config.Group(box)) == groups.end()) groups.push_back(r.config.Group(box));
+  const std::vector<std::string> colours = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"};
   std::string svg = fmt::format("<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' font-family='sans-serif' "
                                 "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n", kW, kH);
   for (double l = lt0; l <= lt1; ++l)
@@ -229,11 +300,11 @@ void WriteSvg(const std::string& path, const std::vector<Run>& runs) {
   svg += fmt::format("<text x='14' y='{}' transform='rotate(-90 14 {})' text-anchor='middle'>relative RMSE of H</text>\n",
                      kH / 2, kH / 2);
   int legend = 0;
-  for (const auto& [kind, c] : colour) {
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const std::string& c = colours[g % colours.size()];
     std::vector<const Run*> mine;
     for (const Run& r : runs)
-      if (r.config.estimator.kind == kind) mine.push_back(&r);
-    if (mine.empty()) continue;
+      if (r.config.Group(box) == groups[g]) mine.push_back(&r);
     std::sort(mine.begin(), mine.end(), [](const Run* a, const Run* b) { return a->seconds < b->seconds; });
     std::string envelope;
     double best = 1e300;
@@ -248,7 +319,7 @@ void WriteSvg(const std::string& path, const std::vector<Run>& runs) {
     svg += fmt::format("<polyline points='{}' fill='none' stroke='{}' stroke-width='2'/>\n", envelope, c);
     svg += fmt::format("<rect x='{}' y='{}' width='12' height='12' fill='{}'/><text x='{}' y='{}'>{}</text>\n",
                        kW - kRight + 12, kTop + 20 * legend, c, kW - kRight + 30, kTop + 20 * legend + 11,
-                       pb::EstimatorName(kind));
+                       groups[g]);
     ++legend;
   }
   svg += "</svg>\n";
@@ -258,12 +329,14 @@ void WriteSvg(const std::string& path, const std::vector<Run>& runs) {
 // The cheapest run reaching each error target.
 void WriteCheapest(const std::string& path, const std::vector<Run>& runs) {
   std::string md = "| target RMSE | cheapest run | photons | seconds | RMSE | peak MiB |\n|---|---|---|---|---|---|\n";
-  for (double target : {0.10, 0.05, 0.02, 0.01}) {
+  for (double target : {0.10, 0.05, 0.03, 0.02, 0.01}) {
     const Run* cheapest = nullptr;
     for (const Run& r : runs)
       if (r.error.rmse <= target && (!cheapest || r.seconds < cheapest->seconds)) cheapest = &r;
     md += cheapest ? fmt::format("| {:.0f}% | {} | {} | {:.3f} | {:.2f}% | {:.0f} |\n", 100 * target,
-                                 cheapest->config.Label(), cheapest->config.photons, cheapest->seconds,
+                                 cheapest->config.Label(),
+                                 cheapest->config.referencePaths > 0 ? std::string("-") : std::to_string(cheapest->config.photons),
+                                 cheapest->seconds,
                                  100 * cheapest->error.rmse, cheapest->peakMiB)
                    : fmt::format("| {:.0f}% | none in the sweep | | | | |\n", 100 * target);
   }
@@ -273,28 +346,33 @@ void WriteCheapest(const std::string& path, const std::vector<Run>& runs) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"accuracy: error of H against time, on a closed-form scene (photonbake)"};
+  CLI::App app{"accuracy: error of H against time, on a closed-form scene or the Cornell box (photonbake)"};
   std::string out = "out/accuracy";
-  bool quick = false;
+  bool quick = false, box = false;
   unsigned threads = 0;
+  uint32_t truthPaths = 16384;
   app.add_option("--out", out, "folder for accuracy.csv, accuracy.svg and cheapest.md")->capture_default_str();
   app.add_flag("--quick", quick, "a handful of small runs, as a smoke test");
   app.add_option("--threads", threads, "worker threads per bake; 0 = all cores")->capture_default_str();
+  app.add_flag("--box", box, "the bundled Cornell box against a long path-traced bake, instead of the closed form");
+  app.add_option("--truth-paths", truthPaths, "--box: paths per vertex of the truth")->capture_default_str();
   return pb::tools::RunTool(app, argc, argv, [] {}, [&] {
     std::filesystem::create_directories(out);
-    const std::string scene = pb::test::WriteSquareLightOverFloor(out, kLightSide, kRadiance, kHeight, kFloorSide,
-                                                                  kFloorCells);
+    const std::string scene = box ? std::string(PB_SOURCE_DIR "/data/box/box.obj")
+                                  : pb::test::WriteSquareLightOverFloor(out, kLightSide, kRadiance, kHeight, kFloorSide,
+                                                                        kFloorCells);
+    const Truth truth = box ? BoxTruth(scene, quick ? 256 : truthPaths, threads) : Truth{};
     std::vector<Run> runs;
-    const std::vector<Config> configs = Sweep(quick);
+    const std::vector<Config> configs = box ? BoxSweep(quick) : Sweep(quick);
     for (size_t i = 0; i < configs.size(); ++i) {
-      runs.push_back(Measure(scene, configs[i], threads));
+      runs.push_back(Measure(scene, truth, configs[i], threads));
       const Run& r = runs.back();
       fmt::print(stderr, "[{}/{}] {:<32} {:>9} photons  {:7.3f} s  RMSE {:6.2f}% (noise {:.2f}%, bias {:.2f}%)  {:.0f} MiB\n",
-                 i + 1, configs.size(), r.config.Label(), r.config.photons, r.seconds, 100 * r.error.rmse,
+                 i + 1, configs.size(), r.config.Label(), r.config.referencePaths > 0 ? 0 : r.config.photons, r.seconds, 100 * r.error.rmse,
                  100 * r.error.noise, 100 * r.error.systematic, r.peakMiB);
     }
     WriteCsv(out + "/accuracy.csv", runs);
-    WriteSvg(out + "/accuracy.svg", runs);
+    WriteSvg(out + "/accuracy.svg", runs, box);
     WriteCheapest(out + "/cheapest.md", runs);
     fmt::print(stderr, "wrote {0}/accuracy.csv, {0}/accuracy.svg and {0}/cheapest.md\n", out);
   });

@@ -36,5 +36,19 @@ TEST(AccuracyCli, QuickSweepWritesCsvPlotAndTable) {
   EXPECT_NE(test::ReadBytes(dir + "/cheapest.md").find("| 10% |"), std::string::npos);
 }
 
+// --box --quick: the box against a short path-traced truth; one --direct sampled run and one path-traced run, each
+// its own curve in the plot.
+TEST(AccuracyCli, QuickBoxSweepMeasuresSampledAndPathTracedRuns) {
+  const std::string dir = test::TempDirectory("accuracy-box");
+  const test::ToolRun run = test::RunTool(PB_ACCURACY_EXE, "--box --quick --out " + dir);
+  ASSERT_EQ(run.status, 0) << run.output;
+  const std::string csv = test::ReadBytes(dir + "/accuracy.csv");
+  EXPECT_NE(csv.find(",sampled,16,0\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",photons,64,64\n"), std::string::npos) << csv;
+  const std::string svg = test::ReadBytes(dir + "/accuracy.svg");
+  EXPECT_NE(svg.find(">sampled<"), std::string::npos);
+  EXPECT_NE(svg.find(">path tracer<"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace pb
