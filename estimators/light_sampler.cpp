@@ -78,7 +78,8 @@ Rgb LightSampler::SampleOne(const AreaLight& light, Point3 p, Normal3 n, Point2 
   PB_CHECK(pick.has_value(), "a light has at least one triangle");
   const uint32_t triangle = light.triangles[pick->index];
   const Barycentrics b = SampleUniformTriangle({pick->uRemapped, u.v});
-  const Vector3 toLight = scene_.PointAt(triangle, b.b1, b.b2) - p;
+  const Point3 y = scene_.PointAt(triangle, b.b1, b.b2);
+  const Vector3 toLight = y - p;
   const float d2 = LengthSquared(toLight);
   if (!(d2 > 0)) return {};
   const float d = std::sqrt(d2);
@@ -86,7 +87,7 @@ Rgb LightSampler::SampleOne(const AreaLight& light, Point3 p, Normal3 n, Point2 
   const float cosX = Dot(w, n), cosY = -Dot(w, scene_.FrontNormal(triangle));
   if (cosX <= 0 || cosY <= 0) return {};
   const Point3 origin = rays_.SpawnPoint(p, n);
-  const Vector3 span = scene_.PointAt(triangle, b.b1, b.b2) - origin;
+  const Vector3 span = y - origin;
   const float length = Length(span);
   if (rays_.Intersect(origin, span * (1.0f / length), length * (1 - 1e-4f))) return {};
   return light.radiance * float(double(cosX) * cosY / d2 * light.area);
