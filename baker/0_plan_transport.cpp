@@ -71,6 +71,12 @@ void ApplyOverrides(TransportPlan& plan, const EffectOverrides& overrides) {
   }
 }
 
+// Blender renders emissive faces from both sides, so a lamp modelled facing away looks right there and is dark here.
+constexpr const char* kFlipHint =
+    ". A light emits from its front side only, the side its corners wind counter-clockwise about; Blender shows "
+    "emissive faces from both sides. Flip the light's normals (Blender: Edit Mode, Mesh > Normals > Flip) and export "
+    "again";
+
 void PlanLights(TransportPlan& plan, const Scene& scene, const SurfaceSet& surfaces,
                 const std::vector<AreaLight>& lights) {
   const float tolerance = 1e-5f * scene.LargestCoordinate();
@@ -79,10 +85,12 @@ void PlanLights(TransportPlan& plan, const Scene& scene, const SurfaceSet& surfa
     const bool reaches = ReachesAnyReceiver(scene, surfaces, light, tolerance);
     reaching += reaches;
     plan.lightReaches.push_back(reaches);
-    plan.lightNotes.push_back(reaches ? "" : "no photons: every other surface lies behind its emitting side");
+    plan.lightNotes.push_back(reaches ? "" : "no photons: every other surface lies behind its emitting side" +
+                                                 std::string(kFlipHint));
   }
   if (reaching == 0)
-    throw InputError(scene.path, 0, "no light reaches any surface: every light faces away from the rest of the scene");
+    throw InputError(scene.path, 0, "no light reaches any surface: every light faces away from the rest of the scene" +
+                                        std::string(kFlipHint));
   plan.effects[size_t(Effect::kDirect)] = {true, false, fmt::format("{} of {} lights reach a surface", reaching, lights.size())};
 }
 

@@ -41,6 +41,17 @@ void RequireLight(const Scene& scene, const std::vector<AreaLight>& lights) {
   }
 }
 
+// A scene refused after it loaded ("no light") is often explained by what the loader defaulted (a material
+// library not found, a material no library defines): the error carries the loader's first warnings.
+InputError WithLoaderWarnings(const InputError& e, const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return e;
+  constexpr size_t kShown = 5;
+  std::string message = e.message() + "; the loader warned:";
+  for (size_t i = 0; i < warnings.size() && i < kShown; ++i) message += "\n  " + warnings[i];
+  if (warnings.size() > kShown) message += fmt::format("\n  ... and {} more", warnings.size() - kShown);
+  return InputError(e.file(), e.line(), message);
+}
+
 }  // namespace
 
 SurfaceRegions BuildRegions(const SurfaceSet& surfaces, const std::vector<SurfaceCover>& covers) {
@@ -74,9 +85,13 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
 
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock) {
   LoadedScene loaded = clock.Time("load", [&] { return LoadObj(settings.path, {settings.scale}); });
-  PreparedScene p = PrepareScene(std::move(loaded.scene), settings.effects, clock, settings.cover);
-  p.warnings.insert(p.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
-  return p;
+  try {
+    PreparedScene p = PrepareScene(std::move(loaded.scene), settings.effects, clock, settings.cover);
+    p.warnings.insert(p.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
+    return p;
+  } catch (const InputError& e) {
+    throw WithLoaderWarnings(e, loaded.warnings);
+  }
 }
 
 }  // namespace pb

@@ -257,6 +257,11 @@ uint32_t SceneHash(const Scene& scene) {
                             m.specular.r, m.specular.g, m.specular.b, m.transmittance.r, m.transmittance.g,
                             m.transmittance.b, m.ior, float(m.albedoTexture)};
     crc = Crc(crc, values, sizeof values);
+    if (m.HasTextureTransform()) {  // only then, so that scenes without one keep the hash they had before it
+      const float transform[] = {m.textureScale.u, m.textureScale.v, m.textureOffset.u, m.textureOffset.v,
+                                 float(m.textureClamp)};
+      crc = Crc(crc, transform, sizeof transform);
+    }
   }
   HashVector(crc, scene.texcoords);
   for (const Texture& t : scene.textures) HashVector(crc, t.texels);

@@ -1,27 +1,30 @@
-// Loads a triangle Scene from Wavefront OBJ + MTL. Positions are multiplied by `scale` to give metres.
+// Loads a triangle Scene from Wavefront OBJ + MTL (mesh/mtl_loader.h), as the tools that users have write them.
+// Positions are multiplied by `scale` to give metres.
 //
-// Supported: v, vn, vt, f (any polygon, fan-triangulated; v, v/t, v//n, v/t/n; negative indices), o, g, s,
-// mtllib, usemtl; in MTL: newmtl, Kd, Ke, Ka, Ks, Ns, Ni, d, Tr, Tf, illum, map_Kd (a PNG albedo), and the other
-// map_* statements (warned, ignored).
+// Read: v (x y z, with an optional w or r g b), vt, vn (checked, not used: surfaces are shaded from their charts),
+// f (any polygon: v, v/t, v//n, v/t/n; negative indices count back from the end), o, g, s, mtllib (one or more
+// files; "\ " escapes a space), usemtl. The text itself: mesh/text_lines.h (BOM, UTF-16, any line end, '\'
+// continuation).
 //
-// Reflectance above 0.99 in any channel (Kd, or Kd + Ks for a mirror) is scaled down to 0.99 with a warning: a
-// surface that absorbs nothing would never end a path in a closed scene.
+// Polygons are triangulated in their own plane (mesh/polygon.h): convex ones as a fan, concave ones by ear
+// clipping, so an L-shaped floor keeps its area and faces its side.
 //
-// The material class (mesh/scene.h) comes from illum:
-//   0-2 (and 10, with a warning): diffuse Kd. A Phong highlight Ks under illum 2 is not used.
-//   3, 5, 8: mirror: Kd plus an ideal mirror of reflectance Ks (default 1).
-//   4, 6, 7, 9: glass: index Ni (default 1.5), transmittance Tf, or else 1 - d (Tr = 1 - d; default clear).
-// Lines and points (l, p) are ignored with a warning. Anything else is an InputError.
+// Ignored, with one warning per kind (counted, with its first file:line): lines and points (l, p), free-form
+// curves and surfaces (cstype ... end), display and render hints (mg, lod, bevel, maplib, usemap, ...), faces of
+// fewer than three corners, and unknown statements. Defaulted, with a warning: faces before any usemtl, or whose
+// usemtl names a material no library defines, get the default material, diffuse grey Kd 0.8 (kDefaultAlbedo);
+// so do all faces when an mtllib file cannot be found.
+//
+// Errors (InputError, "file:line: error: ..."), for what would make the geometry wrong: a missing OBJ file, a
+// malformed or non-finite number in v, vt or vn, a malformed face index or one out of range (positions, texture
+// coordinates and normals alike), a textured face without texture coordinates, and a scene with no face to bake
+// (the message names what it had instead: lines, points, faces of one or two corners). Zero-area triangles are
+// skipped and counted in Scene::degenerateTrianglesSkipped. A triangle that repeats an earlier one (the same corner
+// positions, facing the same side) is skipped and counted in Scene::duplicateTrianglesSkipped: coincident copies
+// would split the photons and the area between them. A back-to-back copy (a two-sided panel) is kept.
 //
 // Why not tinyobjloader: it reads "v 1 2 abc" as (1, 2, 0), accepts NaN coordinates and reports no line for
-// most faults. A baker must refuse such input and name file:line, so this strict parser reads the subset above.
-//
-// Errors (InputError, "file:line: error: ..."): a missing OBJ or MTL file, a malformed number or index, a
-// non-finite coordinate, an index out of range, an unknown material, a face before any usemtl, Kd outside
-// [0, 1], a negative Ke. Zero-area triangles are skipped and counted in Scene::degenerateTrianglesSkipped. A triangle that repeats
-// an earlier one (the same corner positions, facing the same side) is skipped and counted in
-// Scene::duplicateTrianglesSkipped: coincident copies would split the photons and the area between them. A
-// back-to-back copy (a two-sided panel) is kept.
+// most faults. A baker must refuse such input and name file:line, so this parser is our own.
 #pragma once
 
 #include <string>
@@ -37,7 +40,7 @@ struct LoadOptions {
 
 struct LoadedScene {
   Scene scene;
-  std::vector<std::string> warnings;  // "file:line: warning: ..." lines, in file order.
+  std::vector<std::string> warnings;  // "file:line: warning: ..." lines, one per kind, in order of first appearance.
 };
 
 LoadedScene LoadObj(const std::string& path, const LoadOptions& options = {});

@@ -34,6 +34,13 @@ struct Material {
   Rgb transmittance;   // Tf: fraction of refracted flux that passes; glass class only, else 0.
   float ior = 1.0f;    // Ni: refractive index inside the glass, relative to the outside (air = 1).
   int albedoTexture = -1;  // map_Kd: index into Scene::textures, or -1. The albedo is then Kd x texture.
+  // map_Kd's -s and -o: the texture is read at (s, t) * textureScale + textureOffset; -clamp on: clamped to
+  // [0, 1] instead of repeating.
+  Point2 textureScale{1, 1}, textureOffset{0, 0};
+  bool textureClamp = false;
+  bool HasTextureTransform() const {
+    return textureScale.u != 1 || textureScale.v != 1 || textureOffset.u != 0 || textureOffset.v != 0 || textureClamp;
+  }
   bool IsEmissive() const { return !emission.IsBlack(); }
   bool IsSpecular() const { return kind != MaterialClass::kDiffuse; }
 };
@@ -100,7 +107,9 @@ struct Scene {
   }
   // Diffuse reflectance of `m` at texture coordinates st (Kd when it has no texture).
   Rgb AlbedoAtTexcoord(const Material& m, Point2 st) const {
-    return m.albedoTexture < 0 ? m.albedo : m.albedo * textures[size_t(m.albedoTexture)].Sample(st);
+    if (m.albedoTexture < 0) return m.albedo;
+    const Point2 at{st.u * m.textureScale.u + m.textureOffset.u, st.v * m.textureScale.v + m.textureOffset.v};
+    return m.albedo * textures[size_t(m.albedoTexture)].Sample(at, m.textureClamp);
   }
   bool Recentred() const { return origin[0] != 0 || origin[1] != 0 || origin[2] != 0; }
   Point3 ToLocal(double x, double y, double z) const {

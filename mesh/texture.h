@@ -1,7 +1,7 @@
-// An RGB reflectance texture (MTL map_Kd), dimensionless in [0, 1] per channel. Read from PNG (grey or RGB, any
-// alpha ignored; 16-bit images are reduced to 8 bits) through libpng's simplified API as sRGB-encoded bytes, then
-// decoded with the exact sRGB curve (IEC 61966-2-1; libpng's own linear output uses a 2.2 power instead):
-// texels are linear reflectance. Sampled bilinearly with repeat wrapping at texture coordinates (s, t), where
+// An RGB reflectance texture (MTL map_Kd), dimensionless in [0, 1] per channel. Read from PNG through libpng's
+// simplified API, or from JPEG, TGA or BMP through stb_image (grey or RGB, any alpha ignored; 16-bit images are
+// reduced to 8 bits), as sRGB-encoded bytes, then decoded with the exact sRGB curve (IEC 61966-2-1; libpng's own
+// linear output uses a 2.2 power instead): texels are linear reflectance. Sampled bilinearly with repeat wrapping at texture coordinates (s, t), where
 // t = 0 is the bottom row of the image and t = 1 the top (the OBJ 'vt' convention).
 #pragma once
 
@@ -21,13 +21,19 @@ struct Texture {
   Rgb maximum;              // largest value per channel
 
   Rgb Texel(int x, int y) const;  // wraps x and y
-  Rgb Sample(Point2 st) const;
+  // Bilinear at texture coordinates st, repeating (or with `clamp`, st clamped to [0, 1]).
+  Rgb Sample(Point2 st, bool clamp = false) const;
 };
 
-// InputError naming the file on a missing, unreadable or malformed PNG.
-// The most pixels a texture may have: 8192 x 8192, about 1 GB once decoded to linear RGB.
+// The most pixels a texture may have: 8192 x 8192, about 1 GB once decoded to linear RGB. Checked from the
+// file's header, before its pixels are allocated.
 inline constexpr uint64_t kMaxTexturePixels = uint64_t(8192) * 8192;
 
+// A texture from a PNG (libpng), or a JPEG, TGA or BMP (stb_image; it also reads GIF, PSD, PNM and HDR, HDR
+// being tone-mapped to 8 bits), told apart by the file's first bytes, not its name. InputError naming the file
+// when it is missing, unreadable, malformed or too large.
+Texture LoadTexture(const std::string& path);
+// The same for a file that must be a PNG.
 Texture LoadPngTexture(const std::string& path);
 
 }  // namespace pb

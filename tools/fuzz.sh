@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes every file reader with libFuzzer (clang, from Debian), AddressSanitizer and UndefinedBehaviorSanitizer,
 # each for a bounded time, one after another:
-#   obj_loader   OBJ/MTL scenes (mesh/obj_loader.h), with the PNG textures they name
-#   png          PNG textures (mesh/texture.h)
+#   obj_loader   OBJ/MTL scenes (mesh/obj_loader.h, mesh/mtl_loader.h), with the textures they name
+#   texture      PNG, JPEG, TGA and BMP textures (mesh/texture.h)
 #   camera       camera JSON files (mesh/camera.h)
 #   photon_file  photon files for --resume (baker/photon_file.h), their CRC recomputed so mutations get past it
 # Usage: tools/fuzz.sh [SECONDS per target, default 60] [TARGET ...; default all]. Installs clang if it is
@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(obj_loader png camera photon_file)
+[ ${#targets[@]} -gt 0 ] || targets=(obj_loader texture camera photon_file)
 if ! command -v clang++ >/dev/null; then
   sudo=""
   [ "$(id -u)" -eq 0 ] || sudo="sudo"

@@ -11,9 +11,9 @@ packages=(
   libembree-dev libtbb-dev libopenmesh-dev libcgal-dev libosd-dev
   libopenexr-dev libimath-dev
   # useful
-  libnanoflann-dev libeigen3-dev libtinyobjloader-dev libcli11-dev
-  nlohmann-json3-dev libfmt-dev libspdlog-dev libgtest-dev libbenchmark-dev
-  libpng-dev zlib1g-dev
+  libnanoflann-dev libeigen3-dev libcli11-dev
+  nlohmann-json3-dev libfmt-dev libgtest-dev libbenchmark-dev
+  libpng-dev zlib1g-dev libstb-dev
 )
 
 missing=()

@@ -124,7 +124,7 @@ TEST(BakeCli, BadInputFailsWithFileLineAndLeavesNoOutput) {
   const std::vector<Case> cases = {
       {"missing", "", "missing.obj: error: cannot open scene file"},
       {"malformed", "mtllib m.mtl\nv 1 2 oops\n", "malformed.obj:2: error: malformed number 'oops'"},
-      {"material", "mtllib m.mtl\n" + quad + "usemtl gold\nf 1 2 3\n", "material.obj:6: error: unknown material"},
+      {"index", "mtllib m.mtl\n" + quad + "usemtl grey\nf 1 2 9\n", "index.obj:7: error: vertex index 9 is out of range"},
       {"nan", "mtllib m.mtl\nv 0 0 nan\n", "nan.obj:2: error: non-finite number"},
       {"nolight", "mtllib m.mtl\n" + quad + "usemtl grey\nf 1 4 3 2\n", "nolight.obj: error: scene has no light"},
   };
