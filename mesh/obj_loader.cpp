@@ -201,15 +201,36 @@ class ObjParser {
     }
     if (!textured) CheckUnusedIndices(line, 1, scene.texcoords.size());
     CheckUnusedIndices(line, 2, normalCount_);
-    if (textured && std::count(texcoords.begin(), texcoords.end(), kNoTexcoord) > 0)
-      line.Fail("material '" + scene.materials[size_t(currentMaterial_)].name +
-                "' has a map_Kd texture, so every corner needs a texture coordinate (v/t)");
+    uint32_t material = uint32_t(currentMaterial_);
+    if (textured && std::count(texcoords.begin(), texcoords.end(), kNoTexcoord) > 0) {
+      material = UntexturedVariant(line, material);
+      std::fill(texcoords.begin(), texcoords.end(), kNoTexcoord);
+    }
     for (const auto& [a, b, c] : Triangulate(line, corners))
       AddTriangle(line, Triangle{{corners[a], corners[b], corners[c]},
                                  {texcoords[a], texcoords[b], texcoords[c]},
-                                 uint32_t(currentMaterial_),
+                                 material,
                                  currentObject_,
                                  uint32_t(line.number)});
+  }
+
+  // A face of a textured material without texture coordinates (Blender's exporter keeps the last usemtl for the
+  // next object, which may have no UV map): it gets the material with its texture averaged, Kd x the image's mean.
+  uint32_t UntexturedVariant(const TextLine& line, uint32_t textured) {
+    Scene& scene = result_.scene;
+    const auto [it, isNew] = untextured_.emplace(textured, uint32_t(scene.materials.size()));
+    if (isNew) {
+      Material m = scene.materials[textured];
+      m.albedo = m.albedo * scene.textures[size_t(m.albedoTexture)].Mean();
+      m.albedoTexture = -1;
+      m.textureScale = {1, 1}, m.textureOffset = {0, 0}, m.textureClamp = false;
+      m.name += " (untextured)";
+      scene.materials.push_back(m);
+    }
+    warnings_.Add("no texcoords", line.Warning("material '" + scene.materials[textured].name +
+                                               "' has a map_Kd texture, but the face has no texture coordinates "
+                                               "(v/t): it gets Kd times the texture's mean"));
+    return it->second;
   }
 
   // Normals are never used (surfaces are shaded from their charts), nor are texture coordinates without a
@@ -311,6 +332,7 @@ class ObjParser {
   std::unordered_map<Key, int, KeyHash> faceLines_;  // each kept triangle -> its 'f' line
   std::unordered_map<std::string, uint32_t> materialByName_;
   std::optional<uint32_t> defaultMaterial_;
+  std::unordered_map<uint32_t, uint32_t> untextured_;  // textured material -> its untextured variant
   std::unordered_map<std::string, int> firstIgnored_;  // kind of ignored statement -> its first line
   WarningLog warnings_;
   size_t normalCount_ = 0;

@@ -96,6 +96,13 @@ Texture LoadPngTexture(const std::string& path) {
   return FromSrgbPixels(path, int(image.width), int(image.height), pixels.data());
 }
 
+Rgb Texture::Mean() const {
+  double r = 0, g = 0, b = 0;
+  for (const Rgb& c : texels) r += c.r, g += c.g, b += c.b;
+  const double n = double(std::max<size_t>(texels.size(), 1));
+  return {float(r / n), float(g / n), float(b / n)};
+}
+
 Rgb Texture::Texel(int x, int y) const {
   const int wx = ((x % width) + width) % width, wy = ((y % height) + height) % height;
   return texels[size_t(wy) * size_t(width) + size_t(wx)];

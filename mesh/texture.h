@@ -21,6 +21,7 @@ struct Texture {
   Rgb maximum;              // largest value per channel
 
   Rgb Texel(int x, int y) const;  // wraps x and y
+  Rgb Mean() const;                // over all texels
   // Bilinear at texture coordinates st, repeating (or with `clamp`, st clamped to [0, 1]).
   Rgb Sample(Point2 st, bool clamp = false) const;
 };

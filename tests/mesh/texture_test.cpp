@@ -78,18 +78,24 @@ TEST(Texture, VerticesCarryKdTimesTheirTexel) {
   EXPECT_EQ(checked, 2);
 }
 
-TEST(Texture, FacesOfATexturedMaterialNeedTextureCoordinates) {
+// A face of a textured material without texture coordinates (Blender's exporter writes one when an object
+// without a UV map follows a textured one) gets Kd times the texture's mean, with a warning; faces with them keep
+// the texture.
+TEST(Texture, FacesOfATexturedMaterialWithoutTextureCoordinatesGetItsMean) {
   const std::string dir = test::TempDirectory("texture-novt");
-  try {
-    LoadObj(WriteTexturedFloor(dir, "f 1 4 3 2\n"));
-    ADD_FAILURE();
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.line(), 11);
-    EXPECT_NE(std::string(e.what()).find("needs a texture coordinate"), std::string::npos) << e.what();
-  }
-  test::WriteText(dir + "/bad.mtl", "newmtl tex\nmap_Kd -s 2 2 t.png\n");
-  test::WriteText(dir + "/bad.obj", "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl tex\nf 1 2 3\n");
-  EXPECT_THROW(LoadObj(dir + "/bad.obj"), InputError);
+  const LoadedScene loaded = LoadObj(WriteTexturedFloor(dir, "f 1 4 3 2\nf 1/1 2/2 3/3\n"));
+  const Scene& s = loaded.scene;
+  ASSERT_EQ(s.triangles.size(), 5u);
+  const Material& untextured = s.MaterialOf(0);
+  EXPECT_EQ(untextured.albedoTexture, -1);
+  EXPECT_EQ(untextured.name, "tex (untextured)");
+  const double mean = (SrgbToLinear(200) + 0 + 0 + SrgbToLinear(128)) / 4;  // the red channel of the 4 texels
+  EXPECT_NEAR(untextured.albedo.r, 0.9 * mean, 1e-6);
+  EXPECT_EQ(s.MaterialOf(2).name, "tex");
+  EXPECT_EQ(s.MaterialOf(2).albedoTexture, 0);
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings[0].find("f.obj:11: warning: material 'tex' has a map_Kd texture, but the face has no "
+                                    "texture coordinates"), std::string::npos) << loaded.warnings[0];
   // A texture that is not there is a warning (issue 19): the material is untextured, so no v/t is needed.
   test::WriteText(dir + "/gone.mtl", "newmtl tex\nmap_Kd nothere.png\n");
   test::WriteText(dir + "/gone.obj", "mtllib gone.mtl\nv 0 0 0\nv 1 0 0\nv 0 0 1\nusemtl tex\nf 1 2 3\n");
