@@ -170,7 +170,10 @@ class IrradianceField {
 struct FieldSettings {
   EstimatorSettings estimator;
   bool automaticBandwidth = false;  // --h auto
-  DirectSettings direct;            // --direct sampled adds DirectIrradiance
+  // --direct sampled adds DirectIrradiance. Photons, by default, as TraceSettings stores the first hits by default
+  // (storeDirect): the two must agree, or the direct light is counted twice or not at all. Bake() sets both from
+  // --direct, whose default is sampled.
+  DirectSettings direct{DirectLight::kPhotons};
   uint32_t referencePaths = 0;      // --reference SPP: ReferenceIrradiance instead of direct light (0: none)
   uint64_t seed = 1;                // of the point streams
 };

@@ -27,7 +27,7 @@ std::optional<DirectLight> ParseDirectLight(std::string_view name);  // "photons
 std::string DirectLightName(DirectLight mode);
 std::string DirectLightNames();  // comma-separated, for --help and error messages
 struct DirectSettings {
-  DirectLight mode = DirectLight::kPhotons;
+  DirectLight mode = DirectLight::kSampled;
   uint32_t samples = 256;  // --direct-samples: shadow rays per point; range [1, 1e6], typical 64-1024
 };
 

@@ -45,7 +45,7 @@ struct Config {
   pb::EstimatorSettings estimator;
   bool autoBandwidth = false;
   uint64_t photons = 0;
-  pb::DirectSettings direct;    // --direct, --direct-samples
+  pb::DirectSettings direct{pb::DirectLight::kPhotons};  // --direct, --direct-samples (the closed form: photons)
   uint32_t referencePaths = 0;  // > 0: a path tracer's vertex bake (--reference) instead of photons
   // The curve this run belongs to: the method on the box, the estimator on the closed form.
   std::string Group(bool box) const {

@@ -7,7 +7,7 @@ build=${1:-build}
 out=$(mktemp -d)
 for cover in "" --no-cover; do
   for seed in 1 2; do
-    "$build/bake" data/box/box.obj -q -o "$out/box-seed$seed$cover.ply" --h 0.02 --photons 4000000 --seed "$seed" $cover
+    "$build/bake" data/box/box.obj -q -o "$out/box-seed$seed$cover.ply" --h 0.02 --photons 4000000 --seed "$seed" --direct photons $cover
   done
 done
 python3 tools/box_contact.py "$out"/*.ply

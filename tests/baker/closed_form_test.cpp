@@ -169,6 +169,7 @@ class ClosedFormEveryEstimator : public testing::TestWithParam<EstimatorSettings
 TEST_P(ClosedFormEveryEstimator, RelativeRmseOverAllFloorVerticesMatchesItsPrediction) {
   const std::string dir = test::TempDirectory("closed-form-" + EstimatorName(GetParam().kind));
   BakeOptions o;
+  o.direct.mode = DirectLight::kPhotons;  // the photons' noise model: the direct light from photons too
   o.scenePath = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 80);
   o.outputPath = dir + "/out.ply";
   o.photons = 1'000'000;
@@ -222,6 +223,7 @@ struct EdgeBake {
 
 EdgeBake BakeFloorEdges(const std::string& scene, bool localLinear) {
   BakeOptions o;
+  o.direct.mode = DirectLight::kPhotons;  // the estimator's edges are under test: the direct light from photons
   o.scenePath = scene;
   o.outputPath = scene + (localLinear ? ".linear.ply" : ".renormalised.ply");
   o.photons = 2'000'000;

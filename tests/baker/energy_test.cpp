@@ -43,6 +43,7 @@ TEST(Energy, BounceLimitStoresTheTruncatedNeumannSeries) {
   const std::string dir = test::TempDirectory("energy-bounces");
   const double rho = 0.5;
   BakeOptions o;
+  o.direct.mode = DirectLight::kPhotons;  // the photons' count of every bounce, the first included
   o.scenePath = test::WriteClosedBox(dir, 1.0f, float(rho), 0.2f, 10.0f);
   o.outputPath = dir + "/out.ply";
   o.photons = 200'000;

@@ -23,6 +23,7 @@ std::string Attribute(const std::vector<std::pair<std::string, std::string>>& at
 // A bake of the 4 m square-light floor into `dir`, with maps of texel `texel` [m].
 BakeOptions MapBake(const std::string& dir, float texel, uint64_t photons) {
   BakeOptions o;
+  o.direct.mode = DirectLight::kPhotons;  // the maps' noise model is the photons'
   o.scenePath = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 8);
   o.outputPath = dir + "/out.ply";
   o.photons = photons;

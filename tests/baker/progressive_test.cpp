@@ -30,6 +30,7 @@ namespace {
 
 BakeOptions Options(const std::string& scene, const std::string& output, uint64_t photons) {
   BakeOptions o;
+  o.direct.mode = DirectLight::kPhotons;  // rounds and resumes of the photons, whose noise carries all the light
   o.scenePath = scene;
   o.outputPath = output;
   o.photons = photons;

@@ -48,6 +48,7 @@ struct Baked {
 
 Baked BakeQuietly(const std::string& scene, float h, uint64_t photons = 200000) {
   BakeOptions o;
+  o.direct.mode = DirectLight::kPhotons;  // the estimator's stability, with all the light from photons
   o.scenePath = scene;
   o.outputPath = scene + ".ply";
   o.photons = photons;
