@@ -103,6 +103,23 @@ FileIdentity IdentityOf(const std::string& path) {
 
 OutputFiles::~OutputFiles() {
   for (const Staged& s : staged_) std::remove(s.temporary.c_str());
+  // Innermost first; rmdir leaves a folder that is not empty (something else was put there).
+  for (auto d = createdDirectories_.rbegin(); d != createdDirectories_.rend(); ++d) ::rmdir(d->c_str());
+}
+
+void OutputFiles::MakeDirectory(const std::string& path) {
+  std::vector<std::string> missing;  // innermost first
+  for (std::filesystem::path p = std::filesystem::path(path).lexically_normal(); !p.empty() && p != p.root_path();
+       p = p.parent_path()) {
+    std::error_code ec;
+    if (std::filesystem::exists(p, ec)) break;
+    missing.push_back(p.string());
+  }
+  for (auto d = missing.rbegin(); d != missing.rend(); ++d) {
+    if (::mkdir(d->c_str(), 0777) != 0 && errno != EEXIST)
+      throw InputError(path, 0, "cannot create the folder " + *d + ": " + ErrnoText());
+    createdDirectories_.push_back(*d);
+  }
 }
 
 void OutputFiles::Write(const std::string& path, const std::function<void(std::ostream&)>& write) {
@@ -134,6 +151,7 @@ void OutputFiles::Commit() {
     directories.push_back(DirectoryOf(s.path));
   }
   staged_.clear();
+  createdDirectories_.clear();
   for (const std::string& d : directories) SyncDirectory(d);
 }
 

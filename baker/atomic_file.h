@@ -5,7 +5,8 @@
 // output's own directory, created with O_CREAT | O_EXCL | O_NOFOLLOW (a file or symlink planted at that name is
 // never followed or overwritten), written through the descriptor and fsync'ed. Commit() renames every staged file
 // over its path, in the order staged, once all of them are complete, and syncs their directories. Destroying
-// an OutputFiles that was not committed removes its temporaries. An InputError names the path that failed.
+// an OutputFiles that was not committed removes its temporaries, and the folders MakeDirectory created that are
+// still empty. An InputError names the path that failed.
 #pragma once
 
 #include <functional>
@@ -25,6 +26,9 @@ class OutputFiles {
 
   // Stages `path`; safe to call from several threads at once.
   void Write(const std::string& path, const std::function<void(std::ostream&)>& write);
+  // Creates the folder `path` and any missing parents (--maps DIR). If the run is not committed, the folders it
+  // created are removed again when they are still empty. InputError naming `path` when it cannot be made.
+  void MakeDirectory(const std::string& path);
   // Renames every staged file into place.
   void Commit();
 
@@ -34,6 +38,7 @@ class OutputFiles {
   };
   std::mutex mutex_;
   std::vector<Staged> staged_;
+  std::vector<std::string> createdDirectories_;  // outermost first
 };
 
 // One file as a transaction of its own.

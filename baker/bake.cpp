@@ -30,14 +30,17 @@ std::vector<std::pair<std::string, std::string>> OutputFilesOf(const BakeOptions
 }
 
 // Each output can be written, none names another or an input (--save-photons may name the --resume file). The
-// scene's material libraries and textures are checked once it is loaded (BakeMesh).
-void ValidateOutputs(const BakeOptions& o) {
+// scene's material libraries and textures are checked once it is loaded (BakeMesh). The --maps folder is created
+// when it is missing (and removed again if the run fails while it is still empty).
+void ValidateOutputs(const BakeOptions& o, OutputFiles& outputs) {
   RequireWritableLocation(o.outputPath);
   if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
-  if (!o.mapsDirectory.empty()) RequireWritableLocation(o.mapsDirectory + "/surface_0.exr");
   if (!o.savePhotonsPath.empty()) RequireWritableLocation(o.savePhotonsPath);
   RequireDistinctFiles(OutputFilesOf(o), {{"the scene", o.scenePath}});
   RequireDistinctFiles({{"-o", o.outputPath}, {"--report", o.reportPath}}, {{"--resume", o.resumePath}});
+  if (o.mapsDirectory.empty()) return;
+  outputs.MakeDirectory(o.mapsDirectory);
+  RequireWritableLocation(o.mapsDirectory + "/surface_0.exr");
 }
 
 // What the driver records as the stages run: seconds per stage and the warnings shown.
@@ -190,8 +193,8 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
 
 BakeReport Bake(const BakeOptions& o, const Log& log) {
   o.Validate();
-  ValidateOutputs(o);
   OutputFiles outputs;
+  ValidateOutputs(o, outputs);
   BakeResult result = BakeMesh(o, log, outputs);
   BakeReport& report = result.report;
   StageClock clock(report.stageSeconds);

@@ -97,7 +97,7 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
                  "the default is unlimited in practice (Russian roulette ends paths)")
       ->capture_default_str();
   app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
-                                            "this folder (surface_N.exr; README, 'Irradiance maps')");
+                                            "this folder, created if missing (surface_N.exr; README, 'Irradiance maps')");
   app.add_option("--texel", o.texel, "texel side of --maps [m]; range 1e-6 to 1e4, typical 0.005-0.05")->capture_default_str();
   app.add_flag("--refine", o.refine.adaptive,
                "adapt the mesh to the light: remove vertices where it is flat, add them where it changes (README, "

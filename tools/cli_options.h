@@ -35,6 +35,7 @@ void AddNamedOption(CLI::App& app, const std::string& flag, Enum& target, std::o
 template <typename Validate, typename Work>
 int RunTool(CLI::App& app, int argc, char** argv, Validate&& validate, Work&& work) {
   app.get_formatter()->column_width(24);
+  app.set_version_flag("--version", "photonbake " PB_VERSION, "print the version and exit");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -184,6 +184,28 @@ TEST(BakeCli, AFailedRunLeavesAnEarlierOutputIntact) {
   EXPECT_EQ(test::ReadBytes(dir + "/out.ply"), "previous result");
 }
 
+TEST(BakeCli, VersionPrintsAndExits) {
+  const BakeRun run = RunBake("--version");
+  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_EQ(run.output, "photonbake " PB_VERSION "\n");
+}
+
+// --maps DIR makes DIR (and its parents) when they are missing; a run that fails takes away what it made.
+TEST(BakeCli, MapsFolderIsCreatedAndRemovedAgainOnFailure) {
+  const std::string dir = test::TempDirectory("cli-maps-folder");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 2.0f, 4);
+  const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply --photons 10000 -q --maps " + dir + "/new/maps");
+  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/new/maps/surface_0.exr"));
+  const BakeRun failed = RunBake(dir + "/missing.obj -o " + dir + "/out2.ply -q --maps " + dir + "/other/maps");
+  EXPECT_EQ(failed.status, 1) << failed.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/other")) << "a failed run leaves no folder behind";
+  test::WriteText(dir + "/file", "");
+  const BakeRun notFolder = RunBake(scene + " -o " + dir + "/out3.ply -q --maps " + dir + "/file/maps");
+  EXPECT_EQ(notFolder.status, 1) << notFolder.output;
+  EXPECT_NE(notFolder.output.find("cannot create the folder"), std::string::npos) << notFolder.output;
+}
+
 TEST(BakeCli, EveryEstimatorAndAutoBandwidthRunAndAreReported) {
   const std::string dir = test::TempDirectory("cli-estimators");
   const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 2, 8);
