@@ -108,8 +108,10 @@ SurfaceLight IrradianceField::Light(const SurfacePoint& p) const { return LightW
 SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   // Independent contributions: their variances add, sigma_i = relative noise_i x luminance_i.
   IrradianceSample total = contributions_.front()->WithNoise(p);
+  double share = 1;
   if (contributions_.size() > 1) {
-    double variance = std::pow(total.relativeNoise * Luminance(total.irradiance), 2);
+    const double photons = std::pow(total.relativeNoise * Luminance(total.irradiance), 2);
+    double variance = photons;
     for (size_t i = 1; i < contributions_.size(); ++i) {
       const IrradianceSample c = contributions_[i]->WithNoise(p);
       total.irradiance = total.irradiance + c.irradiance;
@@ -117,9 +119,11 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
     }
     const double mean = Luminance(total.irradiance);
     total.relativeNoise = mean > 0 ? std::sqrt(variance) / mean : 0.0;
+    share = variance > 0 ? photons / variance : 1.0;
   }
   SurfaceLight light = LightWith(p, total.irradiance);
   light.relativeNoise = total.relativeNoise;
+  light.photonVarianceShare = share;
   return light;
 }
 
@@ -144,7 +148,7 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
   baked.irradiance.resize(n);
   baked.albedo.resize(n);
   baked.emitted.resize(n);
-  if (withNoise) baked.irradianceNoise.assign(n, 0.0);
+  if (withNoise) baked.irradianceNoise.assign(n, 0.0), baked.photonVarianceShare.assign(n, 1.0);
   Progress progress(log, "estimate irradiance", n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t v = r.begin(); v != r.end(); ++v) {
@@ -153,7 +157,7 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
       baked.irradiance[v] = light.irradiance;
       baked.albedo[v] = light.albedo;
       baked.emitted[v] = light.emitted;
-      if (withNoise) baked.irradianceNoise[v] = light.relativeNoise;
+      if (withNoise) baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
     }
     progress.Advance(r.size());
   });

@@ -138,6 +138,7 @@ class ReferenceIrradiance final : public PointSampledIrradiance {
 struct SurfaceLight {
   Rgb irradiance, albedo, emitted;
   double relativeNoise = 0;
+  double photonVarianceShare = 1;  // of relativeNoise^2: the photons'; the rest is the points' samples
   Rgb Radiance() const { return OutgoingRadiance(emitted, albedo, irradiance); }
 };
 

@@ -98,19 +98,51 @@ struct Lit {
   std::optional<IrradianceField> field;
   BakedMesh baked;
   ProgressiveReport progress;
+  double noise = 0;  // the bake's predicted noise (BakeNoise)
 };
 
 FieldSettings FieldSettingsOf(const BakeOptions& o) {
   return {o.estimator, o.autoBandwidth, o.direct, o.referencePaths, o.seed};
 }
 
-// Stages 2 and 3 from the photons in `lit`; each vertex's noise too with --target-noise.
+// Stages 2 and 3 from the photons in `lit`, with each vertex's noise and the bake's.
 void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, StageClock& clock, const Log& log) {
   lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons); });
   lit.field.emplace(BuildIrradianceField(scene, lit.bins, FieldSettingsOf(o), clock));
   lit.baked = clock.Time("estimate", [&] {
-    return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, o.targetNoise.has_value());
+    return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true);
   });
+  lit.noise = clock.Time("noise", [&] { return BakeNoise(lit.baked); });
+}
+
+// Noise that shows as blotches: above 2% of the displayed light, about 5 of 255 grey levels.
+constexpr double kVisibleNoise = 0.02;
+
+// Rounded up to two significant digits: 3,456,789 -> 3,500,000.
+uint64_t TwoDigits(double x) {
+  const double unit = std::pow(10.0, std::max(0.0, std::floor(std::log10(std::max(x, 1.0))) - 1));
+  return uint64_t(std::ceil(x / unit) * unit);
+}
+
+// Warns when the bake's noise is visible, naming what would bring it under kVisibleNoise (RemedyForNoise): more
+// photons, and more shadow rays (or --reference paths) where the points' own noise is most of it. None when the
+// user chose a --target-noise.
+std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& lit) {
+  if (lit.noise <= kVisibleNoise || o.targetNoise) return {};
+  const bool reference = o.referencePaths > 0;
+  const uint32_t samples = reference ? o.referencePaths : o.direct.mode == DirectLight::kSampled ? o.direct.samples : 0;
+  const NoiseRemedy r = RemedyForNoise(lit.baked, kVisibleNoise, lit.photons.stats.emitted, samples);
+  std::vector<std::string> remedies;
+  if (!reference && r.photons > lit.photons.stats.emitted)
+    remedies.push_back(fmt::format("--photons {}", TwoDigits(1.05 * double(r.photons))));
+  if (r.pointSamples > samples)
+    remedies.push_back(fmt::format("{} {}", reference ? "--reference" : "--direct-samples",
+                                   TwoDigits(1.05 * r.pointSamples)));
+  const std::string remedy = remedies.empty() ? "" : remedies.size() == 1 ? remedies[0] : remedies[0] + " and " + remedies[1];
+  return {fmt::format("{}: warning: the bake's noise is {:.1f}% (the 95th percentile of the displayed light's "
+                      "predicted relative error), enough to show as blotches; about {} would bring it under {:.0f}%{}",
+                      o.scenePath, 100 * lit.noise, remedy, 100 * kVisibleNoise,
+                      reference ? "" : fmt::format(" (or --target-noise {} finds the photons itself)", kVisibleNoise))};
 }
 
 // Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/progressive.h); then --save-photons.
@@ -124,7 +156,7 @@ Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFil
     clock.Time("trace", [&] { GrowPhotonStore(lit.photons, photons, o, scene, lit.progress, log); });
     EstimateLight(lit, scene, o, clock, log);
     if (!o.targetNoise) break;
-    const double noise = clock.Time("noise", [&] { return BakeNoise(lit.baked); });
+    const double noise = lit.noise;
     lit.progress.rounds.push_back({photons, lit.photons.stats.emitted, noise});
     log.Info(fmt::format("round {}: {} photons, noise {:.4f} (target {:.4f})", lit.progress.rounds.size(),
                          lit.photons.stats.emitted, noise, *o.targetNoise));
@@ -165,6 +197,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs) 
     journal.Warn(UnlitLightWarnings(scene, lit.photons), log);
     journal.Warn(BandwidthWarnings(field, lit.bins, o.estimator.kind), log);
   }
+  journal.Warn(VisibleNoiseWarnings(o, lit), log);
   const float exposure = DisplayExposure(lit.baked, o.exposure);
 
   MapsWritten maps;
@@ -180,7 +213,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs) 
   }
 
   BakeReport report = DescribeBake({o, threads.Count(), scene, lit.photons, lit.bins, field, lit.baked, exposure,
-                                    refine, maps, lit.progress, journal.stageSeconds, journal.warnings});
+                                    refine, maps, lit.progress, lit.noise, journal.stageSeconds, journal.warnings});
   return {std::move(report), std::move(lit.baked)};
 }
 

@@ -18,7 +18,10 @@ struct BakedMesh {
   std::vector<Rgb> irradiance;  // H [W/m^2]
   std::vector<Rgb> albedo;      // R
   std::vector<Rgb> emitted;     // Le [W/(m^2 sr)], non-zero on lights' front sides
-  std::vector<double> irradianceNoise;  // sigma_H / H per vertex, when asked for (--target-noise); else empty
+  std::vector<double> irradianceNoise;  // sigma_H / H per vertex, when asked for (withNoise); else empty
+  // The photons' share of each vertex's variance sigma_H^2, in [0, 1]; the rest is the points' own samples
+  // (shadow rays, or --reference paths). Filled with irradianceNoise.
+  std::vector<double> photonVarianceShare;
 
   Rgb Radiance(size_t vertex) const { return OutgoingRadiance(emitted[vertex], albedo[vertex], irradiance[vertex]); }
 };

@@ -53,8 +53,18 @@ void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeO
                      ProgressiveReport& report);
 
 // The bake's noise: the weighted 95th percentile above, from each vertex's sigma_H / H (BakedMesh::irradianceNoise,
-// which EstimateIrradiance gives with withNoise); 0 for a mesh with no lit vertex.
-double BakeNoise(const BakedMesh& baked);
+// which EstimateIrradiance gives with withNoise); 0 for a mesh with no lit vertex. With the scales, the noise it
+// would have if the photons' variance were multiplied by photonScale and the points' samples' by pointScale
+// (n / n' for n' photons, S / S' for S' samples per point).
+double BakeNoise(const BakedMesh& baked, double photonScale = 1, double pointScale = 1);
+
+// What would bring the bake's noise to `target`: the photon count, and the samples per point (shadow rays or
+// --reference paths) when the points' own noise alone comes within 90% of it (else the current count).
+struct NoiseRemedy {
+  uint64_t photons = 0;
+  uint32_t pointSamples = 0;
+};
+NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples);
 // Photons for the next round: n (noise / target)^2 with 10% to spare, at least 1.25 n, at most maxPhotons.
 uint64_t NextRoundPhotons(uint64_t photons, double noise, float target, uint64_t maxPhotons);
 

@@ -178,6 +178,7 @@ BakeReport DescribeBake(const BakeResults& r) {
   report.maps = r.maps;
   report.refine = r.refine;
   report.progressive = r.progressive;
+  report.noise = r.noise;
   return report;
 }
 
@@ -202,6 +203,8 @@ void PrintSummary(const BakeReport& r, const Log& log) {
                    "  (balance {:+.3f}%)\n", t.fluxEmitted.Mean(), t.fluxAbsorbed.Mean(), t.fluxEscaped.Mean(),
                    t.fluxForbidden.Mean(), 100.0 * balance);
   s += ProgressiveLines(r.progressive, t.emitted);
+  s += fmt::format("  noise     {:.2f}% predicted (95th percentile over the vertices, by luminance x area, of the "
+                   "displayed light's relative standard error; smoothing bias not included)\n", 100 * r.noise);
   s += SurfaceTable(r);
   s += "  seconds  ";
   for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
@@ -231,6 +234,7 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
                            {"power_W", Json(l.power)}, {"photons", l.photons}, {"note", l.note}});
   j["photons"] = TraceJson(r.trace);
   j["progressive"] = ProgressiveJson(r.progressive);
+  j["noise"] = r.noise;
   for (const SurfaceReport& s : r.surfaces)
     j["surfaces"].push_back({{"object", s.object}, {"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
                              {"back_hits", s.backHits}, {"mean_irradiance_W_m2", Json(s.meanIrradiance)},

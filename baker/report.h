@@ -59,6 +59,7 @@ struct BakeReport {
   MapsWritten maps;  // --maps: the EXR files written and their texel count
   RefineReport refine;  // --refine / --subdivide: vertices before and after, interpolation error
   ProgressiveReport progressive;  // --resume, --save-photons, --target-noise rounds, interruption
+  double noise = 0;  // the bake's predicted noise: 95th percentile of sigma_L / L (baker/progressive.h, BakeNoise)
 
   double TotalSeconds() const;
 };
@@ -76,6 +77,7 @@ struct BakeResults {
   const RefineReport& refine;
   const MapsWritten& maps;
   const ProgressiveReport& progressive;
+  double noise;  // BakeNoise of the vertices before refinement
   const std::vector<std::pair<std::string, double>>& stageSeconds;
   const std::vector<std::string>& warnings;
 };
