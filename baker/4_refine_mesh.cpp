@@ -225,6 +225,11 @@ class CollapseProgress : public OpenMesh::Decimater::Observer {
  public:
   CollapseProgress(const Log& log, size_t vertices) : Observer(256), progress_(log, "coarsen mesh", vertices) {}
   void notify(size_t collapses) override { progress_.Advance(collapses - reported_), reported_ = collapses; }
+  // Coarsening ends when no collapse is left, before one per vertex: `collapses` is all there was.
+  void Complete(size_t collapses) {
+    notify(collapses);
+    progress_.Complete();
+  }
 
  private:
   Progress progress_;
@@ -262,7 +267,7 @@ size_t Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in
     report.collapsesPastTolerance += forced;
     count = DisplayVertices(mesh, in);
   }
-  progress.notify(report.collapses);
+  progress.Complete(report.collapses);
   mesh.garbage_collection();
   light.Forget();
   return count;

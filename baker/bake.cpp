@@ -17,6 +17,7 @@
 #include "baker/progressive.h"
 #include "baker/stage_clock.h"
 #include "baker/threads.h"
+#include "baker/5_write_preview.h"
 #include "baker/tone_map.h"
 #include "mesh/errors.h"
 #include "mesh/split_mesh.h"
@@ -26,7 +27,20 @@ namespace {
 
 // The files a bake writes besides its maps (whose names, surface_N.exr, no input can have), by option.
 std::vector<std::pair<std::string, std::string>> OutputFilesOf(const BakeOptions& o) {
-  return {{"-o", o.outputPath}, {"--report", o.reportPath}, {"--save-photons", o.savePhotonsPath}};
+  return {{"-o", o.outputPath}, {"--report", o.reportPath}, {"--save-photons", o.savePhotonsPath},
+          {"--preview", o.previewPath}};
+}
+
+// The --preview camera, read before any work: --camera, or the scene's sidecar.
+std::optional<Camera> PreviewCamera(const BakeOptions& o) {
+  if (o.previewPath.empty()) return std::nullopt;
+  const std::string path = o.cameraPath.empty() ? CameraSidecarPath(o.scenePath) : o.cameraPath;
+  try {
+    return LoadCamera(path);
+  } catch (const InputError& e) {
+    if (!o.cameraPath.empty() || e.line() > 0) throw;
+    throw InputError(e.file(), 0, e.message() + "; --preview needs a camera: give --camera FILE or write " + path);
+  }
 }
 
 // Each output can be written, none names another or an input (--save-photons may name the --resume file). The
@@ -36,7 +50,8 @@ void ValidateOutputs(const BakeOptions& o, OutputFiles& outputs) {
   RequireWritableLocation(o.outputPath);
   if (!o.reportPath.empty()) RequireWritableLocation(o.reportPath);
   if (!o.savePhotonsPath.empty()) RequireWritableLocation(o.savePhotonsPath);
-  RequireDistinctFiles(OutputFilesOf(o), {{"the scene", o.scenePath}});
+  if (!o.previewPath.empty()) RequireWritableLocation(o.previewPath);
+  RequireDistinctFiles(OutputFilesOf(o), {{"the scene", o.scenePath}, {"--camera", o.cameraPath}});
   RequireDistinctFiles({{"-o", o.outputPath}, {"--report", o.reportPath}}, {{"--resume", o.resumePath}});
   if (o.mapsDirectory.empty()) return;
   outputs.MakeDirectory(o.mapsDirectory);
@@ -228,9 +243,14 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
   o.Validate();
   OutputFiles outputs;
   ValidateOutputs(o, outputs);
+  const std::optional<Camera> camera = PreviewCamera(o);
   BakeResult result = BakeMesh(o, log, outputs);
   BakeReport& report = result.report;
   StageClock clock(report.stageSeconds);
+  if (camera)
+    clock.Time("preview", [&] {
+      WritePreview(outputs, o.previewPath, result.mesh, {*camera, o.previewWidth, o.previewHeight, report.exposure});
+    });
   clock.Time("write", [&] {
     WritePly(outputs, o.outputPath, result.mesh, {o.asciiPly, report.exposure});
     if (!o.reportPath.empty()) WriteReportJson(outputs, o.reportPath, report);

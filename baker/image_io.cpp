@@ -99,6 +99,11 @@ void WritePng(OutputFiles& outputs, const std::string& path, const Image& image,
     const std::array<uint8_t, 3> c = ToneMap(image.pixels[i], exposure);
     std::copy(c.begin(), c.end(), rgb.begin() + std::ptrdiff_t(3 * i));
   }
+  WritePngRgb8(outputs, path, image.width, image.height, rgb);
+}
+
+void WritePngRgb8(OutputFiles& outputs, const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
+  PB_CHECK_EQ(rgb.size(), size_t(width) * size_t(height) * 3);
   outputs.Write(path, [&](std::ostream& out) {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
     png_infop info = png_create_info_struct(png);
@@ -107,10 +112,10 @@ void WritePng(OutputFiles& outputs, const std::string& path, const Image& image,
       throw InputError(path, 0, "PNG encoding failed");
     }
     png_set_write_fn(png, &out, PngWrite, PngFlush);
-    png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, PNG_COLOR_TYPE_RGB,
-                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(png, info);
-    for (int y = 0; y < image.height; ++y) png_write_row(png, rgb.data() + size_t(y) * size_t(image.width) * 3);
+    for (int y = 0; y < height; ++y) png_write_row(png, rgb.data() + size_t(y) * size_t(width) * 3);
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
   });

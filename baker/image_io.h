@@ -32,5 +32,7 @@ void WriteExr(OutputFiles& outputs, const std::string& path, const Image& image,
 Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes = nullptr,
               std::vector<float>* alpha = nullptr);
 void WritePng(OutputFiles& outputs, const std::string& path, const Image& image, float exposure);
+// An 8-bit RGB PNG of display colours as they are (`rgb`: 3 bytes per pixel, row-major, top row first).
+void WritePngRgb8(OutputFiles& outputs, const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
 
 }  // namespace pb

@@ -56,6 +56,9 @@ void BakeOptions::Validate() const {
   Require(maxBounces <= kDefaultMaxBounces, "--max-bounces", fmt::format("must lie in [0, {}]", kDefaultMaxBounces));
   Require(!exposure || FinitePositive(*exposure), "--exposure", "must be a finite number > 0");
   Require(Within(texel, kMinLength, 1e4), "--texel", "must be a length in [1e-6, 1e4] m");
+  Require(previewWidth >= 1 && previewWidth <= 8192 && previewHeight >= 1 && previewHeight <= 8192, "--preview-size",
+          "must be WIDTHxHEIGHT with each in [1, 8192]");
+  Require(cameraPath.empty() || !previewPath.empty(), "--camera", "is the --preview's camera; give --preview too");
   Require(refine.tolerance > 0 && refine.tolerance < 1, "--tolerance", "must lie in (0, 1)");
   Require(refine.subdivide >= 0 && refine.subdivide <= 8, "--subdivide", "must lie in [0, 8]");
   Require(refine.maxVertices >= 3 && refine.maxVertices <= 1'000'000'000, "--max-vertices", "must lie in [3, 1e9]");

@@ -70,6 +70,11 @@ struct BakeOptions {
   // are found on a lattice of spacing h / 2 (the default h's with --h auto).
   bool findCovers = true;
   std::string mapsDirectory;      // --maps: one irradiance map (EXR) per surface here; empty for none.
+  // --preview: a PNG of the baked mesh as a viewer shows it (baker/5_write_preview.h); empty for none. Seen from
+  // --camera, or the scene's sidecar SCENE.camera.json; --preview-size pixels, each in [1, 8192].
+  std::string previewPath;
+  std::string cameraPath;
+  int previewWidth = 640, previewHeight = 480;
   float texel = 0.02f;            // --texel: map texel side [m]; range (0, inf), typical 0.005-0.05.
   RefineSettings refine;          // --refine, --tolerance, --max-vertices, --subdivide (baker/4_refine_mesh.h)
   // Progressive bakes (baker/progressive.h).

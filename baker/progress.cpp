@@ -3,6 +3,8 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace pb {
@@ -18,25 +20,55 @@ void Log::Warning(const std::string& line) const { fmt::print(stderr, "{}\n", li
 Progress::Progress(const Log& log, std::string stage, uint64_t total)
     : log_(log), stage_(std::move(stage)), total_(total), start_(std::chrono::steady_clock::now()), lastDraw_(start_) {}
 
-Progress::~Progress() { Draw(done_.load(), true); }
+Progress::~Progress() {
+  if (complete_) total_ = done_.load();  // the count was an upper bound; what was reached is all there was to do
+  Draw(done_.load(), true);
+}
+
+void Progress::Complete() { complete_ = true; }
 
 void Progress::Advance(uint64_t done) {
   const uint64_t now = done_.fetch_add(done) + done;
-  if (!log_.Interactive()) return;
+  if (log_.Quiet()) return;
   std::unique_lock lock(drawing_, std::try_to_lock);  // a busy drawer means someone else is printing.
   if (!lock.owns_lock()) return;
   const auto t = std::chrono::steady_clock::now();
-  if (t - lastDraw_ < std::chrono::milliseconds(100)) return;
+  const auto interval = log_.Interactive() ? std::chrono::milliseconds(100) : std::chrono::milliseconds(5000);
+  if (t - lastDraw_ < interval) return;
   lastDraw_ = t;
   Draw(now, false);
 }
 
+namespace {
+
+// "42 s", "3 min 20 s", "2 h 05 min".
+std::string Duration(double seconds) {
+  const auto s = uint64_t(std::llround(std::max(seconds, 0.0)));
+  if (s < 60) return fmt::format("{} s", s);
+  if (s < 3600) return fmt::format("{} min {:02} s", s / 60, s % 60);
+  return fmt::format("{} h {:02} min", s / 3600, (s % 3600) / 60);
+}
+
+// 1234567 -> "1.23 M".
+std::string Count(double x) {
+  if (x >= 1e9) return fmt::format("{:.3g} G", x / 1e9);
+  if (x >= 1e6) return fmt::format("{:.3g} M", x / 1e6);
+  if (x >= 1e3) return fmt::format("{:.3g} k", x / 1e3);
+  return fmt::format("{:.3g}", x);
+}
+
+}  // namespace
+
 void Progress::Draw(uint64_t done, bool final) {
-  if (log_.Quiet() || (!final && !log_.Interactive())) return;
+  if (log_.Quiet() || (!final && done >= total_ && !log_.Interactive())) return;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double percent = total_ ? 100.0 * double(done) / double(total_) : 100.0;
-  fmt::print(stderr, "{}  {:<22} {:5.1f}%  {:>12} / {:<12} {:7.2f} s{}", log_.Interactive() ? "\r" : "", stage_,
-             percent, done, total_, seconds, final ? "\n" : "");
+  const double percent = total_ ? std::min(100.0, 100.0 * double(done) / double(total_)) : 100.0;
+  const double rate = seconds > 0 ? double(done) / seconds : 0.0;
+  std::string tail = fmt::format("{:7.2f} s  {:>8}/s", seconds, Count(rate));
+  if (!final && seconds >= 0.1 && rate > 0 && done < total_)
+    tail += fmt::format("  {} left", Duration(double(total_ - done) / rate));
+  fmt::print(stderr, "{}  {:<22} {:5.1f}%  {:>12} / {:<12} {:<40}{}", log_.Interactive() ? "\r" : "", stage_,
+             percent, std::min(done, total_ ? total_ : done), total_, tail, final || !log_.Interactive() ? "\n" : "");
   std::fflush(stderr);
 }
 

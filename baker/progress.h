@@ -1,5 +1,9 @@
 // Progress of long stages on stderr, and the log of warnings. Thread-safe: workers call Advance.
-// On a terminal a stage redraws one line at most 10 times a second; otherwise only its final line is printed.
+// Each line gives the stage, its fraction done, the count, the seconds so far, the rate (per second) and, once a
+// tenth of a second has passed, the time left at that rate. On a terminal a stage redraws one line at most 10
+// times a second; otherwise (a log file, CI) it prints a line every 5 seconds, so that no long stage is silent,
+// and its final line. A stage that finishes before its count (coarsening stops when no collapse is left within
+// the tolerance) calls Complete(), so that its last line reads 100%.
 #pragma once
 
 #include <atomic>
@@ -28,6 +32,9 @@ class Progress {
   Progress(const Log& log, std::string stage, uint64_t total);
   ~Progress();
   void Advance(uint64_t done);
+  // The stage's work is done before its count (an upper bound) was reached: the count reached becomes the total,
+  // and the last line reads 100%.
+  void Complete();
 
  private:
   void Draw(uint64_t done, bool final);
@@ -38,6 +45,7 @@ class Progress {
   std::atomic<uint64_t> done_{0};
   std::mutex drawing_;
   std::chrono::steady_clock::time_point start_, lastDraw_;
+  std::atomic<bool> complete_{false};
 };
 
 }  // namespace pb

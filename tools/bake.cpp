@@ -98,6 +98,11 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
       ->capture_default_str();
   app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
                                             "this folder, created if missing (surface_N.exr; README, 'Irradiance maps')");
+  app.add_option("--preview", o.previewPath, "also write a PNG of the baked mesh as a viewer shows it (vertex colours, "
+                                            "no lighting), from the scene's camera SCENE.camera.json or --camera");
+  app.add_option("--camera", o.cameraPath, "--preview's camera JSON (position_m, look_at_m, up, vertical_fov_deg)");
+  pb::tools::AddPairOption(app, "--preview-size", o.previewWidth, o.previewHeight,
+                           "--preview's size in pixels, WIDTHxHEIGHT, each 1-8192");
   app.add_option("--texel", o.texel, "texel side of --maps [m]; range 1e-6 to 1e4, typical 0.005-0.05")->capture_default_str();
   app.add_flag("--refine", o.refine.adaptive,
                "adapt the mesh to the light: remove vertices where it is flat, add them where it changes (README, "

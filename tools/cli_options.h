@@ -30,6 +30,31 @@ void AddNamedOption(CLI::App& app, const std::string& flag, Enum& target, std::o
       ->default_str(name(target));
 }
 
+// "8x16" -> (8, 16); CLI11 refuses anything else before the run starts.
+inline bool ParsePair(const std::string& text, int& a, int& b) {
+  const size_t x = text.find('x');
+  if (x == std::string::npos) return false;
+  try {
+    size_t endA = 0, endB = 0;
+    a = std::stoi(text.substr(0, x), &endA);
+    b = std::stoi(text.substr(x + 1), &endB);
+    return endA == x && endB == text.size() - x - 1 && a > 0 && b > 0;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+inline void AddPairOption(CLI::App& app, const std::string& flag, int& a, int& b, const std::string& help) {
+  app.add_option_function<std::string>(flag, [&a, &b](const std::string& text) { ParsePair(text, a, b); }, help)
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            int x = 0, y = 0;
+            return ParsePair(text, x, y) ? std::string() : "expects AxB with whole numbers > 0, e.g. 8x16";
+          },
+          "AxB", "pair"))
+      ->default_str(std::to_string(a) + "x" + std::to_string(b));
+}
+
 // Parses the command line, checks the options' ranges with `validate` (an InputError there is a bad command line,
 // exit 2), and runs `work`, mapping errors to the exit statuses above.
 template <typename Validate, typename Work>

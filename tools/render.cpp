@@ -10,38 +10,13 @@
 
 namespace {
 
-// "8x16" -> (8, 16); CLI11 refuses anything else before the run starts.
-bool ParsePair(const std::string& text, int& a, int& b) {
-  const size_t x = text.find('x');
-  if (x == std::string::npos) return false;
-  try {
-    size_t endA = 0, endB = 0;
-    a = std::stoi(text.substr(0, x), &endA);
-    b = std::stoi(text.substr(x + 1), &endB);
-    return endA == x && endB == text.size() - x - 1 && a > 0 && b > 0;
-  } catch (const std::exception&) {
-    return false;
-  }
-}
-
-void AddPairOption(CLI::App& app, const std::string& flag, int& a, int& b, const std::string& help) {
-  app.add_option_function<std::string>(flag, [&a, &b](const std::string& text) { ParsePair(text, a, b); }, help)
-      ->check(CLI::Validator(
-          [](const std::string& text) {
-            int x = 0, y = 0;
-            return ParsePair(text, x, y) ? std::string() : "expects AxB with whole numbers > 0, e.g. 8x16";
-          },
-          "AxB", "pair"))
-      ->default_str(std::to_string(a) + "x" + std::to_string(b));
-}
-
 void DefineOptions(CLI::App& app, pb::RenderOptions& o) {
   app.add_option("scene", o.scenePath, "OBJ scene (with MTL); its camera is SCENE.camera.json unless --camera")
       ->required();
   app.add_option("-o,--output", o.outputPath, "OpenEXR image to write (radiance, W/(m^2 sr)); a PNG goes beside it")
       ->required();
   app.add_option("--camera", o.cameraPath, "camera JSON (position_m, look_at_m, up, vertical_fov_deg)");
-  AddPairOption(app, "--size", o.width, o.height, "image size in pixels, WIDTHxHEIGHT");
+  pb::tools::AddPairOption(app, "--size", o.width, o.height, "image size in pixels, WIDTHxHEIGHT");
   app.add_option("--spp", o.spp, "samples per pixel; >= 1")->capture_default_str();
   app.add_option("--spp-sweep", o.sppSweep, "render once per count (e.g. 1,2,4,8) and write a strip of them")
       ->delimiter(',');
@@ -51,7 +26,7 @@ void DefineOptions(CLI::App& app, pb::RenderOptions& o) {
   app.add_option("--photons", o.photons, "photons traced for the photon map (--sampling photons)")->capture_default_str();
   app.add_option("--neighbours", o.path.neighbours, "nearest photons per importance map; >= 1, typical 20-200")
       ->capture_default_str();
-  AddPairOption(app, "--regions", o.path.thetaRegions, o.path.phiRegions,
+  pb::tools::AddPairOption(app, "--regions", o.path.thetaRegions, o.path.phiRegions,
                 "importance map regions, THETAxPHI (equal solid angle; powers of two for --warp mipmap)");
   app.add_option("--floor", o.path.floorFraction, "fraction of the total importance spread over every region; [0, 1]")
       ->capture_default_str();

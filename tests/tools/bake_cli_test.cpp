@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <regex>
+#include <sstream>
 #include <set>
 
 #include <fmt/format.h>
@@ -231,6 +232,26 @@ TEST(BakeCli, NoiseIsInEverySummaryAndItsRemedyWorks) {
     EXPECT_LE(lower, 0.02) << followed;
     EXPECT_EQ(after.find("enough to show as blotches"), std::string::npos) << after;
   }
+}
+
+// Off a terminal, every long stage prints its final line, with its rate, and every stage ends at 100%: coarsening
+// stops when no collapse is left within the tolerance, long before its bound of one per vertex (issue 23).
+TEST(BakeCli, EveryStageEndsAt100PercentWithItsRate) {
+  const std::string dir = test::TempDirectory("cli-progress");
+  const BakeRun run = RunBake(PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/out.ply --photons 50000 --refine");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const std::regex line(R"(^  ([a-z ]+?) +([0-9.]+)%  +([0-9]+) / ([0-9]+) +[0-9.]+ s +[0-9.]+( [kMG])?/s)");
+  std::set<std::string> stages;
+  std::istringstream lines(run.output);
+  for (std::string text; std::getline(lines, text);) {
+    std::smatch m;
+    if (!std::regex_search(text, m, line)) continue;
+    stages.insert(m[1]);
+    EXPECT_EQ(m[2], "100.0") << text;
+    EXPECT_EQ(m[3], m[4]) << text;
+  }
+  for (const char* stage : {"trace photons", "estimate irradiance", "coarsen mesh", "measure mesh error"})
+    EXPECT_TRUE(stages.count(stage)) << stage << " printed no progress line:\n" << run.output;
 }
 
 TEST(BakeCli, EveryEstimatorAndAutoBandwidthRunAndAreReported) {
