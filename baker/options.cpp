@@ -39,6 +39,16 @@ std::optional<DirectLight> ParseDirectLight(std::string_view name) {
   return std::nullopt;
 }
 
+std::optional<QualityPreset> ParseQuality(std::string_view name) {
+  if (name == "draft") return QualityPreset{250'000, 0.08f, 64};
+  if (name == "medium") return QualityPreset{1'000'000, 0.08f, 256};
+  if (name == "high") return QualityPreset{4'000'000, 0.05f, 256};
+  if (name == "production") return QualityPreset{16'000'000, 0.03f, 1024};
+  return std::nullopt;
+}
+
+std::string QualityNames() { return "draft, medium, high, production"; }
+
 std::string DirectLightName(DirectLight mode) { return mode == DirectLight::kSampled ? "sampled" : "photons"; }
 std::string DirectLightNames() { return "photons, sampled"; }
 

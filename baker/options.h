@@ -31,6 +31,21 @@ struct DirectSettings {
   uint32_t samples = 256;  // --direct-samples: shadow rays per point; range [1, 1e6], typical 64-1024
 };
 
+// --quality: photons, h and shadow rays per point together, chosen from the box's measured error against time
+// (accuracy --box; README, "Quality presets"). Options given explicitly win over the preset's.
+//   draft       250,000 photons, h 0.08 m,    64 shadow rays   (box: 4.3% error against the reference, 0.16 s)
+//   medium    1,000,000 photons, h 0.08 m,   256 shadow rays   (box: 2.8%, 0.6 s)
+//   high      4,000,000 photons, h 0.05 m,   256 shadow rays   (box: 2.1%, 2 s)
+//   production 16,000,000 photons, h 0.03 m, 1,024 shadow rays
+struct QualityPreset {
+  uint64_t photons;
+  float bandwidth;  // h [m]
+  uint32_t directSamples;
+};
+// "draft", "medium", "high" or "production"; nullopt for any other name.
+std::optional<QualityPreset> ParseQuality(std::string_view name);
+std::string QualityNames();  // comma-separated, for --help and error messages
+
 // --refine, --tolerance, --max-vertices, --subdivide (baker/4_refine_mesh.h).
 struct RefineSettings {
   bool adaptive = false;        // --refine: coarsen where the light is flat, refine where it changes

@@ -135,13 +135,30 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   return app;
 }
 
+// --quality sets --photons, --h and --direct-samples, except those given on the command line.
+void ApplyQuality(const CLI::App& app, const std::string& quality, pb::BakeOptions& o) {
+  if (quality.empty()) return;
+  const std::optional<pb::QualityPreset> preset = pb::ParseQuality(quality);
+  if (!preset) throw pb::InputError("--quality", 0, "unknown preset '" + quality + "'; choose one of: " + pb::QualityNames());
+  if (app.count("--photons") == 0) o.photons = preset->photons;
+  if (app.count("--h") == 0) o.estimator.bandwidth = preset->bandwidth;
+  if (app.count("--direct-samples") == 0) o.direct.samples = preset->directSamples;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"bake: photon-traced irradiance baked onto mesh vertices (photonbake)"};
   pb::BakeOptions options;
   DefineOptions(app, options);
-  return pb::tools::RunTool(app, argc, argv, [&] { options.Validate(); }, [&] {
+  std::string quality;
+  app.add_option("--quality", quality, "photons, h and shadow rays together, from the box's measured error against "
+                                       "time: " + pb::QualityNames() + " (README, 'Quality presets'); options given "
+                                       "explicitly win");
+  return pb::tools::RunTool(app, argc, argv, [&] {
+    ApplyQuality(app, quality, options);
+    options.Validate();
+  }, [&] {
     const pb::Log log(options.quiet);
     pb::PrintSummary(pb::Bake(options, log), log);
   });

@@ -254,6 +254,28 @@ TEST(BakeCli, EveryStageEndsAt100PercentWithItsRate) {
     EXPECT_TRUE(stages.count(stage)) << stage << " printed no progress line:\n" << run.output;
 }
 
+// --quality sets photons, h and shadow rays together; what the command line gives explicitly wins.
+TEST(BakeCli, QualityPresetsSetPhotonsBandwidthAndShadowRays) {
+  const std::string dir = test::TempDirectory("cli-quality");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 2.0f, 4, 0.5f);
+  const auto options = [&](const std::string& args) {
+    const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply -q --report " + dir + "/r.json " + args);
+    EXPECT_EQ(run.status, 0) << args << ": " << run.output;
+    return nlohmann::json::parse(test::ReadBytes(dir + "/r.json")).at("options");
+  };
+  const nlohmann::json draft = options("--quality draft");
+  EXPECT_EQ(draft.at("photons"), 250000);
+  EXPECT_FLOAT_EQ(draft.at("h_m").get<float>(), 0.08f);
+  EXPECT_EQ(draft.at("direct_samples"), 64);
+  const nlohmann::json mixed = options("--quality draft --photons 1000 --h 0.2 --direct-samples 9");
+  EXPECT_EQ(mixed.at("photons"), 1000);
+  EXPECT_FLOAT_EQ(mixed.at("h_m").get<float>(), 0.2f);
+  EXPECT_EQ(mixed.at("direct_samples"), 9);
+  const BakeRun bad = RunBake(scene + " -o " + dir + "/out.ply --quality ultra");
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_NE(bad.output.find("draft, medium, high, production"), std::string::npos) << bad.output;
+}
+
 TEST(BakeCli, EveryEstimatorAndAutoBandwidthRunAndAreReported) {
   const std::string dir = test::TempDirectory("cli-estimators");
   const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 2, 8);
