@@ -98,15 +98,39 @@ DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng
   if (cdf.empty() || samples == 0) return {};
   const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
   const std::vector<uint32_t> cells = Shuffled(side * side, rng);
-  SampleMean mean;
+  StratifiedMean mean(side);
   for (uint32_t j = 0; j < samples; ++j) {
     const auto choice = SampleDiscreteCdf(cdf, std::min((float(j) + rng.Uniform()) / float(samples), 0x1.fffffep-1f));
     const uint32_t cell = cells[j];
     const Point2 jitter = rng.Uniform2();
     const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
-    mean.Add(SampleOne(lights_[choice->index], p, n, u) * float(1.0 / choice->pmf));
+    mean.Add(cell, SampleOne(lights_[choice->index], p, n, u) * float(1.0 / choice->pmf));
   }
   return mean.Result();
+}
+
+void StratifiedMean::Add(uint32_t cell, Rgb e) {
+  all_.Add(e);
+  byCell_[cell] = Luminance(e);
+}
+
+DirectSample StratifiedMean::Result() const {
+  DirectSample result = all_.Result();
+  const double mean = Luminance(result.irradiance);
+  double squares = 0, n = 0, paired = 0;
+  for (uint32_t b = 0; b < side_; ++b)
+    for (uint32_t a = 0; a < side_; ++a) {
+      const double f = byCell_[size_t(b) * side_ + a];
+      if (f < 0) continue;
+      ++n;
+      const double g = a % 2 == 0 && a + 1 < side_ ? byCell_[size_t(b) * side_ + a + 1] : -1.0;
+      if (g >= 0) squares += (f - g) * (f - g), paired += 2;
+    }
+  if (paired < 4 || !(mean > 0)) return result;  // too few pairs: the independent-sample error
+  // Per sample, the pairs give (f_1 - f_2)^2 / 2 each; the mean of n samples has n times that over n^2.
+  const double variance = squares / paired / n;
+  result.relativeNoise = std::sqrt(variance) / mean;
+  return result;
 }
 
 DirectSample SampleMean::Result() const {
