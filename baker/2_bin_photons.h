@@ -7,6 +7,8 @@
 // "power" Phi [W] is what all its photons share (AreaLight::Power).
 #pragma once
 
+#include "baker/progress.h"
+
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -35,5 +37,7 @@ struct SurfaceBins {
 
 // Stable: within a surface, hits keep their trace order, so sums over them are reproducible.
 SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits);
+// The same, with its progress on `log` (two passes over the hits; 10^8 hits take seconds).
+SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, const Log& log);
 
 }  // namespace pb

@@ -122,7 +122,7 @@ FieldSettings FieldSettingsOf(const BakeOptions& o) {
 
 // Stages 2 and 3 from the photons in `lit`, with each vertex's noise and the bake's.
 void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, StageClock& clock, const Log& log) {
-  lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons); });
+  lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons, log); });
   lit.field.emplace(BuildIrradianceField(scene, lit.bins, FieldSettingsOf(o), clock));
   lit.baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true);
