@@ -72,30 +72,42 @@ void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeO
   report.savedTo = o.savePhotonsPath;
 }
 
-double BakeNoise(const BakedMesh& baked, double photonScale, double pointScale) {
-  const std::vector<double> area = VertexAreas(baked.mesh);
-  std::vector<double> noise(area.size()), weight(area.size());
-  for (size_t v = 0; v < area.size(); ++v) {
-    const double radiance = Luminance(baked.Radiance(v));
-    const double reflected = Luminance(OutgoingRadiance({}, baked.albedo[v], baked.irradiance[v]));
-    const double share = baked.photonVarianceShare.empty() ? 1.0 : baked.photonVarianceShare[v];
-    const double scaled = baked.irradianceNoise[v] * std::sqrt(share * photonScale + (1 - share) * pointScale);
-    noise[v] = radiance > 0 ? reflected / radiance * scaled : 0.0;
-    weight[v] = radiance * area[v];
-  }
-  return WeightedPercentile(noise, weight, 0.95);
-}
-
 namespace {
 
-// The largest scale s in (0, 1] (to a part in 1000, by bisection) for which noise(s) <= target; noise falls as s
-// does. 0 when even s -> 0 leaves it above.
+// Each vertex's relative noise of displayed light split into the photons' and the points' variance, and its
+// weight (luminance x area): computed once, so that RemedyForNoise's search only re-takes the percentile.
+struct VertexNoise {
+  std::vector<double> photonVariance, pointVariance, weight;
+
+  explicit VertexNoise(const BakedMesh& baked) {
+    const std::vector<double> area = VertexAreas(baked.mesh);
+    photonVariance.resize(area.size()), pointVariance.resize(area.size()), weight.resize(area.size());
+    for (size_t v = 0; v < area.size(); ++v) {
+      const double radiance = Luminance(baked.Radiance(v));
+      const double reflected = Luminance(OutgoingRadiance({}, baked.albedo[v], baked.irradiance[v]));
+      const double noise = radiance > 0 ? reflected / radiance * baked.irradianceNoise[v] : 0.0;
+      const double share = baked.photonVarianceShare.empty() ? 1.0 : baked.photonVarianceShare[v];
+      photonVariance[v] = share * noise * noise;
+      pointVariance[v] = (1 - share) * noise * noise;
+      weight[v] = radiance * area[v];
+    }
+  }
+  double Percentile(double photonScale, double pointScale) const {
+    std::vector<double> noise(weight.size());
+    for (size_t v = 0; v < noise.size(); ++v)
+      noise[v] = std::sqrt(photonVariance[v] * photonScale + pointVariance[v] * pointScale);
+    return WeightedPercentile(noise, weight, 0.95);
+  }
+};
+
+// The largest scale s in (0, 1] (to a part in 100, by bisection in log s) for which noise(s) <= target; noise
+// falls as s does. 0 when even s -> 0 leaves it above.
 template <typename Noise>
 double LargestScaleWithin(double target, Noise noise) {
   if (noise(1.0) <= target) return 1.0;
   if (noise(1e-9) > target) return 0.0;
   double lo = 1e-9, hi = 1.0;  // noise(lo) <= target < noise(hi)
-  while (hi / lo > 1.001) {
+  while (hi / lo > 1.01) {
     const double mid = std::sqrt(lo * hi);
     (noise(mid) <= target ? lo : hi) = mid;
   }
@@ -104,16 +116,20 @@ double LargestScaleWithin(double target, Noise noise) {
 
 }  // namespace
 
+double BakeNoise(const BakedMesh& baked, double photonScale, double pointScale) {
+  return VertexNoise(baked).Percentile(photonScale, pointScale);
+}
+
 NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples) {
+  const VertexNoise vertices(baked);
   NoiseRemedy remedy{photons, pointSamples};
   // The points' own noise first, with room left for the photons'.
-  const double pointsAlone = BakeNoise(baked, 0, 1);
-  if (pointSamples > 0 && pointsAlone > 0.9 * target) {
-    const double s = LargestScaleWithin(0.7 * target, [&](double k) { return BakeNoise(baked, 0, k); });
+  if (pointSamples > 0 && vertices.Percentile(0, 1) > 0.9 * target) {
+    const double s = LargestScaleWithin(0.7 * target, [&](double k) { return vertices.Percentile(0, k); });
     if (s > 0) remedy.pointSamples = uint32_t(std::min(std::ceil(pointSamples / s), 1e6));
   }
   const double pointScale = double(pointSamples) / double(std::max(remedy.pointSamples, 1u));
-  const double s = LargestScaleWithin(target, [&](double k) { return BakeNoise(baked, k, pointScale); });
+  const double s = LargestScaleWithin(target, [&](double k) { return vertices.Percentile(k, pointScale); });
   if (s > 0) remedy.photons = uint64_t(std::ceil(double(photons) / s));
   return remedy;
 }
