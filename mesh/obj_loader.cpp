@@ -128,7 +128,7 @@ class ObjParser {
     } else {
       kind = "unknown " + k, message = "unknown OBJ statement '" + k + "' is ignored";
     }
-    if (!firstIgnored_.count(kind)) firstIgnored_[kind] = line.number;
+    if (kind == "lines and points" || kind == "free-form") firstIgnored_.emplace(kind, line.number);
     warnings_.Add(kind, line.Warning(message));
   }
 

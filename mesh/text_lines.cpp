@@ -157,25 +157,28 @@ std::vector<std::string> SplitEscaped(const std::string& text) {
 }
 
 void WarningLog::Add(const std::string& kind, const std::string& message) {
-  for (Entry& e : entries_)
-    if (e.kind == kind) {
-      ++e.count;
-      return;
-    }
-  entries_.push_back({kind, message, 1});
+  if (const auto it = index_.find(kind); it != index_.end()) {
+    ++entries_[it->second].count;
+  } else if (entries_.size() < kMaxKinds) {
+    index_.emplace(kind, entries_.size());
+    entries_.push_back({kind, message, 1});
+  } else {
+    ++others_;
+  }
 }
 
 std::vector<std::string> WarningLog::Lines() const {
   std::vector<std::string> lines;
   for (const Entry& e : entries_)
     lines.push_back(e.count > 1 ? e.first + " (" + std::to_string(e.count) + " in all)" : e.first);
+  if (others_ > 0)
+    lines.push_back("warning: " + std::to_string(others_) + " more warnings of " + "other kinds, not listed");
   return lines;
 }
 
 size_t WarningLog::Count(const std::string& kind) const {
-  for (const Entry& e : entries_)
-    if (e.kind == kind) return e.count;
-  return 0;
+  const auto it = index_.find(kind);
+  return it == index_.end() ? 0 : entries_[it->second].count;
 }
 
 }  // namespace pb

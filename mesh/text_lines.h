@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace pb {
@@ -63,9 +64,12 @@ class TextFileReader {
 std::vector<std::string> SplitEscaped(const std::string& text);
 
 // The warnings of one load. Only the first warning of each kind is kept in full; later ones of that kind are
-// counted, so a file with 10,000 zero-area triangles says so in one line.
+// counted, so a file with 10,000 zero-area triangles says so in one line. At most kMaxKinds kinds are kept; the
+// warnings of any further kind are counted together in one last line, so that a hostile file of a million
+// distinct unknown keywords costs neither time nor memory.
 class WarningLog {
  public:
+  static constexpr size_t kMaxKinds = 64;
   // `kind` groups warnings ("zero-area triangle"); `message` is the full "file:line: warning: ..." text.
   void Add(const std::string& kind, const std::string& message);
   // One line per kind, in the order each kind first appeared; "(N in all)" is appended where N > 1.
@@ -78,6 +82,8 @@ class WarningLog {
     size_t count = 0;
   };
   std::vector<Entry> entries_;
+  std::unordered_map<std::string, size_t> index_;  // kind -> its entry
+  size_t others_ = 0;                              // warnings of kinds beyond kMaxKinds
 };
 
 }  // namespace pb

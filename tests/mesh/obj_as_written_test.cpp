@@ -9,6 +9,7 @@
 #include "mesh/errors.h"
 #include "mesh/mtl_loader.h"
 #include "mesh/obj_loader.h"
+#include "mesh/text_lines.h"
 #include "mesh/texture.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
@@ -104,6 +105,16 @@ TEST(ObjAsWritten, Utf16ContinuationsAndIgnoredStatements) {
   EXPECT_NE(WarningWith(loaded, "a face of 0 corners").find("s.obj:17:"), std::string::npos)
       << "the continued face counts as line 8, so later lines keep their numbers";
   WarningWith(loaded, "lines and points");
+}
+
+// A file of 100,000 distinct unknown keywords (hostile, or badly broken) gives a bounded list of warnings, fast.
+TEST(ObjAsWritten, WarningsOfManyKindsStayBounded) {
+  std::string obj = kQuad + "f 1 4 3 2\n";
+  for (int i = 0; i < 100000; ++i) obj += "w" + std::to_string(i) + " 1\n";
+  const LoadedScene loaded = LoadObj(Write("many-kinds", obj));
+  ASSERT_EQ(loaded.warnings.size(), WarningLog::kMaxKinds + 1);
+  EXPECT_NE(loaded.warnings.back().find(std::to_string(100000 + 1 - WarningLog::kMaxKinds) + " more warnings of other kinds"),
+            std::string::npos) << loaded.warnings.back();
 }
 
 TEST(ObjAsWritten, ConcavePolygonsKeepTheirAreaAndSide) {
