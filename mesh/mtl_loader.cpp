@@ -113,14 +113,20 @@ Material ResolveMaterial(MtlEntry e, WarningLog& warnings) {
   return m;
 }
 
-// How many values a map_Kd option takes: -s, -o and -t take one to three numbers; 0 for an unknown option.
-int OptionValues(const std::string& option) {
-  if (option == "-s" || option == "-o" || option == "-t") return 3;
-  if (option == "-mm") return 2;
-  for (const char* one : {"-blendu", "-blendv", "-boost", "-bm", "-cc", "-clamp", "-imfchan", "-texres", "-type",
-                          "-colorspace"})
-    if (option == one) return 1;
-  return 0;
+// What a map_Kd option takes: up to `values` values (-s, -o and -t take one to three), numbers or words
+// (on/off, a channel, a name); values 0 for an unknown option.
+struct OptionShape {
+  int values = 0;
+  bool numeric = true;
+};
+OptionShape ShapeOf(const std::string& option) {
+  if (option == "-s" || option == "-o" || option == "-t") return {3, true};
+  if (option == "-mm") return {2, true};
+  for (const char* number : {"-boost", "-bm", "-cc", "-texres"})
+    if (option == number) return {1, true};
+  for (const char* word : {"-blendu", "-blendv", "-clamp", "-imfchan", "-type", "-colorspace"})
+    if (option == word) return {1, false};
+  return {};
 }
 
 bool IsNumber(const std::string& token) {
@@ -136,14 +142,12 @@ size_t ReadTextureOptions(const TextLine& line, Material& m, WarningLog& warning
   size_t i = 1;
   while (i < line.tokens.size() && line.tokens[i].size() > 1 && line.tokens[i][0] == '-' && !IsNumber(line.tokens[i])) {
     const std::string& option = line.tokens[i++];
-    const int most = OptionValues(option);
+    const auto [most, numeric] = ShapeOf(option);
     if (most == 0) {
       warnings.Add("map_Kd option", line.Warning("unknown map_Kd option '" + option + "' is ignored"));
       continue;
     }
     std::vector<float> values;
-    const bool numeric = option != "-clamp" && option != "-blendu" && option != "-blendv" && option != "-imfchan" &&
-                         option != "-type" && option != "-colorspace";
     while (i < line.tokens.size() && int(values.size()) < most && (!numeric || IsNumber(line.tokens[i]))) {
       values.push_back(numeric ? line.Number(i) : 0.0f);
       if (option == "-clamp") m.textureClamp = line.tokens[i] == "on";

@@ -70,19 +70,11 @@ Texture LoadStbTexture(const std::string& path, const std::string& bytes) {
   }
 }
 
-}  // namespace
-
-Texture LoadTexture(const std::string& path) {
-  const std::string bytes = ReadRegularFile(path, "texture");
-  if (bytes.rfind("\x89PNG\r\n\x1a\n", 0) == 0) return LoadPngTexture(path);
-  return LoadStbTexture(path, bytes);
-}
-
-Texture LoadPngTexture(const std::string& path) {
-  RequireRegularFile(path, "texture");
+// A PNG from the file's bytes, read once, by libpng's simplified API.
+Texture DecodePng(const std::string& path, const std::string& bytes) {
   png_image image{};
   image.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_file(&image, path.c_str()))
+  if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size()))
     throw InputError(path, 0, std::string("cannot read texture: ") + image.message);
   // The header's size, checked before the pixels are allocated (a 69-byte PNG may declare 65535 x 65535).
   if (uint64_t(image.width) * image.height > kMaxTexturePixels) png_image_free(&image);
@@ -95,6 +87,16 @@ Texture LoadPngTexture(const std::string& path) {
   }
   return FromSrgbPixels(path, int(image.width), int(image.height), pixels.data());
 }
+
+}  // namespace
+
+Texture LoadTexture(const std::string& path) {
+  const std::string bytes = ReadRegularFile(path, "texture");
+  if (bytes.rfind("\x89PNG\r\n\x1a\n", 0) == 0) return DecodePng(path, bytes);
+  return LoadStbTexture(path, bytes);
+}
+
+Texture LoadPngTexture(const std::string& path) { return DecodePng(path, ReadRegularFile(path, "texture")); }
 
 Rgb Texture::Mean() const {
   double r = 0, g = 0, b = 0;
