@@ -16,8 +16,9 @@
 // so do all faces when an mtllib file cannot be found.
 //
 // Errors (InputError, "file:line: error: ..."), for what would make the geometry wrong: a missing OBJ file, a
-// malformed or non-finite number in v, vt or vn, a malformed face index or one out of range (positions, texture
-// coordinates and normals alike), a textured face without texture coordinates, and a scene with no face to bake
+// malformed or non-finite number in v, vt or vn, a malformed face index, a vertex index out of range (or a texture
+// coordinate index, on a textured face; a textured face with no texture coordinates at all gets Kd times the
+// image's mean, with a warning), and a scene with no face to bake
 // (the message names what it had instead: lines, points, faces of one or two corners). Zero-area triangles are
 // skipped and counted in Scene::degenerateTrianglesSkipped. A triangle that repeats an earlier one (the same corner
 // positions, facing the same side) is skipped and counted in Scene::duplicateTrianglesSkipped: coincident copies
