@@ -7,7 +7,7 @@
 #include "mesh/color.h"
 
 #include <algorithm>
-#include "mesh/obj_loader.h"
+#include "mesh/gltf_loader.h"
 
 namespace pb {
 namespace {
@@ -84,7 +84,7 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
 }
 
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock) {
-  LoadedScene loaded = clock.Time("load", [&] { return LoadObj(settings.path, {settings.scale}); });
+  LoadedScene loaded = clock.Time("load", [&] { return LoadScene(settings.path, {settings.scale}); });
   try {
     PreparedScene p = PrepareScene(std::move(loaded.scene), settings.effects, clock, settings.cover);
     p.warnings.insert(p.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());

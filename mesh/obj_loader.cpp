@@ -10,6 +10,7 @@
 #include "mesh/input_file.h"
 #include "mesh/mtl_loader.h"
 #include "mesh/polygon.h"
+#include "mesh/scene_builder.h"
 #include "mesh/text_lines.h"
 
 namespace pb {
@@ -39,20 +40,6 @@ uint32_t CornerIndex(const TextLine& line, const std::string& corner, int field,
   return uint32_t(resolved);
 }
 
-using Position = std::array<double, 3>;  // world [m], as read
-
-bool IsDegenerate(const Position& a, const Position& b, const Position& c) {
-  // In double, so that slivers of aspect ratio up to ~1e9 are kept and only zero-area faces are dropped.
-  const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
-               cz = e1[0] * e2[1] - e1[1] * e2[0];
-  const double twiceArea = std::sqrt(cx * cx + cy * cy + cz * cz);
-  const double longest2 = std::max({e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2],
-                                    e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]});
-  return !(twiceArea > 1e-18 * longest2) || twiceArea == 0.0;
-}
-
 // OBJ statements that describe no polygon mesh: free-form curves and surfaces, and display or render hints.
 bool IsFreeForm(const std::string& k) {
   for (const char* word : {"cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrp",
@@ -69,7 +56,8 @@ bool IsDisplayHint(const std::string& k) {
 
 class ObjParser {
  public:
-  ObjParser(const std::string& path, const LoadOptions& options) : path_(path), options_(options) {
+  ObjParser(const std::string& path, const LoadOptions& options)
+      : path_(path), options_(options), builder_(result_.scene) {
     result_.scene.path = path;
     result_.scene.objectNames.push_back("");  // faces before any 'o'
   }
@@ -79,7 +67,7 @@ class ObjParser {
     TextFileReader reader(path_, "scene file");
     for (TextLine line; reader.Next(line);) Statement(line);
     if (result_.scene.triangles.empty()) RefuseEmpty();
-    StorePositions();
+    builder_.StorePositions(path_);
     result_.warnings = warnings_.Lines();
     return std::move(result_);
   }
@@ -90,7 +78,7 @@ class ObjParser {
     if (k == "v") {
       line.ExpectValues(3, 7);  // x y z [w] or x y z r g b (vertex colours, ignored).
       const double s = options_.scale;
-      positions_.push_back({line.Double(1) * s, line.Double(2) * s, line.Double(3) * s});
+      builder_.AddPosition({line.Double(1) * s, line.Double(2) * s, line.Double(3) * s});
     } else if (k == "vn") {
       line.ExpectValues(3, 3);
       for (size_t i = 1; i < line.tokens.size(); ++i) line.Number(i);
@@ -196,7 +184,7 @@ class ObjParser {
     const bool textured = scene.materials[size_t(currentMaterial_)].albedoTexture >= 0;
     std::vector<uint32_t> corners, texcoords;
     for (size_t i = 1; i < line.tokens.size(); ++i) {
-      corners.push_back(CornerIndex(line, line.tokens[i], 0, positions_.size()));
+      corners.push_back(CornerIndex(line, line.tokens[i], 0, builder_.PositionCount()));
       texcoords.push_back(textured ? CornerIndex(line, line.tokens[i], 1, scene.texcoords.size()) : kNoTexcoord);
     }
     if (!textured) CheckUnusedIndices(line, 1, scene.texcoords.size());
@@ -251,7 +239,7 @@ class ObjParser {
 
   std::vector<std::array<uint32_t, 3>> Triangulate(const TextLine& line, const std::vector<uint32_t>& corners) {
     std::vector<PolygonCorner> polygon;
-    for (uint32_t c : corners) polygon.push_back(positions_[c]);
+    for (uint32_t c : corners) polygon.push_back(builder_.position(c));
     PolygonTriangulation cut = TriangulatePolygon(polygon);
     if (cut.irregular)
       warnings_.Add("irregular polygon", line.Warning("a polygon whose edges cross itself was cut as well as it "
@@ -260,17 +248,12 @@ class ObjParser {
   }
 
   void AddTriangle(const TextLine& line, const Triangle& t) {
-    Scene& scene = result_.scene;
-    if (IsDegenerate(positions_[t.v[0]], positions_[t.v[1]], positions_[t.v[2]])) {
-      ++scene.degenerateTrianglesSkipped;
-      return warnings_.Add("zero-area", line.Warning("zero-area triangle skipped"));
-    }
-    if (const auto [it, isNew] = faceLines_.emplace(FaceKey(t), line.number); !isNew) {
-      ++scene.duplicateTrianglesSkipped;
-      return warnings_.Add("repeat", line.Warning("triangle repeats the one at line " + std::to_string(it->second) +
-                                                  " (same corners, same side); skipped"));
-    }
-    scene.triangles.push_back(t);
+    const SceneBuilder::Outcome added = builder_.AddTriangle(t, uint32_t(line.number));
+    if (added.skipped == SceneBuilder::Skipped::kZeroArea)
+      warnings_.Add("zero-area", line.Warning("zero-area triangle skipped"));
+    if (added.skipped == SceneBuilder::Skipped::kRepeat)
+      warnings_.Add("repeat", line.Warning("triangle repeats the one at line " + std::to_string(added.repeatedTag) +
+                                           " (same corners, same side); skipped"));
   }
 
   // A scene with no face to bake is refused, naming what it had instead.
@@ -285,51 +268,10 @@ class ObjParser {
     throw InputError(path_, 0, "scene has no faces");
   }
 
-  // The triangle's corner positions, rotated so that the smallest comes first: equal for the same triangle
-  // facing the same way, whatever its vertex indices or starting corner; a back-to-back copy differs.
-  using Key = std::array<Position, 3>;
-  struct KeyHash {
-    size_t operator()(const Key& k) const {
-      size_t h = 0;
-      for (const Position& p : k)
-        for (double c : p) h = h * 1000003u ^ std::hash<double>()(c);
-      return h;
-    }
-  };
-  Key FaceKey(const Triangle& t) const {
-    Key k{positions_[t.v[0]], positions_[t.v[1]], positions_[t.v[2]]};
-    std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
-    return k;
-  }
-
-  // Chooses the local origin (mesh/scene.h) and stores the positions relative to it, in float.
-  void StorePositions() {
-    Position lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-    for (const Position& p : positions_)
-      for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
-    double size = 0, distance = 0;
-    Position centre{};
-    for (int k = 0; k < 3; ++k) {
-      centre[k] = 0.5 * (lo[k] + hi[k]);
-      size = std::max(size, hi[k] - lo[k]);
-      distance = std::max(distance, std::abs(centre[k]));
-    }
-    Scene& scene = result_.scene;
-    if (distance > size) scene.origin = centre;
-    scene.positions.reserve(positions_.size());
-    for (const Position& p : positions_) {
-      const Point3 local = scene.ToLocal(p[0], p[1], p[2]);
-      if (!std::isfinite(local.x) || !std::isfinite(local.y) || !std::isfinite(local.z))
-        throw InputError(path_, 0, "the scene spans more than a float can hold (about 3e38 m)");
-      scene.positions.push_back(local);
-    }
-  }
-
   std::string path_;
   LoadOptions options_;
   LoadedScene result_;
-  std::vector<Position> positions_;
-  std::unordered_map<Key, int, KeyHash> faceLines_;  // each kept triangle -> its 'f' line
+  SceneBuilder builder_;
   std::unordered_map<std::string, uint32_t> materialByName_;
   std::optional<uint32_t> defaultMaterial_;
   std::unordered_map<uint32_t, uint32_t> untextured_;  // textured material -> its untextured variant

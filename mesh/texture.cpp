@@ -90,10 +90,11 @@ Texture DecodePng(const std::string& path, const std::string& bytes) {
 
 }  // namespace
 
-Texture LoadTexture(const std::string& path) {
-  const std::string bytes = ReadRegularFile(path, "texture");
-  if (bytes.rfind("\x89PNG\r\n\x1a\n", 0) == 0) return DecodePng(path, bytes);
-  return LoadStbTexture(path, bytes);
+Texture LoadTexture(const std::string& path) { return DecodeTexture(path, ReadRegularFile(path, "texture")); }
+
+Texture DecodeTexture(const std::string& name, const std::string& bytes) {
+  if (bytes.rfind("\x89PNG\r\n\x1a\n", 0) == 0) return DecodePng(name, bytes);
+  return LoadStbTexture(name, bytes);
 }
 
 Texture LoadPngTexture(const std::string& path) { return DecodePng(path, ReadRegularFile(path, "texture")); }

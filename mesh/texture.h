@@ -34,6 +34,9 @@ inline constexpr uint64_t kMaxTexturePixels = uint64_t(8192) * 8192;
 // being tone-mapped to 8 bits), told apart by the file's first bytes, not its name. InputError naming the file
 // when it is missing, unreadable, malformed or too large.
 Texture LoadTexture(const std::string& path);
+// The same from a file's bytes already read (a glTF image, in a buffer or a data URI); `name` is the texture's
+// path in messages and in Texture::path.
+Texture DecodeTexture(const std::string& name, const std::string& bytes);
 // The same for a file that must be a PNG.
 Texture LoadPngTexture(const std::string& path);
 

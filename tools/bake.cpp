@@ -1,4 +1,4 @@
-// bake: photon-traced irradiance on every vertex of an OBJ scene, written as a PLY that MeshLab opens.
+// bake: photon-traced irradiance on every vertex of an OBJ or glTF scene, written as a PLY that MeshLab opens.
 // Exit status: 0 on success, 1 for bad input (message names file:line), 2 for a bad command line.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -49,7 +49,7 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
 }
 
 CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
-  app.add_option("scene", o.scenePath, "OBJ scene (with MTL). Kd = diffuse albedo in [0,1]; Ke = emitted radiance "
+  app.add_option("scene", o.scenePath, "OBJ scene (with MTL) or glTF 2.0 (.gltf, .glb). Kd = diffuse albedo in [0,1]; Ke = emitted radiance "
                                        "[W/(m^2 sr)], one-sided along the counter-clockwise normal")
       ->required();
   app.add_option("-o,--output", o.outputPath, "PLY to write (binary little-endian unless --ascii); written to a "

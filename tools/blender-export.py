@@ -4,6 +4,7 @@
 # (Principled transmission), a PNG- and a JPEG-textured panel whose images lie outside the export folder, an
 # L-shaped concave n-gon without material or UV map, and an emissive panel facing down.
 #   blender -b --python-exit-code 1 --python tools/blender-export.py -- OUT_DIR
+# It also writes the scene as glTF (scene.glb, scene_separate.gltf + .bin + images).
 # tests/data/blender holds the absolute-mode exports (their texture paths lead nowhere on another machine) with the
 # images beside them; obj_as_written_test.cpp bakes them.
 import bpy, os, sys
@@ -67,3 +68,8 @@ for mode in ("AUTO", "ABSOLUTE", "RELATIVE", "STRIP", "COPY"):
                              use_materials=True, axis_forward='Y', axis_up='Z')
 bpy.ops.wm.obj_export(filepath=os.path.join(out, "new_nomaterials.obj"), export_materials=False,
                       forward_axis='Y', up_axis='Z')
+
+# glTF 2.0 as Blender's exporter writes it (issue 21): one binary .glb with its images inside, and a .gltf with a
+# separate .bin and its images beside it.
+bpy.ops.export_scene.gltf(filepath=os.path.join(out, "scene.glb"), export_format='GLB')
+bpy.ops.export_scene.gltf(filepath=os.path.join(out, "scene_separate.gltf"), export_format='GLTF_SEPARATE')

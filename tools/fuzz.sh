@@ -2,6 +2,7 @@
 # Fuzzes every file reader with libFuzzer (clang, from Debian), AddressSanitizer and UndefinedBehaviorSanitizer,
 # each for a bounded time, one after another:
 #   obj_loader   OBJ/MTL scenes (mesh/obj_loader.h, mesh/mtl_loader.h), with the textures they name
+#   gltf_loader  glTF 2.0 scenes, .gltf with data URIs or .glb (mesh/gltf_loader.h), with their images
 #   texture      PNG, JPEG, TGA and BMP textures (mesh/texture.h)
 #   camera       camera JSON files (mesh/camera.h)
 #   photon_file  photon files for --resume (baker/photon_file.h), their CRC recomputed so mutations get past it
@@ -14,7 +15,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(obj_loader texture camera photon_file)
+[ ${#targets[@]} -gt 0 ] || targets=(obj_loader gltf_loader texture camera photon_file)
 if ! command -v clang++ >/dev/null; then
   sudo=""
   [ "$(id -u)" -eq 0 ] || sudo="sudo"

@@ -13,7 +13,7 @@ packages=(
   # useful
   libnanoflann-dev libeigen3-dev libcli11-dev
   nlohmann-json3-dev libfmt-dev libgtest-dev libbenchmark-dev
-  libpng-dev zlib1g-dev libstb-dev
+  libpng-dev zlib1g-dev libstb-dev libtinygltf-dev
 )
 
 missing=()

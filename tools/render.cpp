@@ -11,7 +11,7 @@
 namespace {
 
 void DefineOptions(CLI::App& app, pb::RenderOptions& o) {
-  app.add_option("scene", o.scenePath, "OBJ scene (with MTL); its camera is SCENE.camera.json unless --camera")
+  app.add_option("scene", o.scenePath, "OBJ scene (with MTL) or glTF 2.0; its camera is SCENE.camera.json unless --camera")
       ->required();
   app.add_option("-o,--output", o.outputPath, "OpenEXR image to write (radiance, W/(m^2 sr)); a PNG goes beside it")
       ->required();

@@ -1,0 +1,699 @@
+#include "mesh/gltf_loader.h"
+
+#include <fmt/format.h>
+#include <sys/stat.h>
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <unordered_map>
+
+#include "mesh/errors.h"
+#include "mesh/input_file.h"
+#include "mesh/mtl_loader.h"
+#include "mesh/scene_builder.h"
+#include "mesh/text_lines.h"
+
+namespace pb {
+namespace {
+
+namespace tg = tinygltf;
+
+unsigned char uchar(char c) { return static_cast<unsigned char>(c); }
+
+// The extensions this loader reads (or knowingly ignores); a file that requires any other is refused.
+const std::set<std::string>& KnownExtensions() {
+  static const std::set<std::string> known{"KHR_texture_transform", "KHR_materials_emissive_strength",
+                                           "KHR_materials_transmission", "KHR_materials_ior",
+                                           "KHR_materials_unlit", "KHR_lights_punctual"};
+  return known;
+}
+
+// ---- 4x4 transforms, column-major as glTF stores them --------------------------------------------------------
+
+using Matrix = std::array<double, 16>;
+
+constexpr Matrix kIdentity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+
+Matrix Multiply(const Matrix& a, const Matrix& b) {
+  Matrix m{};
+  for (int col = 0; col < 4; ++col)
+    for (int row = 0; row < 4; ++row)
+      for (int k = 0; k < 4; ++k) m[col * 4 + row] += a[k * 4 + row] * b[col * 4 + k];
+  return m;
+}
+
+// T * R * S, with R from the unit quaternion (x, y, z, w).
+Matrix FromTrs(const std::vector<double>& t, const std::vector<double>& r, const std::vector<double>& s) {
+  const double x = r.size() == 4 ? r[0] : 0, y = r.size() == 4 ? r[1] : 0, z = r.size() == 4 ? r[2] : 0,
+               w = r.size() == 4 ? r[3] : 1;
+  const double sx = s.size() == 3 ? s[0] : 1, sy = s.size() == 3 ? s[1] : 1, sz = s.size() == 3 ? s[2] : 1;
+  Matrix m{1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
+           2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
+           2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
+           0,                       0,                       0,                       1};
+  for (int k = 0; k < 3; ++k) m[k] *= sx, m[4 + k] *= sy, m[8 + k] *= sz;
+  if (t.size() == 3) m[12] = t[0], m[13] = t[1], m[14] = t[2];
+  return m;
+}
+
+double LinearDeterminant(const Matrix& m) {
+  return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+         m[8] * (m[1] * m[6] - m[5] * m[2]);
+}
+
+Position Apply(const Matrix& m, const double p[3]) {
+  return {m[0] * p[0] + m[4] * p[1] + m[8] * p[2] + m[12], m[1] * p[0] + m[5] * p[1] + m[9] * p[2] + m[13],
+          m[2] * p[0] + m[6] * p[1] + m[10] * p[2] + m[14]};
+}
+
+// ---- texture coordinates ------------------------------------------------------------------------------------
+
+// KHR_texture_transform: (u', v') = T R S (u, v), then our (s, t) = (u', 1 - v').
+struct UvTransform {
+  int texCoord = 0;                        // the TEXCOORD_n set it reads
+  std::array<double, 6> m{1, 0, 0, 0, 1, 0};  // u' = m0 u + m1 v + m2, v' = m3 u + m4 v + m5
+  Point2 Apply(double u, double v) const {
+    return {float(m[0] * u + m[1] * v + m[2]), float(1.0 - (m[3] * u + m[4] * v + m[5]))};
+  }
+};
+
+// What a primitive needs to know about its material beyond the index: which texture coordinates to read.
+struct MaterialUse {
+  uint32_t material = 0;
+  std::optional<UvTransform> albedoUv;  // when the albedo is textured
+  int emissiveTexture = -1;             // Scene::textures index of the emissive texture, or -1
+  UvTransform emissiveUv;
+};
+
+// ---- a bounds-checked accessor ------------------------------------------------------------------------------
+
+int ComponentBytes(int type) {
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return 0;
+  }
+}
+
+class Accessor {
+ public:
+  // The accessor `index`, which must have `components` components of one of `types`. `where` is the JSON path
+  // of the reference, for messages.
+  Accessor(const tg::Model& model, int index, int components, std::initializer_list<int> types,
+           const std::string& where, const std::string& file) {
+    auto fail = [&](const std::string& what) { throw InputError(file, 0, where + ": " + what); };
+    if (index < 0 || size_t(index) >= model.accessors.size())
+      fail(fmt::format("accessor {} does not exist ({} accessors)", index, model.accessors.size()));
+    const tg::Accessor& a = model.accessors[size_t(index)];
+    const std::string self = fmt::format("/accessors/{}", index);
+    if (a.sparse.isSparse) fail(self + " is sparse, which is not read");
+    if (tg::GetNumComponentsInType(uint32_t(a.type)) != components)
+      fail(fmt::format("{} has {} components where {} are needed", self, tg::GetNumComponentsInType(uint32_t(a.type)),
+                       components));
+    if (std::find(types.begin(), types.end(), a.componentType) == types.end())
+      fail(fmt::format("{} has component type {}, which is not allowed here", self, a.componentType));
+    type_ = a.componentType, components_ = components, normalized_ = a.normalized, count_ = a.count;
+    const size_t element = size_t(ComponentBytes(type_)) * size_t(components);
+    if (a.bufferView < 0) return;  // all zeros (glTF 3.6.2.4)
+    if (size_t(a.bufferView) >= model.bufferViews.size())
+      fail(fmt::format("{}: buffer view {} does not exist", self, a.bufferView));
+    const tg::BufferView& view = model.bufferViews[size_t(a.bufferView)];
+    const std::string viewPath = fmt::format("/bufferViews/{}", a.bufferView);
+    if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size())
+      fail(fmt::format("{}: buffer {} does not exist", viewPath, view.buffer));
+    const std::vector<unsigned char>& buffer = model.buffers[size_t(view.buffer)].data;
+    if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
+      fail(fmt::format("{} (bytes {} to {}) lies beyond its buffer of {} bytes", viewPath, view.byteOffset,
+                       view.byteOffset + view.byteLength, buffer.size()));
+    stride_ = view.byteStride ? view.byteStride : element;
+    if (stride_ < element) fail(fmt::format("{}: byteStride {} is less than an element's {} bytes", viewPath, stride_, element));
+    const bool fits = a.count == 0 || (a.byteOffset <= view.byteLength &&
+                                       (a.count - 1) <= (view.byteLength - a.byteOffset) / stride_ &&
+                                       a.byteOffset + (a.count - 1) * stride_ + element <= view.byteLength);
+    if (!fits) fail(fmt::format("{}: {} elements from byte {} do not fit in {} of {} bytes", self, a.count,
+                                a.byteOffset, viewPath, view.byteLength));
+    data_ = buffer.data() + view.byteOffset + a.byteOffset;
+  }
+
+  size_t count() const { return count_; }
+  // Component k of element i; normalized integers are mapped to [0, 1] (or [-1, 1]).
+  double Get(size_t i, int k) const {
+    if (!data_) return 0;
+    const unsigned char* p = data_ + i * stride_ + size_t(k) * size_t(ComponentBytes(type_));
+    switch (type_) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: return Read<float>(p, 1);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return Read<uint8_t>(p, 255.0);
+      case TINYGLTF_COMPONENT_TYPE_BYTE: return std::max(-1.0, Read<int8_t>(p, 127.0));
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return Read<uint16_t>(p, 65535.0);
+      case TINYGLTF_COMPONENT_TYPE_SHORT: return std::max(-1.0, Read<int16_t>(p, 32767.0));
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return Read<uint32_t>(p, 4294967295.0);
+      default: return Read<int32_t>(p, 2147483647.0);
+    }
+  }
+  uint64_t Index(size_t i) const { return uint64_t(Get(i, 0)); }  // for index accessors (never normalized)
+
+ private:
+  template <typename T>
+  double Read(const unsigned char* p, double unit) const {
+    T value;
+    std::memcpy(&value, p, sizeof value);
+    return normalized_ ? double(value) / unit : double(value);
+  }
+
+  const unsigned char* data_ = nullptr;  // null: every element is zero
+  size_t count_ = 0, stride_ = 0;
+  int type_ = 0, components_ = 0;
+  bool normalized_ = false;
+};
+
+// ---- files, as tinygltf reads them --------------------------------------------------------------------------
+
+bool RegularFileExists(const std::string& path, void*) {
+  struct stat s{};
+  return stat(path.c_str(), &s) == 0 && S_ISREG(s.st_mode);
+}
+// No expansion: tinygltf's default runs wordexp() on names from the file.
+std::string SamePath(const std::string& path, void*) { return path; }
+bool ReadWhole(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  try {
+    const std::string bytes = ReadRegularFile(path, "glTF resource");
+    out->assign(bytes.begin(), bytes.end());
+    return true;
+  } catch (const InputError& e) {
+    if (err) *err += e.what();
+    return false;
+  }
+}
+bool NoWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "the glTF loader writes no file";
+  return false;
+}
+
+// The images' encoded bytes, kept by tinygltf's image callback and decoded by mesh/texture.h afterwards.
+using ImageBytes = std::map<int, std::string>;
+bool KeepImageBytes(tg::Image*, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
+                    int size, void* user) {
+  (*static_cast<ImageBytes*>(user))[index].assign(reinterpret_cast<const char*>(bytes), size_t(std::max(size, 0)));
+  return true;
+}
+
+std::string Folder(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : path.substr(0, slash);
+}
+
+// A URI's %XX escapes decoded (glTF URIs are RFC 3986; "my%20wood.png" names "my wood.png").
+std::string DecodeUri(const std::string& uri) {
+  std::string out;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uchar(uri[i + 1])) && std::isxdigit(uchar(uri[i + 2]))) {
+      out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+bool StartsWith(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+const tg::Value* Member(const tg::ExtensionMap& extensions, const std::string& extension, const std::string& key) {
+  const auto it = extensions.find(extension);
+  if (it == extensions.end() || !it->second.Has(key)) return nullptr;
+  return &it->second.Get(key);
+}
+double NumberOr(const tg::ExtensionMap& extensions, const std::string& extension, const std::string& key,
+                double otherwise) {
+  const tg::Value* v = Member(extensions, extension, key);
+  return v && v->IsNumber() ? v->GetNumberAsDouble() : otherwise;
+}
+
+// ---- the loader ---------------------------------------------------------------------------------------------
+
+class GltfReader {
+ public:
+  GltfReader(const std::string& path, const LoadOptions& options)
+      : path_(path), options_(options), builder_(result_.scene) {
+    result_.scene.path = path;
+  }
+
+  LoadedScene Read() {
+    PB_CHECK(options_.scale > 0.0f && std::isfinite(options_.scale), "LoadOptions::scale is finite and > 0");
+    Parse();
+    RequireKnownExtensions();
+    for (const auto& [node, world] : SceneNodes()) AddNode(node, world);
+    if (result_.scene.triangles.empty()) RefuseEmpty();
+    builder_.StorePositions(path_);
+    result_.warnings = warnings_.Lines();
+    return std::move(result_);
+  }
+
+ private:
+  [[noreturn]] void Fail(const std::string& where, const std::string& message) const {
+    throw InputError(path_, 0, where + ": " + message);
+  }
+  void Warn(const std::string& kind, const std::string& where, const std::string& message) {
+    warnings_.Add(kind, path_ + ": warning: " + where + ": " + message);
+  }
+
+  void Parse() {
+    const std::string bytes = ReadRegularFile(path_, "scene file");
+    tg::TinyGLTF gltf;
+    gltf.SetFsCallbacks({&RegularFileExists, &SamePath, &ReadWhole, &NoWrite, nullptr});
+    gltf.SetImageLoader(&KeepImageBytes, &imageBytes_);
+    std::string err, warn;
+    const bool binary = StartsWith(bytes, "glTF");
+    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+    const bool ok = binary ? gltf.LoadBinaryFromMemory(&model_, &err, &warn, data, unsigned(bytes.size()), Folder(path_))
+                           : gltf.LoadASCIIFromString(&model_, &err, &warn, bytes.data(), unsigned(bytes.size()),
+                                                      Folder(path_));
+    for (const std::string& line : SplitLines(warn)) Warn("tinygltf " + line.substr(0, 24), "/", line);
+    if (!ok) {
+      const std::vector<std::string> lines = SplitLines(err);
+      throw InputError(path_, 0, std::string("not a glTF 2.0 file that can be read: ") +
+                                     (lines.empty() ? "tinygltf gave no reason" : lines.front()));
+    }
+  }
+  static std::vector<std::string> SplitLines(const std::string& text) {
+    std::vector<std::string> lines;
+    size_t start = 0;
+    while (start < text.size()) {
+      const size_t end = std::min(text.find('\n', start), text.size());
+      if (end > start) lines.push_back(text.substr(start, end - start));
+      start = end + 1;
+    }
+    return lines;
+  }
+
+  void RequireKnownExtensions() const {
+    for (size_t i = 0; i < model_.extensionsRequired.size(); ++i)
+      if (!KnownExtensions().count(model_.extensionsRequired[i]))
+        Fail(fmt::format("/extensionsRequired/{}", i),
+             "the file requires extension '" + model_.extensionsRequired[i] + "', which photonbake does not read");
+  }
+
+  // Every node that carries a mesh under the scene's roots, with its world transform. Iterative, so a deep
+  // hierarchy cannot overflow the stack; a node met again on its own path is a cycle.
+  std::vector<std::pair<int, Matrix>> SceneNodes() const {
+    std::vector<std::pair<int, Matrix>> found;
+    struct Visit {
+      int node;
+      Matrix parent;
+      size_t depth;
+    };
+    std::vector<Visit> stack;
+    const std::vector<int> roots = Roots();
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, kIdentity, 0});
+    std::vector<int> path;  // the nodes from the root to the current one
+    while (!stack.empty()) {
+      const Visit v = stack.back();
+      stack.pop_back();
+      path.resize(v.depth);
+      const std::string where = fmt::format("/nodes/{}", v.node);
+      if (v.node < 0 || size_t(v.node) >= model_.nodes.size())
+        Fail(where, fmt::format("node {} does not exist ({} nodes)", v.node, model_.nodes.size()));
+      if (std::find(path.begin(), path.end(), v.node) != path.end()) Fail(where, "the node is its own ancestor");
+      path.push_back(v.node);
+      const tg::Node& n = model_.nodes[size_t(v.node)];
+      const Matrix world = Multiply(v.parent, LocalMatrix(n, where));
+      if (n.mesh >= 0) found.emplace_back(v.node, world);
+      for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, world, v.depth + 1});
+    }
+    return found;
+  }
+
+  // The default scene's root nodes; with no scene, every node that is no other node's child.
+  std::vector<int> Roots() const {
+    if (!model_.scenes.empty()) {
+      const int s = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+      if (size_t(s) >= model_.scenes.size()) Fail("/scene", fmt::format("scene {} does not exist", s));
+      return model_.scenes[size_t(s)].nodes;
+    }
+    std::vector<bool> child(model_.nodes.size());
+    for (const tg::Node& n : model_.nodes)
+      for (int c : n.children)
+        if (c >= 0 && size_t(c) < child.size()) child[size_t(c)] = true;
+    std::vector<int> roots;
+    for (size_t i = 0; i < child.size(); ++i)
+      if (!child[i]) roots.push_back(int(i));
+    return roots;
+  }
+
+  Matrix LocalMatrix(const tg::Node& n, const std::string& where) const {
+    Matrix m = kIdentity;
+    if (n.matrix.size() == 16) {
+      std::copy(n.matrix.begin(), n.matrix.end(), m.begin());
+    } else {
+      m = FromTrs(n.translation, n.rotation, n.scale);
+    }
+    for (double x : m)
+      if (!std::isfinite(x)) Fail(where, "the node's transform is not finite");
+    return m;
+  }
+
+  uint32_t ObjectOf(int node) {
+    const auto [it, isNew] = objectOfNode_.emplace(node, uint32_t(result_.scene.objectNames.size()));
+    if (isNew) {
+      const tg::Node& n = model_.nodes[size_t(node)];
+      std::string name = n.name;
+      if (name.empty() && n.mesh >= 0 && size_t(n.mesh) < model_.meshes.size()) name = model_.meshes[size_t(n.mesh)].name;
+      if (name.empty()) name = fmt::format("node {}", node);
+      result_.scene.objectNames.push_back(name);
+    }
+    return it->second;
+  }
+
+  void AddNode(int node, const Matrix& world) {
+    const tg::Node& n = model_.nodes[size_t(node)];
+    const std::string where = fmt::format("/nodes/{}", node);
+    if (size_t(n.mesh) >= model_.meshes.size()) Fail(where, fmt::format("mesh {} does not exist", n.mesh));
+    if (n.skin >= 0) Warn("skin", where, "skins are not applied: the mesh is baked as stored");
+    const tg::Mesh& mesh = model_.meshes[size_t(n.mesh)];
+    for (size_t p = 0; p < mesh.primitives.size(); ++p)
+      AddPrimitive(mesh.primitives[p], fmt::format("/meshes/{}/primitives/{}", n.mesh, p), world, ObjectOf(node));
+  }
+
+  void AddPrimitive(const tg::Primitive& primitive, const std::string& where, const Matrix& world, uint32_t object) {
+    if (primitive.mode != TINYGLTF_MODE_TRIANGLES && primitive.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        primitive.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      firstIgnored_ = firstIgnored_.empty() ? where : firstIgnored_;
+      return Warn("mode", where, fmt::format("mode {} (points or lines) has no area to bake; skipped", primitive.mode));
+    }
+    if (!primitive.targets.empty()) Warn("morph", where, "morph targets are not applied: the mesh is baked as stored");
+    const auto position = primitive.attributes.find("POSITION");
+    if (position == primitive.attributes.end()) return Warn("no position", where, "no POSITION attribute; skipped");
+    const Accessor positions(model_, position->second, 3, {TINYGLTF_COMPONENT_TYPE_FLOAT}, where + "/attributes/POSITION", path_);
+    const uint32_t first = AddPositions(positions, world, where);
+    const MaterialUse use = MaterialOf(primitive.material, where);
+    std::optional<Accessor> texcoords;
+    if (use.albedoUv) texcoords = TexcoordAccessor(primitive, use.albedoUv->texCoord, positions.count(), where);
+    const bool flip = LinearDeterminant(world) < 0;
+    const uint32_t firstTexcoord = uint32_t(result_.scene.texcoords.size());
+    if (texcoords)
+      for (size_t i = 0; i < texcoords->count(); ++i)
+        result_.scene.texcoords.push_back(use.albedoUv->Apply(texcoords->Get(i, 0), texcoords->Get(i, 1)));
+    uint32_t material = use.material;
+    if (use.emissiveTexture >= 0) material = EmissiveVariant(primitive, use, where, first, positions.count());
+    for (std::array<uint32_t, 3> c : Corners(primitive, positions.count(), where)) {
+      if (flip) std::swap(c[1], c[2]);
+      Triangle t{{first + c[0], first + c[1], first + c[2]}, {kNoTexcoord, kNoTexcoord, kNoTexcoord}, material, object, 0};
+      if (texcoords) t.vt = {firstTexcoord + c[0], firstTexcoord + c[1], firstTexcoord + c[2]};
+      AddTriangle(t, where);
+    }
+  }
+
+  uint32_t AddPositions(const Accessor& positions, const Matrix& world, const std::string& where) {
+    const uint32_t first = uint32_t(builder_.PositionCount());
+    const double s = options_.scale;
+    for (size_t i = 0; i < positions.count(); ++i) {
+      const double local[3] = {positions.Get(i, 0), positions.Get(i, 1), positions.Get(i, 2)};
+      Position p = Apply(world, local);
+      for (double& x : p) x *= s;
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+        Fail(where + "/attributes/POSITION", fmt::format("position {} is not finite", i));
+      builder_.AddPosition(p);
+    }
+    return first;
+  }
+
+  std::optional<Accessor> TexcoordAccessor(const tg::Primitive& primitive, int set, size_t vertices,
+                                           const std::string& where) {
+    const std::string name = fmt::format("TEXCOORD_{}", set);
+    const auto it = primitive.attributes.find(name);
+    if (it == primitive.attributes.end()) {
+      Warn("no texcoords", where, "the material is textured but the primitive has no " + name +
+                                      "; the texture is not used");
+      return std::nullopt;
+    }
+    Accessor a(model_, it->second, 2,
+               {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
+               where + "/attributes/" + name, path_);
+    if (a.count() != vertices)
+      Fail(where + "/attributes/" + name, fmt::format("{} texture coordinates for {} positions", a.count(), vertices));
+    return a;
+  }
+
+  // The primitive's triangles as corner indices into its own vertices.
+  std::vector<std::array<uint32_t, 3>> Corners(const tg::Primitive& primitive, size_t vertices,
+                                               const std::string& where) const {
+    std::vector<uint32_t> index;
+    if (primitive.indices >= 0) {
+      const Accessor a(model_, primitive.indices, 1,
+                       {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                        TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
+                       where + "/indices", path_);
+      index.reserve(a.count());
+      for (size_t i = 0; i < a.count(); ++i) {
+        const uint64_t k = a.Index(i);
+        if (k >= vertices) Fail(where + "/indices", fmt::format("index {} is {}, out of range ({} vertices)", i, k, vertices));
+        index.push_back(uint32_t(k));
+      }
+    } else {
+      for (size_t i = 0; i < vertices; ++i) index.push_back(uint32_t(i));
+    }
+    std::vector<std::array<uint32_t, 3>> triangles;
+    const size_t n = index.size();
+    if (primitive.mode == TINYGLTF_MODE_TRIANGLES) {
+      for (size_t i = 0; i + 2 < n; i += 3) triangles.push_back({index[i], index[i + 1], index[i + 2]});
+    } else if (primitive.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {  // glTF 3.7.2.1: every other one reversed
+      for (size_t i = 0; i + 2 < n; ++i)
+        triangles.push_back({index[i], index[i + 1 + i % 2], index[i + 2 - i % 2]});
+    } else {
+      for (size_t i = 1; i + 1 < n; ++i) triangles.push_back({index[i], index[i + 1], index[0]});
+    }
+    return triangles;
+  }
+
+  void AddTriangle(const Triangle& t, const std::string& where) {
+    const SceneBuilder::Outcome added = builder_.AddTriangle(t, 0);
+    if (added.skipped == SceneBuilder::Skipped::kZeroArea) Warn("zero-area", where, "zero-area triangle skipped");
+    if (added.skipped == SceneBuilder::Skipped::kRepeat)
+      Warn("repeat", where, "triangle repeats an earlier one (same corners, same side); skipped");
+  }
+
+  [[noreturn]] void RefuseEmpty() const {
+    if (!firstIgnored_.empty()) Fail(firstIgnored_, "scene has no triangles to bake: only points and lines");
+    if (result_.scene.degenerateTrianglesSkipped > 0)
+      throw InputError(path_, 0, "scene has no faces to bake: every triangle has zero area");
+    throw InputError(path_, 0, "scene has no triangles (no node of its scene carries a mesh of triangles)");
+  }
+
+  // ---- materials ----
+
+  MaterialUse MaterialOf(int index, const std::string& where) {
+    if (index < 0) return {DefaultMaterial()};
+    if (size_t(index) >= model_.materials.size()) Fail(where + "/material", fmt::format("material {} does not exist", index));
+    const auto it = materials_.find(index);
+    if (it != materials_.end()) return it->second;
+    return materials_[index] = ConvertMaterial(index);
+  }
+
+  uint32_t DefaultMaterial() {
+    if (!defaultMaterial_) {
+      Material m{"(default)"};
+      m.albedo = {kDefaultAlbedo, kDefaultAlbedo, kDefaultAlbedo};
+      defaultMaterial_ = AppendMaterial(m);
+    }
+    return *defaultMaterial_;
+  }
+  uint32_t AppendMaterial(const Material& m) {
+    result_.scene.materials.push_back(m);
+    return uint32_t(result_.scene.materials.size() - 1);
+  }
+
+  static Rgb Colour(const std::vector<double>& c) {
+    return c.size() >= 3 ? Rgb{float(c[0]), float(c[1]), float(c[2])} : Rgb{1, 1, 1};
+  }
+
+  MaterialUse ConvertMaterial(int index) {
+    const tg::Material& g = model_.materials[size_t(index)];
+    const std::string where = fmt::format("/materials/{}", index);
+    const tg::PbrMetallicRoughness& pbr = g.pbrMetallicRoughness;
+    Material m{g.name.empty() ? fmt::format("material {}", index) : g.name};
+    const Rgb base = Colour(pbr.baseColorFactor);
+    const double metallic = pbr.metallicFactor, roughness = pbr.roughnessFactor;
+    const double transmission = NumberOr(g.extensions, "KHR_materials_transmission", "transmissionFactor", 0);
+    if (transmission > 0) {
+      m.kind = MaterialClass::kGlass;
+      m.transmittance = base * float(std::min(transmission, 1.0));
+      m.ior = float(NumberOr(g.extensions, "KHR_materials_ior", "ior", 1.5));
+      if (roughness > 0.1) Warn("rough glass", where, "rough transmission is baked as smooth glass");
+    } else if (metallic > 0 && roughness <= 0.1) {
+      m.kind = MaterialClass::kMirror;
+      m.specular = base * float(metallic);
+      m.albedo = base * float(1 - metallic);
+    } else {
+      m.albedo = base;
+      if (metallic > 0) Warn("rough metal", where, "a rough metal (roughness > 0.1) is baked as diffuse base colour");
+    }
+    m.emission = Colour(g.emissiveFactor.size() == 3 ? g.emissiveFactor : std::vector<double>{0, 0, 0}) *
+                 float(NumberOr(g.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1));
+    WarnIgnored(g, where);
+    MaterialUse use;
+    if (pbr.baseColorTexture.index >= 0 && m.kind != MaterialClass::kGlass) {
+      if (const std::optional<int> texture = TextureOf(pbr.baseColorTexture, where + "/pbrMetallicRoughness/baseColorTexture", &m.textureClamp)) {
+        m.albedoTexture = *texture;
+        use.albedoUv = UvOf(pbr.baseColorTexture);
+      }
+    }
+    if (g.emissiveTexture.index >= 0 && m.IsEmissive()) {
+      bool clamp = false;
+      if (const std::optional<int> texture = TextureOf(g.emissiveTexture, where + "/emissiveTexture", &clamp)) {
+        use.emissiveTexture = *texture;
+        use.emissiveUv = UvOf(g.emissiveTexture);
+      }
+    }
+    use.material = AppendMaterial(m);
+    return use;
+  }
+
+  void WarnIgnored(const tg::Material& g, const std::string& where) {
+    if (g.normalTexture.index >= 0) Warn("normal texture", where, "normalTexture is ignored");
+    if (g.occlusionTexture.index >= 0) Warn("occlusion texture", where, "occlusionTexture is ignored");
+    if (g.pbrMetallicRoughness.metallicRoughnessTexture.index >= 0)
+      Warn("metallic texture", where, "metallicRoughnessTexture is ignored; the factors are used");
+    if (g.alphaMode != "OPAQUE") Warn("alpha", where, "alphaMode " + g.alphaMode + " is ignored: the surface is opaque");
+    for (const auto& [name, value] : g.extensions)
+      if (name == "KHR_materials_unlit") {
+        Warn("unlit", where, "KHR_materials_unlit is read as diffuse base colour");
+      } else if (!KnownExtensions().count(name)) {
+        Warn("extension " + name, where, "material extension " + name + " is ignored");
+      }
+  }
+
+  UvTransform UvOf(const tg::TextureInfo& info) const {
+    UvTransform uv;
+    uv.texCoord = info.texCoord;
+    const auto it = info.extensions.find("KHR_texture_transform");
+    if (it == info.extensions.end()) return uv;
+    const tg::Value& x = it->second;
+    auto pair = [&](const char* key, double a, double b) -> std::array<double, 2> {
+      if (!x.Has(key) || !x.Get(key).IsArray() || x.Get(key).ArrayLen() != 2) return {a, b};
+      return {x.Get(key).Get(0).GetNumberAsDouble(), x.Get(key).Get(1).GetNumberAsDouble()};
+    };
+    const auto offset = pair("offset", 0, 0), scale = pair("scale", 1, 1);
+    const double r = x.Has("rotation") ? x.Get("rotation").GetNumberAsDouble() : 0;
+    if (x.Has("texCoord")) uv.texCoord = x.Get("texCoord").GetNumberAsInt();
+    // T R S with R = [cos r, sin r; -sin r, cos r] (the extension's matrix, row-major).
+    const double c = std::cos(r), s = std::sin(r);
+    uv.m = {c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1]};
+    return uv;
+  }
+
+  // The texture `info` names, decoded once per image; nullopt (with a warning) when its image was not found.
+  std::optional<int> TextureOf(const tg::TextureInfo& info, const std::string& where, bool* clamp) {
+    if (size_t(info.index) >= model_.textures.size()) Fail(where, fmt::format("texture {} does not exist", info.index));
+    const tg::Texture& texture = model_.textures[size_t(info.index)];
+    if (texture.sampler >= 0 && size_t(texture.sampler) < model_.samplers.size()) {
+      const tg::Sampler& s = model_.samplers[size_t(texture.sampler)];
+      *clamp = s.wrapS == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE && s.wrapT == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+      if (!*clamp && (s.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || s.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT))
+        Warn("wrap", fmt::format("/samplers/{}", texture.sampler), "this wrap mode is read as REPEAT");
+    }
+    const int image = texture.source;
+    if (image < 0 || size_t(image) >= model_.images.size())
+      Fail(fmt::format("/textures/{}", info.index), fmt::format("image {} does not exist", image));
+    const auto known = textureOfImage_.find(image);
+    if (known != textureOfImage_.end()) return known->second;
+    std::optional<int>& slot = textureOfImage_[image];
+    const auto bytes = imageBytes_.find(image);
+    if (bytes == imageBytes_.end()) {
+      Warn("image not found", fmt::format("/images/{}", image),
+           "image '" + model_.images[size_t(image)].uri + "' could not be read; its material keeps its factor");
+      return slot;
+    }
+    result_.scene.textures.push_back(DecodeTexture(ImageName(image), bytes->second));
+    return slot = int(result_.scene.textures.size() - 1);
+  }
+
+  // An external image's file; an embedded one is named by the glTF file itself.
+  std::string ImageName(int image) const {
+    const std::string& uri = model_.images[size_t(image)].uri;
+    if (uri.empty() || StartsWith(uri, "data:")) return path_;
+    return Folder(path_) + "/" + DecodeUri(uri);
+  }
+
+  // An emissive texture's mean over the primitive (area-weighted, four points per triangle) folded into Ke: a copy
+  // of the material per primitive, since a light has one radiance.
+  uint32_t EmissiveVariant(const tg::Primitive& primitive, const MaterialUse& use, const std::string& where,
+                           uint32_t first, size_t vertices) {
+    std::optional<Accessor> uv = TexcoordAccessor(primitive, use.emissiveUv.texCoord, vertices, where);
+    if (!uv) return use.material;
+    const Texture& texture = result_.scene.textures[size_t(use.emissiveTexture)];
+    Rgb sum;
+    double area = 0;
+    constexpr double kPoints[4][2] = {{1.0 / 3, 1.0 / 3}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}, {1.0 / 6, 1.0 / 6}};
+    for (const std::array<uint32_t, 3>& c : Corners(primitive, vertices, where)) {
+      const double a = TriangleArea(first + c[0], first + c[1], first + c[2]);
+      for (const auto& b : kPoints) {
+        const double w0 = 1 - b[0] - b[1];
+        const double u = w0 * uv->Get(c[0], 0) + b[0] * uv->Get(c[1], 0) + b[1] * uv->Get(c[2], 0);
+        const double v = w0 * uv->Get(c[0], 1) + b[0] * uv->Get(c[1], 1) + b[1] * uv->Get(c[2], 1);
+        sum = sum + texture.Sample(use.emissiveUv.Apply(u, v)) * float(a / 4);
+      }
+      area += a;
+    }
+    Material m = result_.scene.materials[use.material];
+    m.emission = m.emission * (area > 0 ? sum * float(1 / area) : Rgb{});
+    m.name += " (emissive texture averaged)";
+    Warn("emissive texture", where, "emissiveTexture is averaged over the primitive: a light has one radiance");
+    return AppendMaterial(m);
+  }
+  double TriangleArea(uint32_t a, uint32_t b, uint32_t c) const {
+    const Position &p = builder_.position(a), &q = builder_.position(b), &r = builder_.position(c);
+    const double e[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, f[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+    const double x = e[1] * f[2] - e[2] * f[1], y = e[2] * f[0] - e[0] * f[2], z = e[0] * f[1] - e[1] * f[0];
+    return 0.5 * std::sqrt(x * x + y * y + z * z);
+  }
+
+  std::string path_;
+  LoadOptions options_;
+  LoadedScene result_;
+  SceneBuilder builder_;
+  tg::Model model_;
+  ImageBytes imageBytes_;
+  WarningLog warnings_;
+  std::string firstIgnored_;  // the first primitive of points or lines, for the message refusing an empty scene
+  std::optional<uint32_t> defaultMaterial_;
+  std::unordered_map<int, MaterialUse> materials_;           // glTF material -> ours
+  std::unordered_map<int, std::optional<int>> textureOfImage_;  // glTF image -> Scene::textures index
+  std::unordered_map<int, uint32_t> objectOfNode_;           // glTF node -> Scene::objectNames index
+};
+
+bool EndsWith(const std::string& s, const char* suffix) {
+  const size_t n = std::strlen(suffix);
+  if (s.size() < n) return false;
+  for (size_t i = 0; i < n; ++i)
+    if (std::tolower(uchar(s[s.size() - n + i])) != suffix[i]) return false;
+  return true;
+}
+
+}  // namespace
+
+bool IsGltfFile(const std::string& path) {
+  if (EndsWith(path, ".gltf") || EndsWith(path, ".glb")) return true;
+  if (!RegularFileExists(path, nullptr)) return false;  // never open a FIFO to sniff it
+  std::ifstream in(path, std::ios::binary);
+  char magic[4] = {};
+  return in.read(magic, 4) && std::memcmp(magic, "glTF", 4) == 0;
+}
+
+LoadedScene LoadGltf(const std::string& path, const LoadOptions& options) { return GltfReader(path, options).Read(); }
+
+LoadedScene LoadScene(const std::string& path, const LoadOptions& options) {
+  return IsGltfFile(path) ? LoadGltf(path, options) : LoadObj(path, options);
+}
+
+}  // namespace pb

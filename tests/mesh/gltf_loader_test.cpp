@@ -1,0 +1,273 @@
+// The glTF 2.0 loader (mesh/gltf_loader.h): node transforms, primitive modes, the material mapping, texture
+// coordinates, and the errors that name the JSON path of a fault. Files are made by tests/gltf_builder.h, and two
+// come from Blender 3.4's exporter (tests/data/blender, tools/blender-export.py).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "mesh/errors.h"
+#include "mesh/gltf_loader.h"
+#include "mesh/mtl_loader.h"
+#include "tests/gltf_builder.h"
+#include "tests/run_tool.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+using test::GltfBuilder;
+using Json = nlohmann::json;
+
+// A unit square in the plane y = 0, facing +y (counter-clockwise seen from above), as positions and two triangles.
+const std::vector<std::array<float, 3>> kSquare = {{-0.5f, 0, -0.5f}, {-0.5f, 0, 0.5f}, {0.5f, 0, 0.5f}, {0.5f, 0, -0.5f}};
+const std::vector<uint32_t> kSquareIndices = {0, 1, 2, 0, 2, 3};
+
+double Area(const Scene& s) {
+  double a = 0;
+  for (uint32_t t = 0; t < s.triangles.size(); ++t) a += s.Area(t);
+  return a;
+}
+
+Point3 Centroid(const Scene& s, uint32_t t) {
+  const Point3 a = s.Corner(t, 0), b = s.Corner(t, 1), c = s.Corner(t, 2);
+  return {(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3, (a.z + b.z + c.z) / 3};
+}
+
+// Loading `path` throws an InputError whose text contains `fragment`.
+void ExpectError(const std::string& path, const std::string& fragment) {
+  try {
+    LoadGltf(path);
+    ADD_FAILURE() << path << " loaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+// A builder holding the unit square as mesh 0.
+GltfBuilder SquareMesh(int material = -1) {
+  GltfBuilder b;
+  const int positions = b.AddPositions(kSquare);  // accessor 0 (view 0); the indices are accessor 1 (view 1)
+  b.AddMesh(positions, b.AddIndices(kSquareIndices), material);
+  return b;
+}
+
+TEST(GltfLoader, NodeHierarchyComposesTranslationRotationAndScale) {
+  GltfBuilder b = SquareMesh();
+  // A parent moved up 1 m and turned half a turn about x (the square then faces down), its child scaled 2x in x.
+  const int child = b.AddNode({{"mesh", 0}, {"scale", {2, 1, 1}}, {"name", "panel"}});
+  const int parent = b.AddNode({{"translation", {0, 1, 0}}, {"rotation", {1, 0, 0, 0}}, {"children", {child}}});
+  // The same square placed by a matrix (column-major): a quarter turn about z (x to y, y to -x), then 3 m along
+  // x. It faces -x.
+  const int matrix = b.AddNode({{"mesh", 0}, {"matrix", {0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 3, 0, 0, 1}}});
+  b.SetRoots({parent, matrix});
+  const LoadedScene loaded = LoadGltf(b.WriteGltf(test::TempDirectory("gltf-nodes"), "s"));
+  const Scene& scene = loaded.scene;
+  ASSERT_EQ(scene.triangles.size(), 4u);
+  for (uint32_t t = 0; t < 2; ++t) {
+    EXPECT_NEAR(scene.FrontNormal(t).y, -1, 1e-6) << "the half turn makes the square face down";
+    EXPECT_NEAR(Centroid(scene, t).y, 1, 1e-6);
+    EXPECT_NEAR(scene.Area(t), 1.0, 1e-6) << "scaled 2x in x: area 2 over two triangles";
+    EXPECT_EQ(scene.objectNames[scene.triangles[t].object], "panel");
+  }
+  for (uint32_t t = 2; t < 4; ++t) {
+    EXPECT_NEAR(scene.FrontNormal(t).x, -1, 1e-6) << "a quarter turn about z takes +y to -x";
+    EXPECT_NEAR(Centroid(scene, t).x, 3, 1e-6);
+  }
+}
+
+TEST(GltfLoader, MirroredNodesKeepTheirFrontSide) {
+  GltfBuilder b = SquareMesh();
+  b.SetRoots({b.AddNode({{"mesh", 0}, {"scale", {-1, 1, 1}}}), b.AddNode({{"mesh", 0}, {"scale", {1, -1, 1}}})});
+  const Scene scene = LoadGltf(b.WriteGltf(test::TempDirectory("gltf-mirror"), "s")).scene;
+  ASSERT_EQ(scene.triangles.size(), 4u);
+  // Mirrored in x the square still faces +y; mirrored in y it faces -y: its normal is mirrored with it.
+  for (uint32_t t = 0; t < 2; ++t) EXPECT_NEAR(scene.FrontNormal(t).y, 1, 1e-6) << t;
+  for (uint32_t t = 2; t < 4; ++t) EXPECT_NEAR(scene.FrontNormal(t).y, -1, 1e-6) << t;
+}
+
+TEST(GltfLoader, StripsFansAndUnindexedPrimitivesAreTriangles) {
+  GltfBuilder b;
+  const int p = b.AddPositions(kSquare);
+  b.AddMesh(p, b.AddIndices({1, 2, 0, 3}), -1, 5);  // strip: (1 2 0), (0 2 3) once the second is turned back
+  b.AddMesh(p, -1, -1, 6);                          // fan about corner 0
+  b.AddMesh(p, -1, -1, 1);                          // lines: skipped with a warning
+  b.SetRoots({b.AddNode({{"mesh", 0}}), b.AddNode({{"mesh", 1}, {"translation", {0, 1, 0}}}),
+              b.AddNode({{"mesh", 2}})});
+  const LoadedScene loaded = LoadGltf(b.WriteGlb(test::TempDirectory("gltf-modes"), "s"));
+  ASSERT_EQ(loaded.scene.triangles.size(), 4u);
+  EXPECT_NEAR(Area(loaded.scene), 2.0, 1e-6);
+  for (uint32_t t = 0; t < 4; ++t) EXPECT_NEAR(loaded.scene.FrontNormal(t).y, 1, 1e-6) << "all face up: " << t;
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings[0].find("s.glb: warning: /meshes/2/primitives/0: mode 1"), std::string::npos)
+      << loaded.warnings[0];
+}
+
+TEST(GltfLoader, GlbAndGltfOfOneSceneLoadAlike) {
+  GltfBuilder b = SquareMesh();
+  b.SetRoots({b.AddNode({{"mesh", 0}, {"translation", {5, 0, 0}}}), b.AddNode({{"mesh", 0}})});
+  const std::string dir = test::TempDirectory("gltf-both");
+  const Scene a = LoadGltf(b.WriteGltf(dir, "s")).scene, c = LoadGltf(b.WriteGlb(dir, "s")).scene;
+  ASSERT_EQ(a.positions.size(), c.positions.size());
+  for (size_t i = 0; i < a.positions.size(); ++i) {
+    EXPECT_EQ(a.positions[i].x, c.positions[i].x);
+    EXPECT_EQ(a.positions[i].z, c.positions[i].z);
+  }
+  EXPECT_EQ(a.objectNames, (std::vector<std::string>{"node 0", "node 1"})) << "an instance per node";
+}
+
+TEST(GltfLoader, MaterialsMapOntoDiffuseMirrorGlassAndLights) {
+  GltfBuilder b;
+  b.AddMaterial({{"name", "paint"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.25, 0.125, 1}}, {"metallicFactor", 0}}}});
+  b.AddMaterial({{"name", "chrome"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.9, 0.9, 1}}, {"metallicFactor", 0.75}, {"roughnessFactor", 0.05}}}});
+  b.AddMaterial({{"name", "brushed"}, {"pbrMetallicRoughness", {{"metallicFactor", 1}, {"roughnessFactor", 0.5}}}});
+  b.AddMaterial({{"name", "glass"},
+                 {"pbrMetallicRoughness", {{"baseColorFactor", {1, 0.5, 1, 1}}, {"roughnessFactor", 0}}},
+                 {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.5}}}, {"KHR_materials_ior", {{"ior", 1.33}}}}}});
+  b.AddMaterial({{"name", "lamp"}, {"emissiveFactor", {1, 0.5, 0.25}},
+                 {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 8}}}}}});
+  const int p = b.AddPositions(kSquare), i = b.AddIndices(kSquareIndices);
+  std::vector<int> roots;
+  for (int m = 0; m < 5; ++m) {
+    b.AddMesh(p, i, m);
+    roots.push_back(b.AddNode({{"mesh", m}, {"translation", {2 * m, 0, 0}}}));
+  }
+  b.SetRoots(roots);
+  const LoadedScene loaded = LoadGltf(b.WriteGltf(test::TempDirectory("gltf-materials"), "s"));
+  const std::vector<Material>& m = loaded.scene.materials;
+  ASSERT_EQ(m.size(), 5u);
+  EXPECT_EQ(m[0].kind, MaterialClass::kDiffuse);
+  EXPECT_FLOAT_EQ(m[0].albedo.g, 0.25f);
+  EXPECT_EQ(m[1].kind, MaterialClass::kMirror);
+  EXPECT_FLOAT_EQ(m[1].specular.r, 0.9f * 0.75f);
+  EXPECT_FLOAT_EQ(m[1].albedo.r, 0.9f * 0.25f);
+  EXPECT_EQ(m[2].kind, MaterialClass::kDiffuse) << "rough metal";
+  EXPECT_FLOAT_EQ(m[2].albedo.r, 1.0f);
+  EXPECT_EQ(m[3].kind, MaterialClass::kGlass);
+  EXPECT_FLOAT_EQ(m[3].ior, 1.33f);
+  EXPECT_FLOAT_EQ(m[3].transmittance.g, 0.25f);
+  EXPECT_FLOAT_EQ(m[4].emission.r, 8.0f);
+  EXPECT_FLOAT_EQ(m[4].emission.b, 2.0f);
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  EXPECT_NE(loaded.warnings[0].find("/materials/2: a rough metal"), std::string::npos) << loaded.warnings[0];
+}
+
+// A 2 x 1 texture, red then green, under KHR_texture_transform: texture coordinates are transformed as they are
+// read and turned to our (s, t) = (u, 1 - v), so that the albedo at each corner is the texel the transform names.
+TEST(GltfLoader, TextureCoordinatesFollowKhrTextureTransform) {
+  const std::string dir = test::TempDirectory("gltf-texture");
+  test::WritePngRgb8(dir + "/rg.png", 2, 1, {255, 0, 0, 0, 255, 0});
+  GltfBuilder b;
+  b.json()["images"] = {{{"uri", "rg.png"}}};
+  b.json()["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33071}}};
+  b.json()["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  // u' = 0.5 u + 0.5: every u lands in the right (green) half.
+  b.AddMaterial(Json::parse(R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0,
+      "extensions": {"KHR_texture_transform": {"offset": [0.5, 0], "scale": [0.5, 1]}}}}})"));
+  const int uv = b.AddTexcoords({{0, 0}, {0, 1}, {1, 1}, {1, 0}});
+  const int positions = b.AddPositions(kSquare);
+  b.AddMesh(positions, b.AddIndices(kSquareIndices), 0, 4, uv);
+  b.SetRoots({b.AddNode({{"mesh", 0}})});
+  const Scene scene = LoadGltf(b.WriteGltf(dir, "s")).scene;
+  ASSERT_EQ(scene.textures.size(), 1u);
+  EXPECT_EQ(scene.textures[0].path, dir + "/rg.png");
+  EXPECT_TRUE(scene.materials[0].textureClamp);
+  ASSERT_EQ(scene.texcoords.size(), 4u);
+  EXPECT_FLOAT_EQ(scene.texcoords[1].u, 0.5f);
+  EXPECT_FLOAT_EQ(scene.texcoords[1].v, 0.0f) << "glTF v = 1 is the image's bottom: t = 0";
+  EXPECT_FLOAT_EQ(scene.texcoords[2].u, 1.0f);
+  // Bilinear between the texel centres s = 1/4 (red) and 3/4 (green), clamped: corner 0 (u = 0) reads s = 1/2,
+  // half of each (untransformed it would read red); corner 2 (u = 1) reads s = 1, green.
+  EXPECT_NEAR(scene.AlbedoAt(0, 0, 0).r, 0.5f, 1e-5);
+  EXPECT_NEAR(scene.AlbedoAt(0, 0, 0).g, 0.5f, 1e-5);
+  EXPECT_NEAR(scene.AlbedoAt(0, 0, 1).r, 0.0f, 1e-5);
+  EXPECT_NEAR(scene.AlbedoAt(0, 0, 1).g, 1.0f, 1e-5);
+}
+
+TEST(GltfLoader, FaultsNameTheJsonPath) {
+  const std::string dir = test::TempDirectory("gltf-faults");
+  {
+    GltfBuilder b;
+    const int positions = b.AddPositions(kSquare);
+    b.AddMesh(positions, b.AddIndices({0, 1, 7}));
+    b.SetRoots({b.AddNode({{"mesh", 0}})});
+    ExpectError(b.WriteGltf(dir, "index"), "index.gltf: error: /meshes/0/primitives/0/indices: index 2 is 7, "
+                                                        "out of range (4 vertices)");
+  }
+  {
+    GltfBuilder b = SquareMesh();
+    b.json()["accessors"][0]["count"] = 40;  // more positions than the buffer view holds
+    b.SetRoots({b.AddNode({{"mesh", 0}})});
+    ExpectError(b.WriteGlb(dir, "short"), "/accessors/0: 40 elements from byte 0 do not fit in "
+                                                       "/bufferViews/0 of 48 bytes");
+  }
+  {
+    GltfBuilder b = SquareMesh();
+    b.json()["bufferViews"][1]["byteOffset"] = 4000;
+    b.SetRoots({b.AddNode({{"mesh", 0}})});
+    ExpectError(b.WriteGltf(dir, "view"), "/bufferViews/1 (bytes 4000 to 4024) lies beyond its buffer");
+  }
+  {
+    GltfBuilder b = SquareMesh();
+    const int a = b.AddNode({{"mesh", 0}});
+    b.json()["nodes"][size_t(a)]["children"] = {1};
+    b.AddNode({{"children", {a}}});
+    b.SetRoots({a});
+    ExpectError(b.WriteGltf(dir, "cycle"), "/nodes/0: the node is its own ancestor");
+  }
+  {
+    GltfBuilder b = SquareMesh();
+    b.json()["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    b.json()["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+    b.SetRoots({b.AddNode({{"mesh", 0}})});
+    ExpectError(b.WriteGltf(dir, "draco"), "/extensionsRequired/0: the file requires extension "
+                                                        "'KHR_draco_mesh_compression'");
+  }
+  {
+    GltfBuilder b = SquareMesh();
+    b.SetRoots({b.AddNode({{"mesh", 0}, {"translation", {1.7e308, 0, 0}}, {"scale", {1e308, 1, 1}}})});
+    ExpectError(b.WriteGltf(dir, "huge"), "/meshes/0/primitives/0/attributes/POSITION: position 2 is not "
+                                                       "finite");
+  }
+  {
+    GltfBuilder b;
+    b.AddMesh(b.AddPositions(kSquare), -1, -1, 0);
+    b.SetRoots({b.AddNode({{"mesh", 0}})});
+    ExpectError(b.WriteGltf(dir, "points"), "/meshes/0/primitives/0: scene has no triangles to bake");
+  }
+  test::WriteText(dir + "/broken.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [");
+  ExpectError(dir + "/broken.gltf", "broken.gltf: error: not a glTF 2.0 file that can be read");
+  test::WriteText(dir + "/missing-bin.gltf", R"({"asset": {"version": "2.0"}, "buffers": [{"uri": "none.bin", "byteLength": 4}]})");
+  ExpectError(dir + "/missing-bin.gltf", "missing-bin.gltf: error: not a glTF 2.0 file");
+}
+
+// Blender 3.4's glTF exporter writes the scene of tools/blender-export.py as a .glb (images inside) and as a
+// .gltf with a .bin and images beside it: both load alike, with the materials Blender meant, and bake.
+TEST(GltfLoader, Blender34ExportsLoadAndBake) {
+  const std::string dir = PB_SOURCE_DIR "/tests/data/blender/";
+  const LoadedScene glb = LoadGltf(dir + "scene.glb"), separate = LoadGltf(dir + "scene_separate.gltf");
+  EXPECT_EQ(glb.scene.triangles.size(), separate.scene.triangles.size());
+  EXPECT_NEAR(Area(glb.scene), Area(separate.scene), 1e-6);
+  EXPECT_EQ(glb.scene.textures.size(), 2u);
+  EXPECT_EQ(separate.scene.textures.size(), 2u);
+  std::map<std::string, const Material*> byName;
+  for (const Material& m : glb.scene.materials) byName[m.name] = &m;
+  ASSERT_TRUE(byName.count("Glass") && byName.count("Lamp") && byName.count("Metal"));
+  EXPECT_EQ(byName["Glass"]->kind, MaterialClass::kGlass);
+  EXPECT_NEAR(byName["Glass"]->ior, 1.45f, 1e-6);
+  EXPECT_FLOAT_EQ(byName["Lamp"]->emission.g, 10.0f) << "Emission Strength 10 as KHR_materials_emissive_strength";
+  EXPECT_EQ(byName["Metal"]->kind, MaterialClass::kDiffuse) << "roughness 0.3";
+  double lArea = 0;
+  for (uint32_t t = 0; t < glb.scene.triangles.size(); ++t)
+    if (glb.scene.objectNames[glb.scene.triangles[t].object] == "LShape") lArea += glb.scene.Area(t);
+  EXPECT_NEAR(lArea, 0.75, 1e-5);
+  const std::string out = test::TempDirectory("gltf-blender-bake") + "/b.ply";
+  const test::ToolRun run = test::RunTool(PB_BAKE_EXE, dir + "scene.glb -o " + out + " --photons 20000 --threads 2 -q");
+  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_TRUE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace pb
