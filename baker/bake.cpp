@@ -11,7 +11,9 @@
 #include "baker/3_irradiance_field.h"
 #include "baker/4_refine_mesh.h"
 #include "baker/5_write_maps.h"
+#include "baker/5_write_gltf.h"
 #include "baker/5_write_ply.h"
+#include "mesh/gltf_loader.h"
 #include "baker/atomic_file.h"
 #include "baker/interrupt.h"
 #include "baker/progressive.h"
@@ -229,7 +231,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs) 
 
   BakeReport report = DescribeBake({o, threads.Count(), scene, lit.photons, lit.bins, field, lit.baked, exposure,
                                     refine, maps, lit.progress, lit.noise, journal.stageSeconds, journal.warnings});
-  return {std::move(report), std::move(lit.baked)};
+  return {std::move(report), std::move(lit.baked), NamesOf(scene.scene, scene.surfaces)};
 }
 
 BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
@@ -252,7 +254,10 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
       WritePreview(outputs, o.previewPath, result.mesh, {*camera, o.previewWidth, o.previewHeight, report.exposure});
     });
   clock.Time("write", [&] {
-    WritePly(outputs, o.outputPath, result.mesh, {o.asciiPly, report.exposure});
+    if (HasGltfExtension(o.outputPath))
+      WriteGltf(outputs, o.outputPath, result.mesh, result.names, report.exposure);
+    else
+      WritePly(outputs, o.outputPath, result.mesh, {o.asciiPly, report.exposure});
     if (!o.reportPath.empty()) WriteReportJson(outputs, o.reportPath, report);
     outputs.Commit();
   });

@@ -1,7 +1,8 @@
 // The bake pipeline (DESIGN.md, "Data flow"): load scene -> trace photons -> bin per surface -> estimate H at
-// vertices -> (refine the mesh) -> write PLY (and the JSON report). Throws InputError for bad input before any output is written.
+// vertices -> (refine the mesh) -> write PLY or glTF (and the JSON report). Throws InputError for bad input before any output is written.
 #pragma once
 
+#include "baker/5_write_gltf.h"
 #include "baker/atomic_file.h"
 #include "baker/options.h"
 #include "baker/progress.h"
@@ -19,6 +20,7 @@ BakeReport Bake(const BakeOptions& options, const Log& log);
 struct BakeResult {
   BakeReport report;
   BakedMesh mesh;
+  SurfaceNames names;  // each surface's object and material, for the glTF output
 };
 // Irradiance maps and the photon file (--maps, --save-photons) are staged in `outputs`; the overload without it
 // commits them itself.

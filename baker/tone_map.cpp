@@ -10,12 +10,10 @@ float EncodeSrgb(float linear) {
   return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
 }
 
-float Display(float x) { return EncodeSrgb(x / (1.0f + x)); }
+float Reinhard(float x) { return x / (1.0f + x); }
+float Display(float x) { return EncodeSrgb(Reinhard(x)); }
 
-uint8_t ToByte(float x) {
-  const float display = Display(x);
-  return uint8_t(std::clamp(std::lround(display * 255.0f), 0l, 255l));
-}
+uint8_t ToByte(float linear) { return uint8_t(std::clamp(std::lround(EncodeSrgb(linear) * 255.0f), 0l, 255l)); }
 
 }  // namespace
 
@@ -30,9 +28,14 @@ float AutoExposure(std::span<const Rgb> radiance) {
   return lit ? float(0.18 / std::exp(logSum / double(lit))) : 1.0f;
 }
 
-std::array<uint8_t, 3> ToneMap(Rgb radiance, float exposure) {
+Rgb ToneMapLinear(Rgb radiance, float exposure) {
   const Rgb x = radiance * exposure;
-  return {ToByte(std::max(0.0f, x.r)), ToByte(std::max(0.0f, x.g)), ToByte(std::max(0.0f, x.b))};
+  return {Reinhard(std::max(0.0f, x.r)), Reinhard(std::max(0.0f, x.g)), Reinhard(std::max(0.0f, x.b))};
+}
+
+std::array<uint8_t, 3> ToneMap(Rgb radiance, float exposure) {
+  const Rgb c = ToneMapLinear(radiance, exposure);
+  return {ToByte(c.r), ToByte(c.g), ToByte(c.b)};
 }
 
 float DisplayedLuminance(Rgb radiance, float exposure) {

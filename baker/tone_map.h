@@ -19,6 +19,10 @@ float AutoExposure(std::span<const Rgb> radiance);
 
 std::array<uint8_t, 3> ToneMap(Rgb radiance, float exposure);
 
+// The same curve before its sRGB encoding: Reinhard's x / (1 + x) of exposure x radiance per channel, linear, in
+// [0, 1). glTF's COLOR_0 is linear (the viewer encodes it), so the glTF output stores this.
+Rgb ToneMapLinear(Rgb radiance, float exposure);
+
 // The displayed grey level in [0, 1] of radiance L: the same curve as ToneMap, applied to L's luminance and not
 // quantised. Mesh refinement (baker/4_refine_mesh.h) measures its interpolation error in this unit.
 float DisplayedLuminance(Rgb radiance, float exposure);

@@ -682,8 +682,10 @@ bool EndsWith(const std::string& s, const char* suffix) {
 
 }  // namespace
 
+bool HasGltfExtension(const std::string& path) { return EndsWith(path, ".gltf") || EndsWith(path, ".glb"); }
+
 bool IsGltfFile(const std::string& path) {
-  if (EndsWith(path, ".gltf") || EndsWith(path, ".glb")) return true;
+  if (HasGltfExtension(path)) return true;
   if (!RegularFileExists(path, nullptr)) return false;  // never open a FIFO to sniff it
   std::ifstream in(path, std::ios::binary);
   char magic[4] = {};

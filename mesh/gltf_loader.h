@@ -44,7 +44,9 @@ namespace pb {
 
 LoadedScene LoadGltf(const std::string& path, const LoadOptions& options = {});
 
-// True when the file's first bytes are those of a binary glTF (.glb), or its name ends in .gltf or .glb.
+// True when the name ends in .gltf or .glb, in any case.
+bool HasGltfExtension(const std::string& path);
+// True when HasGltfExtension, or the file's first bytes are those of a binary glTF (.glb).
 bool IsGltfFile(const std::string& path);
 
 // The scene in `path`: glTF (IsGltfFile) or else OBJ.

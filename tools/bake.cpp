@@ -52,7 +52,7 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("scene", o.scenePath, "OBJ scene (with MTL) or glTF 2.0 (.gltf, .glb). Kd = diffuse albedo in [0,1]; Ke = emitted radiance "
                                        "[W/(m^2 sr)], one-sided along the counter-clockwise normal")
       ->required();
-  app.add_option("-o,--output", o.outputPath, "PLY to write (binary little-endian unless --ascii); written to a "
+  app.add_option("-o,--output", o.outputPath, "PLY to write (binary little-endian unless --ascii), or glTF 2.0 when it ends in .glb or .gltf; written to a "
                                               "temporary file and renamed into place")
       ->required();
   DefineEstimatorOptions(app, o.estimator, o.autoBandwidth);

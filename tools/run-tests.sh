@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Quick start 2 (and CI): install what is missing, build, and run the whole test suite; fuzz every file reader
-# briefly; then build the suite again with AddressSanitizer and UndefinedBehaviorSanitizer (into build-asan/) and
+# Quick start 2 (and CI): install what is missing (the Khronos glTF Validator from npm included), build, and run
+# the whole test suite; fuzz every file reader briefly; then build the suite again with AddressSanitizer and UndefinedBehaviorSanitizer (into build-asan/) and
 # run it there too.
 #   FUZZ_SECONDS  the fuzzing pass (tools/fuzz.sh), per reader: default 15; 0 skips it. Any crash, leak or sanitizer
 #                 finding fails the run.
@@ -9,6 +9,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 bash tools/build.sh
+bash tools/install-gltf-validator.sh  # the Khronos glTF Validator, which gltf_output_test.cpp runs
+export PB_REQUIRE_GLTF_VALIDATOR=1    # so that test fails, rather than skips, if it is missing
 (cd build && ctest --output-on-failure --timeout 900 -j "$(nproc)")
 if [ "${FUZZ_SECONDS:-30}" != 0 ]; then
   bash tools/fuzz.sh "${FUZZ_SECONDS:-15}"

@@ -1,0 +1,206 @@
+#include "baker/5_write_gltf.h"
+
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <sstream>
+
+#include "baker/tone_map.h"
+#include "mesh/errors.h"
+
+namespace pb {
+namespace {
+
+namespace tg = tinygltf;
+
+bool EndsWithBinary(const std::string& path) {
+  return path.size() >= 4 && std::tolower(static_cast<unsigned char>(path[path.size() - 1])) == 'b' &&
+         std::tolower(static_cast<unsigned char>(path[path.size() - 2])) == 'l' &&
+         std::tolower(static_cast<unsigned char>(path[path.size() - 3])) == 'g' && path[path.size() - 4] == '.';
+}
+
+// The triangles of one (object, material) pair, with their own vertex numbering.
+struct Group {
+  uint32_t object = 0, material = 0;
+  std::vector<uint32_t> vertices;              // baked mesh vertices, in order of first use
+  std::vector<std::array<uint32_t, 3>> faces;  // indices into `vertices`
+};
+
+std::vector<Group> GroupFaces(const BakedMesh& baked, const SurfaceNames& names) {
+  std::vector<Group> groups;
+  std::map<std::pair<uint32_t, uint32_t>, size_t> groupOf;
+  std::vector<uint32_t> local(baked.mesh.VertexCount(), ~0u);
+  for (const std::array<uint32_t, 3>& f : baked.mesh.faces) {
+    const uint32_t s = baked.mesh.surface[f[0]];
+    const auto key = std::pair{names.objectOfSurface[s], names.materialOfSurface[s]};
+    const auto [it, isNew] = groupOf.emplace(key, groups.size());
+    if (isNew) groups.push_back({key.first, key.second, {}, {}});
+    Group& g = groups[it->second];
+    std::array<uint32_t, 3> corners{};
+    for (int k = 0; k < 3; ++k) {
+      if (local[f[k]] == ~0u) {  // a vertex belongs to one surface, so to one group
+        local[f[k]] = uint32_t(g.vertices.size());
+        g.vertices.push_back(f[k]);
+      }
+      corners[k] = local[f[k]];
+    }
+    g.faces.push_back(corners);
+  }
+  return groups;
+}
+
+// Appends the values as a new buffer view and an accessor of it; returns the accessor's index.
+class BufferWriter {
+ public:
+  explicit BufferWriter(tg::Model& model) : model_(model) { model_.buffers.emplace_back(); }
+
+  int Vec3(const std::vector<std::array<float, 3>>& values, bool bounds) {
+    const int a = Append(values.data(), values.size() * sizeof(values[0]), TINYGLTF_TARGET_ARRAY_BUFFER,
+                         TINYGLTF_COMPONENT_TYPE_FLOAT, values.size(), TINYGLTF_TYPE_VEC3);
+    if (bounds) {
+      std::vector<double> lo(3, INFINITY), hi(3, -INFINITY);
+      for (const auto& v : values)
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], double(v[k])), hi[k] = std::max(hi[k], double(v[k]));
+      model_.accessors[size_t(a)].minValues = lo;
+      model_.accessors[size_t(a)].maxValues = hi;
+    }
+    return a;
+  }
+  int Indices(const std::vector<std::array<uint32_t, 3>>& faces) {
+    return Append(faces.data(), faces.size() * sizeof(faces[0]), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
+                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, faces.size() * 3, TINYGLTF_TYPE_SCALAR);
+  }
+
+ private:
+  int Append(const void* bytes, size_t size, int target, int componentType, size_t count, int type) {
+    std::vector<unsigned char>& data = model_.buffers[0].data;
+    tg::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = data.size();
+    view.byteLength = size;
+    view.target = target;
+    const auto* b = static_cast<const unsigned char*>(bytes);
+    data.insert(data.end(), b, b + size);  // every element is 4-byte, so every view stays 4-byte aligned
+    model_.bufferViews.push_back(view);
+    tg::Accessor accessor;
+    accessor.bufferView = int(model_.bufferViews.size() - 1);
+    accessor.componentType = componentType;
+    accessor.count = count;
+    accessor.type = type;
+    model_.accessors.push_back(accessor);
+    return int(model_.accessors.size() - 1);
+  }
+  tg::Model& model_;
+};
+
+std::array<float, 3> Array(Rgb c) { return {c.r, c.g, c.b}; }
+
+tg::Primitive Primitive(BufferWriter& buffers, const BakedMesh& baked, const Group& g, float exposure) {
+  std::vector<std::array<float, 3>> position, normal, colour, irradiance, radiance, reflectance;
+  for (uint32_t v : g.vertices) {
+    const Point3 p = baked.mesh.positions[v];
+    const Normal3 n = baked.mesh.normals[v];
+    const float length = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+    position.push_back({p.x, p.y, p.z});
+    normal.push_back(length > 0 ? std::array<float, 3>{n.x / length, n.y / length, n.z / length}
+                                : std::array<float, 3>{0, 0, 1});
+    colour.push_back(Array(ToneMapLinear(baked.Radiance(v), exposure)));
+    irradiance.push_back(Array(baked.irradiance[v]));
+    radiance.push_back(Array(baked.Radiance(v)));
+    reflectance.push_back(Array(baked.albedo[v]));
+  }
+  tg::Primitive primitive;
+  primitive.mode = TINYGLTF_MODE_TRIANGLES;
+  primitive.material = int(g.material);
+  primitive.attributes["POSITION"] = buffers.Vec3(position, true);
+  primitive.attributes["NORMAL"] = buffers.Vec3(normal, false);
+  primitive.attributes["COLOR_0"] = buffers.Vec3(colour, false);
+  primitive.attributes["_IRRADIANCE"] = buffers.Vec3(irradiance, false);
+  primitive.attributes["_RADIANCE"] = buffers.Vec3(radiance, false);
+  primitive.attributes["_REFLECTANCE"] = buffers.Vec3(reflectance, false);
+  primitive.indices = buffers.Indices(g.faces);
+  return primitive;
+}
+
+tg::Material UnlitMaterial(const std::string& name) {
+  tg::Material m;
+  m.name = name;
+  m.pbrMetallicRoughness.baseColorFactor = {1, 1, 1, 1};
+  m.pbrMetallicRoughness.metallicFactor = 0;
+  m.pbrMetallicRoughness.roughnessFactor = 1;
+  m.extensions["KHR_materials_unlit"] = tg::Value(tg::Value::Object());
+  return m;
+}
+
+tg::Model BuildModel(const BakedMesh& baked, const SurfaceNames& names, float exposure) {
+  tg::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = "photonbake " PB_VERSION;
+  model.extensionsUsed = {"KHR_materials_unlit"};
+  for (const std::string& name : names.materials) model.materials.push_back(UnlitMaterial(name));
+  tg::Node root;
+  root.name = names.scene;
+  const std::array<double, 3>& o = baked.mesh.origin;
+  if (o[0] != 0 || o[1] != 0 || o[2] != 0) root.translation = {o[0], o[1], o[2]};
+  BufferWriter buffers(model);
+  std::map<uint32_t, int> meshOfObject;
+  for (const Group& g : GroupFaces(baked, names)) {
+    const auto [it, isNew] = meshOfObject.emplace(g.object, int(model.meshes.size()));
+    if (isNew) {
+      tg::Mesh mesh;
+      mesh.name = names.objects[g.object];
+      model.meshes.push_back(mesh);
+      tg::Node node;
+      node.name = mesh.name;
+      node.mesh = it->second;
+      root.children.push_back(int(model.nodes.size()));
+      model.nodes.push_back(node);
+    }
+    model.meshes[size_t(it->second)].primitives.push_back(Primitive(buffers, baked, g, exposure));
+  }
+  model.nodes.push_back(root);
+  tg::Scene scene;
+  scene.name = names.scene;
+  scene.nodes = {int(model.nodes.size() - 1)};
+  model.scenes.push_back(scene);
+  model.defaultScene = 0;
+  return model;
+}
+
+std::string BaseName(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  const size_t dot = name.find_last_of('.');
+  return dot == std::string::npos || dot == 0 ? name : name.substr(0, dot);
+}
+
+}  // namespace
+
+SurfaceNames NamesOf(const Scene& scene, const SurfaceSet& surfaces) {
+  SurfaceNames names{BaseName(scene.path), scene.objectNames, {}, {}, {}};
+  for (const Material& m : scene.materials) names.materials.push_back(m.name);
+  for (const Surface& s : surfaces.surfaces) {
+    names.objectOfSurface.push_back(scene.triangles[s.triangles.front()].object);
+    names.materialOfSurface.push_back(s.material);
+  }
+  for (std::string& object : names.objects)
+    if (object.empty()) object = names.scene;  // OBJ faces before any 'o'
+  return names;
+}
+
+void WriteGltf(OutputFiles& outputs, const std::string& path, const BakedMesh& baked, const SurfaceNames& names,
+               float exposure) {
+  const tg::Model model = BuildModel(baked, names, exposure);
+  const bool binary = EndsWithBinary(path);
+  outputs.Write(path, [&](std::ostream& out) {
+    tg::TinyGLTF writer;
+    std::ostringstream text;
+    if (!writer.WriteGltfSceneToStream(&model, text, !binary, binary))
+      throw InputError(path, 0, "tinygltf could not write the glTF file");
+    out << text.str();
+  });
+}
+
+}  // namespace pb
