@@ -35,8 +35,10 @@ MaterialCensus CountMaterials(const Scene& scene) {
   return c;
 }
 
-// True unless `light` is planar and every vertex of every other surface lies on or behind its plane.
-bool ReachesAnyReceiver(const Scene& scene, const SurfaceSet& surfaces, const AreaLight& light, float tolerance) {
+// True unless `light` is a planar area light and every vertex of every other surface lies on or behind its plane.
+// Lights that are not surfaces are assumed to reach something.
+bool ReachesAnyReceiver(const Scene& scene, const SurfaceSet& surfaces, const Light& light, float tolerance) {
+  if (!light.IsArea()) return true;
   const Surface& surface = surfaces.surfaces[light.surface];
   if (!surface.planar) return true;  // conservative: a curved light is assumed to see something
   const SurfaceChart& plane = surface.chart;
@@ -78,10 +80,10 @@ constexpr const char* kFlipHint =
     "again";
 
 void PlanLights(TransportPlan& plan, const Scene& scene, const SurfaceSet& surfaces,
-                const std::vector<AreaLight>& lights) {
+                const std::vector<Light>& lights) {
   const float tolerance = 1e-5f * scene.LargestCoordinate();
   int reaching = 0;
-  for (const AreaLight& light : lights) {
+  for (const Light& light : lights) {
     const bool reaches = ReachesAnyReceiver(scene, surfaces, light, tolerance);
     reaching += reaches;
     plan.lightReaches.push_back(reaches);
@@ -136,7 +138,7 @@ std::string TransportPlan::Describe(Effect e) const {
   return (d.simulated ? "simulated: " : "skipped: ") + d.reason;
 }
 
-TransportPlan PlanTransport(const Scene& scene, const SurfaceSet& surfaces, const std::vector<AreaLight>& lights,
+TransportPlan PlanTransport(const Scene& scene, const SurfaceSet& surfaces, const std::vector<Light>& lights,
                             const EffectOverrides& overrides) {
   TransportPlan plan;
   PlanLights(plan, scene, surfaces, lights);

@@ -43,8 +43,8 @@ struct EffectDecision {
 
 struct TransportPlan {
   std::array<EffectDecision, kAllEffects.size()> effects;
-  std::vector<bool> lightReaches;       // per AreaLight: false = it gets no photons
-  std::vector<std::string> lightNotes;  // per AreaLight: why it gets none; "" when it reaches a receiver
+  std::vector<bool> lightReaches;       // per Light: false = it gets no photons
+  std::vector<std::string> lightNotes;  // per Light: why it gets none; "" when it reaches a receiver
   bool specularMaterials = false;       // some surface is a mirror or glass (mesh/scene.h)
   float largestAlbedo = 0;              // max Kd over surfaces, any channel
   uint32_t significantBounces = 0;      // diffuse bounces until largestAlbedo^n < 1e-3; 0 when unbounded
@@ -59,7 +59,7 @@ struct TransportPlan {
 };
 
 // InputError when no light reaches any receiver.
-TransportPlan PlanTransport(const Scene& scene, const SurfaceSet& surfaces, const std::vector<AreaLight>& lights,
+TransportPlan PlanTransport(const Scene& scene, const SurfaceSet& surfaces, const std::vector<Light>& lights,
                             const EffectOverrides& overrides);
 
 }  // namespace pb

@@ -7,6 +7,7 @@
 #include "mesh/color.h"
 
 #include <algorithm>
+#include <filesystem>
 #include "mesh/gltf_loader.h"
 
 namespace pb {
@@ -29,15 +30,20 @@ std::string RecentringNote(const Scene& scene) {
 // exposures, so a light must leave room below it.
 constexpr double kMaxLightFlux = 1e30;
 
-void RequireLight(const Scene& scene, const std::vector<AreaLight>& lights) {
-  if (lights.empty()) throw InputError(scene.path, 0, "scene has no light: no face uses a material with Ke > 0");
-  for (const AreaLight& light : lights) {
-    const double flux = kPi * light.area * double(std::max({light.radiance.r, light.radiance.g, light.radiance.b}));
-    if (!(flux <= kMaxLightFlux))
+void RequireLight(const Scene& scene, const std::vector<Light>& lights) {
+  if (lights.empty())
+    throw InputError(scene.path, 0, "scene has no light: no face uses a material with Ke > 0, and no light is declared");
+  for (const Light& light : lights) {
+    const Rgb power = light.Power();
+    const double flux = std::max({power.r, power.g, power.b});
+    if (flux <= kMaxLightFlux) continue;
+    if (light.IsArea())
       throw InputError(scene.path, 0, fmt::format("the light of material '{}' emits {:.3g} W (pi Ke A, with A = {:.4g} "
                                                   "m^2), above the {:.0e} W a light may have; lower its Ke",
-                                                  MaterialName(scene, light),
-                                                  flux, light.area, kMaxLightFlux));
+                                                  LightName(scene, light), flux, light.area, kMaxLightFlux));
+    throw InputError(light.analytic.source, 0, fmt::format("the {} light '{}' emits {:.3g} W, above the {:.0e} W a "
+                                                           "light may have; lower its intensity", LightKindName(light.kind),
+                                                           LightName(scene, light), flux, kMaxLightFlux));
   }
 }
 
@@ -83,8 +89,24 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
   return p;
 }
 
+namespace {
+
+// The lights file --lights names, or else the scene's sidecar where there is one.
+void AddLightsFile(Scene& scene, const std::string& named) {
+  const std::string path = named.empty() ? LightsSidecarPath(scene.path) : named;
+  if (named.empty() && !std::filesystem::is_regular_file(path)) return;
+  for (AnalyticLight& light : LoadLightsFile(path, scene)) scene.analyticLights.push_back(std::move(light));
+  scene.lightsFile = path;
+}
+
+}  // namespace
+
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock) {
-  LoadedScene loaded = clock.Time("load", [&] { return LoadScene(settings.path, {settings.scale}); });
+  LoadedScene loaded = clock.Time("load", [&] {
+    LoadedScene l = LoadScene(settings.path, {settings.scale, settings.luminousEfficacy});
+    AddLightsFile(l.scene, settings.lightsPath);
+    return l;
+  });
   try {
     PreparedScene p = PrepareScene(std::move(loaded.scene), settings.effects, clock, settings.cover);
     p.warnings.insert(p.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());

@@ -12,6 +12,7 @@
 #include "baker/0_plan_transport.h"
 #include "baker/stage_clock.h"
 #include "estimators/surface_region.h"
+#include "mesh/light_file.h"
 #include "mesh/lights.h"
 #include "mesh/ray_scene.h"
 #include "mesh/scene.h"
@@ -32,6 +33,8 @@ struct SceneSettings {
   float scale = 1.0f;        // metres per scene unit; range (0, inf), typical 1 or 0.001 (millimetres)
   EffectOverrides effects;   // --effects; none: what the materials call for
   CoverSettings cover;       // the lattice on which covered parts are found (spacing 0: none is)
+  std::string lightsPath;    // --lights: a lights file (mesh/light_file.h); empty: SCENE.lights.json if it exists
+  double luminousEfficacy = kDefaultLuminousEfficacy;  // [lm/W], for glTF's photometric lights
 };
 
 struct PreparedScene {
@@ -41,7 +44,7 @@ struct PreparedScene {
   std::vector<SurfaceCover> covers;  // what other geometry covers of each surface (estimators/surface_cover.h)
   SurfaceRegions regions;            // each surface's open region: its chart triangles less its cover
   SurfaceRegions coveredRegions;     // its cover's region, or null
-  std::vector<AreaLight> lights;  // at least one
+  std::vector<Light> lights;  // at least one
   TransportPlan plan;
   std::unique_ptr<RayScene> rays;
 };

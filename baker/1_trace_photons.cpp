@@ -31,12 +31,12 @@ class PhotonTracer {
         refraction_(plan.On(Effect::kRefraction)), caustics_(plan.On(Effect::kCaustics)) {}
 
   // Traces one photon from `light`, appending its hits to `block`. `attenuation` is the fraction of its flux it still carries: 1 at emission.
-  void Trace(const AreaLight& light, Rng& rng, Block& block) const {
+  void Trace(const Light& light, Rng& rng, Block& block) const {
     Rgb attenuation{1, 1, 1};
     const EmissionSample e = SampleEmission(scene_, light, rng);
     block.stats.fluxEmitted.Add(attenuation);
     ++block.stats.emitted;
-    Point3 origin = rays_.SpawnPoint(e.position, e.normal);
+    Point3 origin = e.onSurface ? rays_.SpawnPoint(e.position, e.normal) : e.position;
     Vector3 direction = e.direction;
     bool afterSpecular = false;
     for (uint32_t bounce = 0; bounce <= maxBounces_; ++bounce) {
@@ -153,7 +153,7 @@ std::vector<WorkItem> PlanWork(const PhotonStore& store, const std::vector<uint6
 // so that an interruption leaves each light's traced photons close to a prefix of its stream. done[i] says
 // whether item i was traced.
 template <typename Tracer>
-std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<AreaLight>& lights, const std::vector<WorkItem>& work,
+std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<Light>& lights, const std::vector<WorkItem>& work,
                             std::vector<Block>& blocks, uint64_t seed, const Log& log) {
   uint64_t total = 0;
   for (const WorkItem& w : work) total += w.range.end - w.from;
@@ -221,7 +221,7 @@ void StoreBlocks(PhotonStore& store, std::vector<Block>& blocks, const std::vect
 
 }  // namespace
 
-bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
+bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<Light>& lights, const RayScene& rays,
                    const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
   std::vector<uint64_t> target = AllocatePhotons(lights, settings.photons, plan.lightReaches);
   for (size_t l = 0; l < lights.size(); ++l) target[l] = std::max(target[l], store.emitted[l]);
@@ -243,15 +243,15 @@ bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<Are
   return std::find(done.begin(), done.end(), false) == done.end();
 }
 
-PhotonStore EmptyPhotonStore(const std::vector<AreaLight>& lights) {
+PhotonStore EmptyPhotonStore(const std::vector<Light>& lights) {
   PhotonStore store;
   store.emitted.assign(lights.size(), 0);
-  for (const AreaLight& light : lights) store.lightPower.push_back(light.Power());
+  for (const Light& light : lights) store.lightPower.push_back(light.Power());
   store.Summarise();
   return store;
 }
 
-PhotonStore TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
+PhotonStore TracePhotons(const Scene& scene, const std::vector<Light>& lights, const RayScene& rays,
                         const TransportPlan& plan, const TraceSettings& settings, const Log& log) {
   PhotonStore store = EmptyPhotonStore(lights);
   ExtendPhotons(store, scene, lights, rays, plan, settings, log);

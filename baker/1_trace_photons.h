@@ -46,16 +46,16 @@ struct TraceSettings {
 };
 
 // A store of no photons for these lights.
-PhotonStore EmptyPhotonStore(const std::vector<AreaLight>& lights);
+PhotonStore EmptyPhotonStore(const std::vector<Light>& lights);
 
 // Traces settings.photons photons into a new store.
-PhotonStore TracePhotons(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays,
+PhotonStore TracePhotons(const Scene& scene, const std::vector<Light>& lights, const RayScene& rays,
                         const TransportPlan& plan, const TraceSettings& settings, const Log& log);
 
 // Extends `store` (traced with the same scene, plan, seed and maxBounces) so that each light has emitted
 // max(N_l, its share of settings.photons) photons; Summarise()s it. Stops early, keeping every light's photons a
 // prefix of its stream, when InterruptRequested() (baker/interrupt.h); returns false then.
-bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<AreaLight>& lights,
+bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<Light>& lights,
                    const RayScene& rays, const TransportPlan& plan, const TraceSettings& settings, const Log& log);
 
 // The same for a prepared scene: its lights, ray scene and plan.

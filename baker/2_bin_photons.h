@@ -4,7 +4,7 @@
 //
 // Words for a photon's light, used alike in every file: its "attenuation" is the dimensionless fraction of its
 // emitted flux that it still carries (1 at emission); its "flux" [W] is Phi_l / N_l times that; a light's
-// "power" Phi [W] is what all its photons share (AreaLight::Power).
+// "power" Phi [W] is what all its photons share (Light::Power).
 #pragma once
 
 #include "baker/progress.h"

@@ -99,10 +99,10 @@ std::vector<std::string> UnlitLightWarnings(const PreparedScene& scene, const Ph
   for (size_t l = 0; l < scene.lights.size(); ++l) total += scene.plan.lightReaches[l] ? scene.lights[l].Power().Mean() : 0;
   for (size_t l = 0; l < scene.lights.size(); ++l) {
     if (!scene.plan.lightReaches[l] || photons.emitted[l] > 0) continue;
-    const AreaLight& light = scene.lights[l];
+    const Light& light = scene.lights[l];
     warnings.push_back(fmt::format("{}: warning: the light of material '{}' ({:.3g} W of {:.3g} W) got no photon, so "
                                    "its light is missing; raise --photons to at least {:.0f}", scene.scene.path,
-                                   MaterialName(scene.scene, light),
+                                   LightName(scene.scene, light),
                                    light.Power().Mean(), total, std::ceil(total / light.Power().Mean())));
   }
   return warnings;
@@ -192,7 +192,8 @@ Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFil
 // The scene as the options describe it. Covered parts are found on a lattice of spacing h / 2.
 SceneSettings SceneOf(const BakeOptions& o) {
   const float h = o.autoBandwidth ? EstimatorSettings{}.bandwidth : o.estimator.bandwidth;
-  return {o.scenePath, o.scale, ParseEffectOverrides(o.effectsText), {.spacing = o.findCovers ? h / 2 : 0.0f}};
+  return {o.scenePath, o.scale, ParseEffectOverrides(o.effectsText), {.spacing = o.findCovers ? h / 2 : 0.0f},
+          o.lightsPath, o.luminousEfficacy};
 }
 
 }  // namespace

@@ -79,6 +79,7 @@ void BakeOptions::Validate() const {
           "must be at least --photons, the first round of --target-noise");
   Require(maxPhotons <= (uint64_t(1) << 40), "--max-photons", "must be at most 2^40");
   if (targetNoise) RequireReachableNoise(estimator, *targetNoise);
+  Require(luminousEfficacy >= 1 && luminousEfficacy <= 683, "--luminous-efficacy", "must lie in [1, 683] lm/W");
   Require(!asciiPly || !HasGltfExtension(outputPath), "--ascii", "writes ASCII PLY; -o names a glTF file");
   ParseEffectOverrides(effectsText);
 }

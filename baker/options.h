@@ -59,6 +59,8 @@ struct RefineSettings {
 
 struct BakeOptions {
   std::string scenePath;   // OBJ file; its MTL files are found relative to it.
+  std::string lightsPath;         // --lights: a lights file; empty: SCENE.lights.json where it exists
+  double luminousEfficacy = 683;  // --luminous-efficacy [lm/W]: glTF's candela and lux to watts; [1, 683]
   std::string outputPath;  // PLY file, written atomically (temporary file, then rename).
   std::string reportPath;  // JSON report; empty for none.
   // Estimator, kernel, h [m] (kernel support radius or bucket side; range (0, inf), typical 0.02-0.1 for a

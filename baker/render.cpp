@@ -187,6 +187,11 @@ RenderReport Render(const RenderOptions& o, const Log& log) {
   Camera cameraData = LoadCamera(o.cameraPath.empty() ? CameraSidecarPath(o.scenePath) : o.cameraPath);
   const PreparedScene scene = PrepareScene(SceneSettings{o.scenePath, o.scale, {}}, clock);
   RequireDistinctFiles(OutputFilesOf(o), scene.scene.InputFiles());
+  for (const std::string& w : scene.warnings) log.Warning(w);
+  if (!scene.scene.analyticLights.empty())
+    log.Warning(fmt::format("{}: warning: render finds light by hitting emissive surfaces, so its {} point, spot, sun "
+                            "and sky lights are not rendered; bake sees them", o.scenePath,
+                            scene.scene.analyticLights.size()));
   cameraData = InLocalCoordinates(cameraData, scene.scene);
   std::optional<PhotonMap> photonMap;
   if (o.path.sampling == DirectionSampling::kPhotons) {

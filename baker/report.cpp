@@ -20,6 +20,7 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
           {"find_covers", o.findCovers},
           {"h_m", o.autoBandwidth ? nlohmann::json("auto") : nlohmann::json(o.estimator.bandwidth)},          {"photons", o.photons},   {"seed", o.seed},
           {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly},
+          {"lights", o.lightsPath}, {"luminous_efficacy_lm_per_W", o.luminousEfficacy},
           {"max_bounces", o.maxBounces}, {"direct", DirectLightName(o.direct.mode)},
           {"direct_samples", o.direct.samples}, {"reference_paths", o.referencePaths},
           {"effects", o.effectsText}, {"refine", o.refine.adaptive}, {"tolerance", o.refine.tolerance},
@@ -133,12 +134,13 @@ double BakeReport::TotalSeconds() const {
 
 namespace {
 
-std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<AreaLight>& lights,
+std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<Light>& lights,
                                         const std::vector<uint64_t>& photonsPerLight, const TransportPlan& plan) {
   std::vector<LightReport> out;
   for (size_t l = 0; l < lights.size(); ++l) {
-    const std::string& name = MaterialName(scene, lights[l]);
-    out.push_back({lights[l].surface, name, lights[l].area, lights[l].Power(), photonsPerLight[l], plan.lightNotes[l]});
+    const std::string name = LightName(scene, lights[l]);
+    out.push_back({lights[l].surface, name, LightKindName(lights[l].kind), lights[l].area, lights[l].Power(),
+                   photonsPerLight[l], plan.lightNotes[l]});
   }
   return out;
 }
@@ -190,8 +192,9 @@ void PrintSummary(const BakeReport& r, const Log& log) {
                    r.triangles, r.degenerateTrianglesSkipped, r.duplicateTrianglesSkipped, r.surfaces.size(),
                    r.lights.size());
   for (const LightReport& l : r.lights)
-    s += fmt::format("  light     {:<20} area {:.4g} m^2  Phi {} W  {} photons{}\n", l.material, l.area,
-                     Text(l.power), l.photons, l.note.empty() ? "" : "  (" + l.note + ")");
+    s += fmt::format("  light     {:<20} {}  Phi {} W  {} photons{}\n", l.material,
+                     l.kind == "area" ? fmt::format("area {:.4g} m^2", l.area) : l.kind, Text(l.power), l.photons,
+                     l.note.empty() ? "" : "  (" + l.note + ")");
   s += fmt::format("  photons   {} emitted, {} hits stored, {} absorbed, {} escaped, {} forbidden, {} truncated\n",
                    t.emitted, t.hits, t.absorbed, t.escaped, t.forbidden, t.truncated);
   s += fmt::format("  events    {} diffuse, {} mirror, {} Fresnel reflections, {} refractions; {} caustic hits\n",
@@ -230,7 +233,7 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
                 {"curved_charts", r.curvedCharts},
                 {"worst_area_distortion", r.worstAreaDistortion}};
   for (const LightReport& l : r.lights)
-    j["lights"].push_back({{"surface", l.surface}, {"material", l.material}, {"area_m2", l.area},
+    j["lights"].push_back({{"kind", l.kind}, {"surface", l.surface}, {"material", l.material}, {"area_m2", l.area},
                            {"power_W", Json(l.power)}, {"photons", l.photons}, {"note", l.note}});
   j["photons"] = TraceJson(r.trace);
   j["progressive"] = ProgressiveJson(r.progressive);

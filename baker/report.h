@@ -23,8 +23,9 @@
 namespace pb {
 
 struct LightReport {
-  uint32_t surface = 0;
-  std::string material;
+  uint32_t surface = 0;   // area lights; kNoSurface for the others
+  std::string material;   // the light's name: its material's for an area light
+  std::string kind;       // LightKindName
   double area = 0;  // [m^2]
   Rgb power;        // Phi [W]
   uint64_t photons = 0;

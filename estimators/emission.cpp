@@ -9,19 +9,55 @@
 
 namespace pb {
 
-EmissionSample SampleEmission(const Scene& scene, const AreaLight& light, Rng& rng) {
+namespace {
+
+EmissionSample FromArea(const Scene& scene, const Light& light, Rng& rng) {
   const auto pick = SampleDiscreteCdf(light.triangleCdf, rng.Uniform());
   PB_CHECK(pick.has_value(), "a light has at least one triangle");
   const uint32_t triangle = light.triangles[pick->index];
   const Barycentrics b = SampleUniformTriangle(rng.Uniform2());
   const Normal3 n = scene.FrontNormal(triangle);
   const DirectionSample d = SampleCosineHemisphere(rng.Uniform2());
-  return {scene.PointAt(triangle, b.b1, b.b2), n, Frame::FromNormal(n).ToWorld(d.direction), triangle,
+  return {scene.PointAt(triangle, b.b1, b.b2), n, true, Frame::FromNormal(n).ToWorld(d.direction), triangle,
           float(1.0 / light.area), d.pdf};
 }
 
+// From a point: `d` in the frame whose z axis is `axis`.
+EmissionSample FromPoint(Point3 position, Normal3 axis, const DirectionSample& d) {
+  const Vector3 w = Frame::FromNormal(axis).ToWorld(d.direction);
+  return {position, NormalFrom(w), false, w, 0, 0, d.pdf};
+}
 
-std::vector<uint64_t> AllocatePhotons(const std::vector<AreaLight>& lights, uint64_t n,
+// Travelling along `w` from the disc of radius R that faces along w, R behind the bounding sphere's centre.
+EmissionSample FromDisc(const Light& light, Vector3 w, Point2 u, float pdfDirection) {
+  const Frame frame = Frame::FromNormal(NormalFrom(w));
+  const Point2 p = SampleUniformDiskConcentric(u);
+  const float r = light.boundsRadius;
+  const Point3 position = light.boundsCentre + (frame.s * p.u + frame.t * p.v - AsVector(frame.n)) * r;
+  return {position, frame.n, false, AsVector(frame.n), 0, float(1.0 / (kPi * double(r) * r)), pdfDirection};
+}
+
+}  // namespace
+
+EmissionSample SampleEmission(const Scene& scene, const Light& light, Rng& rng) {
+  const AnalyticLight& a = light.analytic;
+  switch (light.kind) {
+    case LightKind::kArea: return FromArea(scene, light, rng);
+    case LightKind::kPoint: return FromPoint(a.position, {0, 0, 1}, SampleUniformSphere(rng.Uniform2()));
+    case LightKind::kSpot:
+      return FromPoint(a.position, NormalFrom(a.direction), SampleSpotCone(rng.Uniform2(), a.cosInner, a.cosOuter));
+    case LightKind::kSun: return FromDisc(light, a.direction, rng.Uniform2(), 0);
+    case LightKind::kSky: {
+      const DirectionSample from = a.wholeSphere ? SampleUniformSphere(rng.Uniform2()) : SampleUniformHemisphere(rng.Uniform2());
+      const Vector3 w = Frame::FromNormal(NormalFrom(a.up)).ToWorld(from.direction);  // where the light comes from
+      return FromDisc(light, -w, rng.Uniform2(), from.pdf);
+    }
+  }
+  PB_CHECK(false, "every light kind emits");
+  return {};
+}
+
+std::vector<uint64_t> AllocatePhotons(const std::vector<Light>& lights, uint64_t n,
                                       const std::vector<bool>& eligible) {
   std::vector<double> power(lights.size());
   for (size_t i = 0; i < lights.size(); ++i) power[i] = eligible.empty() || eligible[i] ? lights[i].Power().Mean() : 0.0;

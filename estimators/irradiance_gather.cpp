@@ -17,7 +17,10 @@ Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng) co
   bool countEmission = false;  // only after a specular event: the light samples cover every other path to a light
   for (uint32_t depth = 0; depth < maxDepth_; ++depth) {
     const auto hit = rays_.Intersect(origin, d);
-    if (!hit) break;
+    if (!hit) {  // the sky, seen through mirrors and glass (the light samples cover it after a diffuse bounce)
+      if (countEmission) radiance = radiance + throughput * lights_.SkyRadiance(d);
+      break;
+    }
     const Normal3 front = scene_.FrontNormal(hit->triangle);
     const bool onFront = Dot(d, front) < 0;
     const Normal3 side = onFront ? front : -front;

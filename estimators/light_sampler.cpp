@@ -22,9 +22,11 @@ std::vector<uint32_t> Shuffled(uint32_t n, Rng& rng) {
 
 }  // namespace
 
-LightSampler::LightSampler(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays)
+LightSampler::LightSampler(const Scene& scene, const std::vector<Light>& lights, const RayScene& rays)
     : scene_(scene), lights_(lights), rays_(rays) {
-  for (const AreaLight& light : lights) {
+  for (uint32_t l = 0; l < lights.size(); ++l) (lights[l].IsArea() ? areas_ : others_).push_back(l);
+  for (uint32_t l : areas_) {
+    const Light& light = lights[l];
     LightShape shape;
     Vector3 weighted{0, 0, 0};
     for (uint32_t t : light.triangles) {
@@ -41,7 +43,7 @@ LightSampler::LightSampler(const Scene& scene, const std::vector<AreaLight>& lig
   }
 }
 
-bool LightSampler::CanReach(const LightShape& shape, const AreaLight& light, Point3 p, Normal3 n) const {
+bool LightSampler::CanReach(const LightShape& shape, const Light& light, Point3 p, Normal3 n) const {
   const bool inFrontOfX = std::any_of(shape.corners.begin(), shape.corners.end(),
                                       [&](Point3 c) { return Dot(c - p, n) > 0; });
   if (!inFrontOfX) return false;
@@ -51,18 +53,19 @@ bool LightSampler::CanReach(const LightShape& shape, const AreaLight& light, Poi
 }
 
 std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
-  std::vector<double> guess(lights_.size(), 0.0);
+  std::vector<double> guess(areas_.size(), 0.0);
   size_t reachable = 0;
-  for (size_t i = 0; i < lights_.size(); ++i) {
-    if (!CanReach(shapes_[i], lights_[i], p, n)) continue;
+  for (size_t i = 0; i < areas_.size(); ++i) {
+    const Light& light = lights_[areas_[i]];
+    if (!CanReach(shapes_[i], light, p, n)) continue;
     ++reachable;
-    guess[i] = shapes_[i].power / std::max(double(LengthSquared(shapes_[i].centroid - p)), lights_[i].area);
+    guess[i] = shapes_[i].power / std::max(double(LengthSquared(shapes_[i].centroid - p)), light.area);
   }
   if (reachable == 0) return {};
   const double total = std::accumulate(guess.begin(), guess.end(), 0.0);
-  std::vector<double> cdf(lights_.size());
+  std::vector<double> cdf(areas_.size());
   double sum = 0;
-  for (size_t i = 0; i < lights_.size(); ++i) {
+  for (size_t i = 0; i < areas_.size(); ++i) {
     const bool can = guess[i] > 0;
     sum += can ? (1 - kUniformShare) * guess[i] / total + kUniformShare / double(reachable) : 0.0;
     cdf[i] = sum;
@@ -73,7 +76,7 @@ std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
 }
 
 // Ke V cos cos / d^2 times the light's area, for the point of `light` that u picks (uniform over its area).
-Rgb LightSampler::SampleOne(const AreaLight& light, Point3 p, Normal3 n, Point2 u) const {
+Rgb LightSampler::SampleOne(const Light& light, Point3 p, Normal3 n, Point2 u) const {
   const auto pick = SampleDiscreteCdf(light.triangleCdf, u.u);
   PB_CHECK(pick.has_value(), "a light has at least one triangle");
   const uint32_t triangle = light.triangles[pick->index];
@@ -93,7 +96,7 @@ Rgb LightSampler::SampleOne(const AreaLight& light, Point3 p, Normal3 n, Point2 
   return light.radiance * float(double(cosX) * cosY / d2 * light.area);
 }
 
-DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
+DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
   const std::vector<double> cdf = SelectionCdf(p, n);
   if (cdf.empty() || samples == 0) return {};
   const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
@@ -104,9 +107,75 @@ DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng
     const uint32_t cell = cells[j];
     const Point2 jitter = rng.Uniform2();
     const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
-    mean.Add(cell, SampleOne(lights_[choice->index], p, n, u) * float(1.0 / choice->pmf));
+    mean.Add(cell, SampleOne(lights_[areas_[choice->index]], p, n, u) * float(1.0 / choice->pmf));
   }
   return mean.Result();
+}
+
+bool LightSampler::Escapes(Point3 origin, Vector3 w) const { return !rays_.Intersect(origin, w); }
+
+Rgb LightSampler::DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n) const {
+  const Point3 origin = rays_.SpawnPoint(p, n);
+  if (light.kind == LightKind::kSun) {
+    const Vector3 w = -light.direction;
+    const float cosX = Dot(w, n);
+    return cosX > 0 && Escapes(origin, w) ? light.intensity * cosX : Rgb{};
+  }
+  const Vector3 toLight = light.position - p;
+  const float d2 = LengthSquared(toLight);
+  if (!(d2 > 0)) return {};
+  const Vector3 w = toLight * (1.0f / std::sqrt(d2));
+  const float cosX = Dot(w, n);
+  if (cosX <= 0) return {};
+  const float falloff = light.kind == LightKind::kSpot ? SpotFalloff(light, -Dot(w, light.direction)) : 1.0f;
+  if (falloff <= 0) return {};
+  const Vector3 span = light.position - origin;
+  const float length = Length(span);
+  if (rays_.Intersect(origin, span * (1.0f / length), length * (1 - 1e-4f))) return {};
+  return light.intensity * (falloff * cosX / d2);
+}
+
+DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
+  const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
+  const Frame frame = Frame::FromNormal(n);
+  const Point3 origin = rays_.SpawnPoint(p, n);
+  StratifiedMean mean(side);
+  for (uint32_t cell = 0; cell < samples; ++cell) {
+    const Point2 jitter = rng.Uniform2();
+    const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
+    const Vector3 w = frame.ToWorld(SampleCosineHemisphere(u).direction);
+    const bool open = (sky.wholeSphere || Dot(w, sky.up) > 0) && Escapes(origin, w);
+    mean.Add(cell, open ? sky.intensity * float(kPi) : Rgb{});
+  }
+  return mean.Result();
+}
+
+DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
+  DirectSample result = AreaIrradiance(p, n, samples, rng);
+  if (others_.empty() || samples == 0) return result;
+  double variance = std::pow(result.relativeNoise * Luminance(result.irradiance), 2);
+  for (uint32_t l : others_) {
+    const AnalyticLight& light = lights_[l].analytic;
+    if (light.kind != LightKind::kSky) {
+      result.irradiance = result.irradiance + DeltaIrradiance(light, p, n);
+      continue;
+    }
+    const DirectSample sky = SkyIrradiance(light, p, n, samples, rng);
+    result.irradiance = result.irradiance + sky.irradiance;
+    variance += std::pow(sky.relativeNoise * Luminance(sky.irradiance), 2);
+  }
+  const double mean = Luminance(result.irradiance);
+  result.relativeNoise = mean > 0 ? std::sqrt(variance) / mean : 0.0;
+  return result;
+}
+
+Rgb LightSampler::SkyRadiance(Vector3 w) const {
+  Rgb radiance;
+  for (uint32_t l : others_) {
+    const AnalyticLight& sky = lights_[l].analytic;
+    if (sky.kind == LightKind::kSky && (sky.wholeSphere || Dot(w, sky.up) > 0)) radiance = radiance + sky.intensity;
+  }
+  return radiance;
 }
 
 void StratifiedMean::Add(uint32_t cell, Rgb e) {

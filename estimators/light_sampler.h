@@ -14,6 +14,13 @@
 // Lights wholly behind x's plane, or with x wholly behind theirs, get no samples. The result is unbiased; its
 // relative noise is the standard error that pairs of neighbouring strata predict (StratifiedMean), over the mean.
 //
+// Lights that are not surfaces (mesh/scene.h) add their part on top:
+//   point, spot: I f cos(theta_x) / d^2 V, and sun: E cos(theta_x) V (V by one shadow ray toward the sun, which
+//                must leave the scene), each computed exactly, with no noise;
+//   sky:         pi L times the fraction of S cosine-distributed rays, stratified, that leave the scene toward the
+//                sky, with its own stratified standard error.
+// Their noise adds to the area lights' in variance.
+//
 // Determinism: the point's random numbers come from a stream keyed by the caller (the surface point), so the same
 // point reads the same value on any thread.
 #pragma once
@@ -72,10 +79,14 @@ class StratifiedMean {
 class LightSampler {
  public:
   // All three must outlive the sampler.
-  LightSampler(const Scene& scene, const std::vector<AreaLight>& lights, const RayScene& rays);
+  LightSampler(const Scene& scene, const std::vector<Light>& lights, const RayScene& rays);
 
   // E_d at point p (local coordinates [m]) with unit normal n, from `samples` shadow rays drawn from `rng`.
   DirectSample Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
+
+  // The sky's radiance along a ray that leaves the scene in direction w [W/(m^2 sr)]: what a path that escapes
+  // after a specular event sees.
+  Rgb SkyRadiance(Vector3 w) const;
 
  private:
   struct LightShape {
@@ -85,13 +96,19 @@ class LightSampler {
   };
   // Light selection probabilities at p (summing to 1), as a CDF; empty when no light can reach p.
   std::vector<double> SelectionCdf(Point3 p, Normal3 n) const;
-  bool CanReach(const LightShape& light, const AreaLight& area, Point3 p, Normal3 n) const;
-  Rgb SampleOne(const AreaLight& light, Point3 p, Normal3 n, Point2 u) const;
+  bool CanReach(const LightShape& light, const Light& area, Point3 p, Normal3 n) const;
+  Rgb SampleOne(const Light& light, Point3 p, Normal3 n, Point2 u) const;
+  DirectSample AreaIrradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
+  Rgb DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n) const;
+  DirectSample SkyIrradiance(const AnalyticLight& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
+  bool Escapes(Point3 origin, Vector3 w) const;
 
   const Scene& scene_;
-  const std::vector<AreaLight>& lights_;
+  const std::vector<Light>& lights_;
   const RayScene& rays_;
-  std::vector<LightShape> shapes_;
+  std::vector<uint32_t> areas_;     // the area lights, as indices into lights_
+  std::vector<LightShape> shapes_;  // per area light, in the order of areas_
+  std::vector<uint32_t> others_;    // the other lights
 };
 
 }  // namespace pb

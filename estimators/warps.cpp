@@ -48,6 +48,33 @@ DirectionSample SampleCosineHemisphere(Point2 u) {
 
 Point2 InvertCosineHemisphere(Vector3 w) { return InvertUniformDiskConcentric({w.x, w.y}); }
 
+namespace {
+// The direction at height z and azimuth 2 pi v.
+Vector3 AtHeight(float z, float v) {
+  const float r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * float(kPi) * v;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+}  // namespace
+
+DirectionSample SampleUniformSphere(Point2 u) { return {AtHeight(1.0f - 2.0f * u.u, u.v), float(0.25 * kInvPi)}; }
+
+DirectionSample SampleUniformHemisphere(Point2 u) { return {AtHeight(1.0f - u.u, u.v), float(0.5 * kInvPi)}; }
+
+DirectionSample SampleSpotCone(Point2 u, float cosInner, float cosOuter) {
+  const double ci = cosInner, co = cosOuter;
+  const double cap = 1 - ci, ramp = (ci - co) / 3, total = cap + ramp;
+  const double pick = double(u.u) * total;
+  float z;
+  if (pick < cap || ramp <= 0) {
+    z = float(1 - (cap > 0 ? pick : 0));  // uniform on [ci, 1]
+  } else {
+    z = float(co + (ci - co) * std::cbrt((pick - cap) / ramp));
+  }
+  const double t = ci > co ? std::clamp((double(z) - co) / (ci - co), 0.0, 1.0) : 1.0;
+  const double falloff = z >= cosInner ? 1.0 : t * t;
+  return {AtHeight(z, u.v), float(falloff / (2 * kPi * total))};
+}
+
 Barycentrics SampleUniformTriangle(Point2 u) {
   const float s = std::sqrt(u.u);
   return {s * (1.0f - u.v), s * u.v};

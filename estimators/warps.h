@@ -26,6 +26,17 @@ DirectionSample SampleCosineHemisphere(Point2 u);
 inline float CosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0.0f; }
 Point2 InvertCosineHemisphere(Vector3 localDirection);
 
+// Uniform directions over the unit sphere (pdf 1/(4 pi) [1/sr]) and over the hemisphere z >= 0 (pdf 1/(2 pi)),
+// by Archimedes' hat-box theorem: z is uniform.
+DirectionSample SampleUniformSphere(Point2 u);
+DirectionSample SampleUniformHemisphere(Point2 u);
+
+// A spot light's directions about the z axis in proportion to glTF's falloff (mesh/scene.h): f = 1 inside the
+// inner cone, ((cos t - cos outer) / (cos inner - cos outer))^2 between the cones, 0 beyond. In z = cos t the
+// density is uniform above cos inner and quadratic between: with probability (1 - ci) / (1 - ci + (ci - co) / 3)
+// z is uniform on [ci, 1], else z = co + (ci - co) u^(1/3). pdf = f / SpotSolidAngle [1/sr] (mesh/lights.h).
+DirectionSample SampleSpotCone(Point2 u, float cosInner, float cosOuter);
+
 // Uniform point on a triangle as barycentrics (b1, b2), point = (1-b1-b2) p0 + b1 p1 + b2 p2.
 // pdf = 1/A per unit triangle area. Invert maps the barycentrics back to the square.
 struct Barycentrics {

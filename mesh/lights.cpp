@@ -1,20 +1,89 @@
 #include "mesh/lights.h"
 
-namespace pb {
+#include <algorithm>
+#include <cmath>
 
-std::vector<AreaLight> CollectLights(const Scene& scene, const SurfaceSet& surfaces) {
-  std::vector<AreaLight> lights;
+namespace pb {
+namespace {
+
+// The sphere about the positions' bounding box centre that holds them all, grown by 1% so that the discs sun and
+// sky photons leave from lie clear of every surface.
+void BoundingSphere(const Scene& scene, Point3& centre, float& radius) {
+  Point3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const Point3& p : scene.positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  centre = {0.5f * (lo.x + hi.x), 0.5f * (lo.y + hi.y), 0.5f * (lo.z + hi.z)};
+  float r2 = 0;
+  for (const Point3& p : scene.positions) r2 = std::max(r2, LengthSquared(p - centre));
+  radius = 1.01f * std::sqrt(r2) + 1e-6f;
+}
+
+}  // namespace
+
+double SpotSolidAngle(float cosInner, float cosOuter) {
+  return 2 * kPi * ((1.0 - double(cosInner)) + (double(cosInner) - double(cosOuter)) / 3);
+}
+
+float SpotFalloff(const AnalyticLight& spot, float cosAngle) {
+  if (cosAngle >= spot.cosInner) return 1;
+  const float t = std::clamp((cosAngle - spot.cosOuter) / (spot.cosInner - spot.cosOuter), 0.0f, 1.0f);
+  return t * t;
+}
+
+Rgb Light::Power() const {
+  const AnalyticLight& a = analytic;
+  const double disc = kPi * double(boundsRadius) * boundsRadius;
+  switch (kind) {
+    case LightKind::kArea: return radiance * float(kPi * area);
+    case LightKind::kPoint: return a.intensity * float(4 * kPi);
+    case LightKind::kSpot: return a.intensity * float(SpotSolidAngle(a.cosInner, a.cosOuter));
+    case LightKind::kSun: return a.intensity * float(disc);
+    case LightKind::kSky: return a.intensity * float(disc * (a.wholeSphere ? 4 : 2) * kPi);
+  }
+  return {};
+}
+
+const char* LightKindName(LightKind kind) {
+  switch (kind) {
+    case LightKind::kArea: return "area";
+    case LightKind::kPoint: return "point";
+    case LightKind::kSpot: return "spot";
+    case LightKind::kSun: return "sun";
+    case LightKind::kSky: return "sky";
+  }
+  return "?";
+}
+
+std::string LightName(const Scene& scene, const Light& light) {
+  if (light.IsArea()) return scene.materials[scene.triangles[light.triangles.front()].material].name;
+  return light.analytic.name.empty() ? LightKindName(light.kind) : light.analytic.name;
+}
+
+std::vector<Light> CollectLights(const Scene& scene, const SurfaceSet& surfaces) {
+  std::vector<Light> lights;
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
     const Material& material = scene.materials[surface.material];
     if (!material.IsEmissive()) continue;
-    AreaLight light{s, material.emission, surface.triangles, {}, 0.0};
+    Light light{LightKind::kArea, s, material.emission, surface.triangles, {}, 0.0};
     for (uint32_t t : light.triangles) {
       light.area += scene.Area(t);
       light.triangleCdf.push_back(light.area);
     }
     for (double& c : light.triangleCdf) c /= light.area;
     light.triangleCdf.back() = 1.0;
+    lights.push_back(std::move(light));
+  }
+  Point3 centre;
+  float radius = 0;
+  if (!scene.analyticLights.empty()) BoundingSphere(scene, centre, radius);
+  for (const AnalyticLight& a : scene.analyticLights) {
+    Light light;
+    light.kind = a.kind;
+    light.analytic = a;
+    light.boundsCentre = centre, light.boundsRadius = radius;
     lights.push_back(std::move(light));
   }
   return lights;

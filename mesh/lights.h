@@ -1,6 +1,15 @@
-// Area lights as plain data. A light is one emissive surface: radiance Ke [W/(m^2 sr)] leaving its front side
-// with a cosine distribution, area A [m^2], flux Phi = pi * Ke * A [W]. The triangle CDF (by area) lets
-// estimators/emission.h pick a point uniformly over the light's area (pdf 1/A per unit area).
+// The scene's lights as plain data, each with the flux Phi [W] that its photons share.
+//   area: one emissive surface, radiance Ke [W/(m^2 sr)] leaving its front side with a cosine distribution, area
+//         A [m^2]: Phi = pi Ke A. The triangle CDF (by area) lets estimators/emission.h pick a point uniformly over
+//         it (pdf 1/A per unit area).
+//   point: Phi = 4 pi I.
+//   spot: Phi = I 2 pi [(1 - cos inner) + (cos inner - cos outer) / 3], the integral of glTF's falloff
+//         (mesh/scene.h) over the sphere.
+//   sun: its photons leave a disc of radius R (the radius of the scene's bounding sphere) facing along its
+//        direction, outside the scene: Phi = E pi R^2.
+//   sky: its photons leave such discs, one per direction, for directions uniform over the sky's solid angle Omega
+//        (2 pi above the horizon, or 4 pi): Phi = L pi R^2 Omega. A surface open to the sky receives H = pi L
+//        (upper hemisphere, facing up), whatever R.
 #pragma once
 
 #include <cstdint>
@@ -13,21 +22,35 @@
 
 namespace pb {
 
-struct AreaLight {
-  uint32_t surface = 0;
-  Rgb radiance;                     // Ke [W/(m^2 sr)]
-  std::vector<uint32_t> triangles;  // Scene::triangles indices
-  std::vector<double> triangleCdf;  // cumulative area fraction; back() == 1
-  double area = 0;                  // [m^2]
-  Rgb Power() const { return radiance * float(kPi * area); }  // Phi [W]
+inline constexpr uint32_t kNoSurface = ~0u;
+
+struct Light {
+  LightKind kind = LightKind::kArea;
+  uint32_t surface = kNoSurface;    // area: its surface
+  Rgb radiance;                     // area: Ke [W/(m^2 sr)]
+  std::vector<uint32_t> triangles;  // area: Scene::triangles indices
+  std::vector<double> triangleCdf;  // area: cumulative area fraction; back() == 1
+  double area = 0;                  // area: [m^2]
+  AnalyticLight analytic;           // the other kinds
+  Point3 boundsCentre;              // sun, sky: the scene's bounding sphere, local [m]
+  float boundsRadius = 0;
+  Rgb Power() const;  // Phi [W]
+  bool IsArea() const { return kind == LightKind::kArea; }
 };
 
-// The name of the light's material, for messages and reports.
-inline const std::string& MaterialName(const Scene& scene, const AreaLight& light) {
-  return scene.materials[scene.triangles[light.triangles.front()].material].name;
-}
+// The integral of the spot's falloff over the sphere [sr]: Phi = I times it.
+double SpotSolidAngle(float cosInner, float cosOuter);
+// The spot's falloff at cos t from its axis, in [0, 1].
+float SpotFalloff(const AnalyticLight& spot, float cosAngle);
 
-// One light per surface whose material has Ke > 0, in surface order.
-std::vector<AreaLight> CollectLights(const Scene& scene, const SurfaceSet& surfaces);
+// "point", "spot", "sun", "sky" or "area".
+const char* LightKindName(LightKind kind);
+
+// The light's name for messages and reports: its material's for an area light, its own (or its kind) otherwise.
+std::string LightName(const Scene& scene, const Light& light);
+
+// One light per surface whose material has Ke > 0, in surface order; then the scene's analytic lights, in order,
+// sun and sky given the scene's bounding sphere.
+std::vector<Light> CollectLights(const Scene& scene, const SurfaceSet& surfaces);
 
 }  // namespace pb

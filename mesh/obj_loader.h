@@ -37,6 +37,7 @@ namespace pb {
 
 struct LoadOptions {
   float scale = 1.0f;  // metres per scene unit; range (0, inf), checked by the caller; typical 1 or 0.001.
+  double luminousEfficacy = 683;  // [lm/W]: glTF's photometric lights (candela, lux) to watts
 };
 
 struct LoadedScene {

@@ -45,6 +45,28 @@ struct Material {
   bool IsSpecular() const { return kind != MaterialClass::kDiffuse; }
 };
 
+// Lights that are not surfaces, as a scene file declares them (glTF's KHR_lights_punctual, SCENE.lights.json):
+//   point: radiant intensity I [W/sr] into every direction from `position`;
+//   spot:  I times glTF's smooth falloff f = clamp((cos t - cos outer) / (cos inner - cos outer), 0, 1)^2, t the
+//          angle from its axis `direction`;
+//   sun:   a directional light: irradiance E [W/m^2] on a surface facing it, its light travelling along
+//          `direction`, from outside the scene;
+//   sky:   uniform radiance L [W/(m^2 sr)] arriving from every direction above the horizon (w . up > 0), or from
+//          the whole sphere, from outside the scene.
+enum class LightKind : uint8_t { kArea, kPoint, kSpot, kSun, kSky };
+
+struct AnalyticLight {
+  LightKind kind = LightKind::kPoint;
+  std::string name;
+  Rgb intensity;                 // point, spot: I [W/sr]; sun: E [W/m^2]; sky: L [W/(m^2 sr)]
+  Point3 position;               // point, spot: local [m] (Scene::ToLocal)
+  Vector3 direction{0, -1, 0};   // spot: its axis; sun: the direction its light travels. Unit.
+  float cosInner = 1, cosOuter = 0.70710678f;  // spot: cosines of its cone angles, cosOuter < cosInner
+  Vector3 up{0, 1, 0};           // sky: unit
+  bool wholeSphere = false;      // sky: from every direction, not only above the horizon
+  std::string source;            // where it was declared ("scene.gltf: /extensions/KHR_lights_punctual/lights/0")
+};
+
 inline constexpr uint32_t kNoTexcoord = ~0u;
 
 struct Triangle {
@@ -67,7 +89,9 @@ struct Scene {
   std::vector<Point2> texcoords;  // OBJ 'vt' (s, t)
   std::vector<Texture> textures;  // map_Kd images
   std::vector<std::string> materialLibraries;  // the mtllib files read, as resolved
+  std::string lightsFile;                      // the lights file read (mesh/light_file.h), or ""
   std::vector<std::string> objectNames;     // from 'o' (or 'g') statements; "" before the first.
+  std::vector<AnalyticLight> analyticLights;  // lights that are not surfaces (glTF, SCENE.lights.json)
   uint32_t degenerateTrianglesSkipped = 0;  // zero-area faces dropped at load time.
   uint32_t duplicateTrianglesSkipped = 0;   // exact repeats (same corners, same side) dropped at load time.
 
@@ -77,6 +101,7 @@ struct Scene {
     std::vector<std::pair<std::string, std::string>> files{{"the scene", path}};
     for (const std::string& library : materialLibraries) files.emplace_back("the material library", library);
     for (const Texture& texture : textures) files.emplace_back("the texture", texture.path);
+    if (!lightsFile.empty()) files.emplace_back("the lights file", lightsFile);
     return files;
   }
 

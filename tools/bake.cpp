@@ -55,6 +55,10 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("-o,--output", o.outputPath, "PLY to write (binary little-endian unless --ascii), or glTF 2.0 when it ends in .glb or .gltf; written to a "
                                               "temporary file and renamed into place")
       ->required();
+  app.add_option("--lights", o.lightsPath, "lights file: point, spot, sun and sky lights (JSON; README, \"Lights\"); "
+                                          "default SCENE.lights.json where it exists");
+  app.add_option("--luminous-efficacy", o.luminousEfficacy, "lm/W that turn glTF's candela and lux into watts; "
+                                                          "range [1, 683], default 683");
   DefineEstimatorOptions(app, o.estimator, o.autoBandwidth);
   app.add_option("--photons", o.photons, "photons emitted over all lights, split by power (N_i = n Phi_i / Phi); "
                                          "range 1 to 2^40, typical 1e6-1e7")

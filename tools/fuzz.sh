@@ -5,6 +5,7 @@
 #   gltf_loader  glTF 2.0 scenes, .gltf with data URIs or .glb (mesh/gltf_loader.h), with their images
 #   texture      PNG, JPEG, TGA and BMP textures (mesh/texture.h)
 #   camera       camera JSON files (mesh/camera.h)
+#   light_file   lights JSON files (mesh/light_file.h)
 #   photon_file  photon files for --resume (baker/photon_file.h), their CRC recomputed so mutations get past it
 # Usage: tools/fuzz.sh [SECONDS per target, default 60] [TARGET ...; default all]. Installs clang if it is
 # missing. Seeds come from tests/fuzz/corpus/TARGET (the photon files are written by photon_file_seeds); new
@@ -15,7 +16,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(obj_loader gltf_loader texture camera photon_file)
+[ ${#targets[@]} -gt 0 ] || targets=(obj_loader gltf_loader texture camera light_file photon_file)
 if ! command -v clang++ >/dev/null; then
   sudo=""
   [ "$(id -u)" -eq 0 ] || sudo="sudo"

@@ -195,7 +195,7 @@ TEST(Reference, InsideAGreySphereItFindsEveryBounce) {
   const LightSampler lights(prepared.scene, prepared.lights, *prepared.rays);
   const IrradianceGatherer gatherer(prepared.scene, *prepared.rays, lights);
   double flux = 0, area = 0;
-  for (const AreaLight& l : prepared.lights) flux += Luminance(l.Power());
+  for (const Light& l : prepared.lights) flux += Luminance(l.Power());
   for (size_t t = 0; t < prepared.scene.triangles.size(); ++t)
     if (!prepared.scene.MaterialOf(uint32_t(t)).IsEmissive()) area += 0.5 * Length(prepared.scene.AreaVector(uint32_t(t)));
   const double exact = flux / (area * 0.5);

@@ -24,7 +24,7 @@ namespace {
 
 struct Fixture : test::TracedScene {
   using TracedScene::TracedScene;
-  PhotonMap Photons(uint64_t n, const std::vector<AreaLight>& from) const {
+  PhotonMap Photons(uint64_t n, const std::vector<Light>& from) const {
     const TransportPlan plan = PlanTransport(scene, surfaces, from, {});
     return BuildPhotonMap(scene, TracePhotons(scene, from, *rays, plan, {n, 99}, Log(true)));
   }

@@ -45,7 +45,7 @@ void ExpectSameStore(const PhotonStore& a, const PhotonStore& b) {
 // The flux the store's photons left their lights with is the lights' total flux.
 void ExpectStoreFluxIsLightFlux(const test::TracedScene& s, const PhotonStore& store) {
   double phi = 0;
-  for (const AreaLight& light : s.lights) phi += light.Power().g;
+  for (const Light& light : s.lights) phi += light.Power().g;
   EXPECT_NEAR(store.stats.fluxEmitted.g, phi, 1e-6 * phi);
 }
 
@@ -128,8 +128,8 @@ TEST(PhotonStreams, AnInterruptionLeavesEveryLightItsShare) {
 TEST(PhotonStreams, EachLightsCountNeverShrinksAsTheTotalGrows) {
   std::mt19937 random(11);
   std::uniform_real_distribution<float> radiance(0.01f, 10.0f);
-  std::vector<AreaLight> lights(7);
-  for (AreaLight& l : lights) {
+  std::vector<Light> lights(7);
+  for (Light& l : lights) {
     l.radiance = {radiance(random), radiance(random), radiance(random)};
     l.area = radiance(random);
   }

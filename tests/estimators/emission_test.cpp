@@ -26,7 +26,7 @@ std::string UnevenLamp(const std::string& dir) {
 TEST(Emission, EverySampleCarriesTheLightsFluxAndMatchesItsPdfs) {
   const test::TracedScene scene(UnevenLamp(test::TempDirectory("emission")));
   ASSERT_EQ(scene.lights.size(), 1u);
-  const AreaLight& light = scene.lights[0];
+  const Light& light = scene.lights[0];
   ASSERT_NEAR(light.area, 2.0, 1e-6);
   const double phi = Luminance(light.Power());
   constexpr int kSamples = 200'000, kCells = 20;

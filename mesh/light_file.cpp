@@ -1,0 +1,127 @@
+#include "mesh/light_file.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "mesh/camera.h"
+#include "mesh/errors.h"
+#include "mesh/json_input.h"
+
+namespace pb {
+namespace {
+
+// Reads one light's entries; `from` is where its "type" is written, for lines.
+class LightReader {
+ public:
+  LightReader(const JsonInput& in, const nlohmann::json& j, size_t index, size_t from, double efficacy)
+      : in_(in), j_(j), owner_(fmt::format("light {}", index)), from_(from), efficacy_(efficacy) {}
+
+  AnalyticLight Read(const Scene& scene) {
+    AnalyticLight light;
+    if (!j_["type"].is_string()) Fail("type", "'type' must be a string");
+    const std::string type = j_["type"].get<std::string>();
+    light.name = j_.contains("name") && j_["name"].is_string() ? j_["name"].get<std::string>() : type;
+    light.source = fmt::format("{}:{}", in_.path, in_.LineOfKey("type", from_));
+    if (type == "point" || type == "spot") {
+      light.kind = type == "point" ? LightKind::kPoint : LightKind::kSpot;
+      const auto p = ReadTriple(in_, j_, "position_m", owner_, from_);
+      light.position = scene.ToLocal(p[0], p[1], p[2]);
+      light.intensity = Strength("intensity_W_sr", "intensity_cd");
+      if (light.kind == LightKind::kSpot) Cone(light);
+    } else if (type == "sun") {
+      light.kind = LightKind::kSun;
+      light.direction = Direction("direction");
+      light.intensity = Strength("irradiance_W_m2", "illuminance_lux");
+    } else if (type == "sky") {
+      light.kind = LightKind::kSky;
+      light.up = j_.contains("up") ? Direction("up") : Vector3{0, 1, 0};
+      if (j_.contains("whole_sphere") && !j_["whole_sphere"].is_boolean())
+        Fail("whole_sphere", "'whole_sphere' must be true or false");
+      light.wholeSphere = j_.contains("whole_sphere") && j_["whole_sphere"].get<bool>();
+      light.intensity = Strength("radiance_W_m2_sr", "luminance_nit");
+    } else {
+      Fail("type", "'type' must be \"point\", \"spot\", \"sun\" or \"sky\"");
+    }
+    return light;
+  }
+
+ private:
+  [[noreturn]] void Fail(const std::string& key, const std::string& message) const {
+    throw InputError(in_.path, in_.LineOfKey(key, from_), owner_ + ": " + message);
+  }
+
+  Vector3 Direction(const std::string& key) const {
+    const auto d = ReadTriple(in_, j_, key, owner_, from_, true);
+    if (d[0] == 0 && d[1] == 0 && d[2] == 0) Fail(key, "'" + key + "' must not be zero");
+    return {float(d[0]), float(d[1]), float(d[2])};
+  }
+
+  double Number(const std::string& key, double lo, double hi) const {
+    if (!j_[key].is_number()) Fail(key, "'" + key + "' must be a number");
+    const double x = j_[key].get<double>();
+    if (!(x >= lo && x <= hi)) Fail(key, fmt::format("'{}' must lie in [{:g}, {:g}]", key, lo, hi));
+    return x;
+  }
+
+  // The radiometric value, or the photometric one over the luminous efficacy; times "color".
+  Rgb Strength(const std::string& radiometric, const std::string& photometric) const {
+    const bool r = j_.contains(radiometric), p = j_.contains(photometric);
+    if (r == p) Fail("type", "give exactly one of '" + radiometric + "' and '" + photometric + "'");
+    const double value = r ? Number(radiometric, 0, 1e30) : Number(photometric, 0, 1e30) / efficacy_;
+    Rgb colour{1, 1, 1};
+    if (j_.contains("color")) {
+      const auto c = ReadTriple(in_, j_, "color", owner_, from_);
+      if (c[0] < 0 || c[1] < 0 || c[2] < 0) Fail("color", "'color' must not be negative");
+      colour = {float(c[0]), float(c[1]), float(c[2])};
+    }
+    return colour * float(value);
+  }
+
+  void Cone(AnalyticLight& light) const {
+    const double inner = j_.contains("inner_cone_deg") ? Number("inner_cone_deg", 0, 90) : 0;
+    const double outer = j_.contains("outer_cone_deg") ? Number("outer_cone_deg", 0, 90) : 45;
+    if (!(inner < outer)) Fail("outer_cone_deg", "'inner_cone_deg' must be less than 'outer_cone_deg'");
+    light.cosInner = float(std::cos(inner * kPi / 180)), light.cosOuter = float(std::cos(outer * kPi / 180));
+    light.direction = j_.contains("direction") ? Direction("direction") : Vector3{0, -1, 0};
+  }
+
+  const JsonInput& in_;
+  const nlohmann::json& j_;
+  std::string owner_;
+  size_t from_;
+  double efficacy_;
+};
+
+}  // namespace
+
+std::string LightsSidecarPath(const std::string& scenePath) {
+  const std::string camera = CameraSidecarPath(scenePath);
+  return camera.substr(0, camera.size() - std::string(".camera.json").size()) + ".lights.json";
+}
+
+std::vector<AnalyticLight> LoadLightsFile(const std::string& path, const Scene& scene) {
+  const JsonInput in = ReadJsonInput(path, "lights file");
+  const nlohmann::json& j = in.json;
+  if (!j.is_object() || !j.contains("lights") || !j["lights"].is_array())
+    throw InputError(path, in.LineOfKey("lights"), "a lights file is an object with an array 'lights'");
+  double efficacy = kDefaultLuminousEfficacy;
+  if (j.contains("luminous_efficacy_lm_per_W")) {
+    const nlohmann::json& e = j["luminous_efficacy_lm_per_W"];
+    efficacy = e.is_number() ? e.get<double>() : 0;
+    if (!(efficacy >= 1 && efficacy <= 683))
+      throw InputError(path, in.LineOfKey("luminous_efficacy_lm_per_W"),
+                       "'luminous_efficacy_lm_per_W' must lie in [1, 683]");
+  }
+  std::vector<AnalyticLight> lights;
+  for (size_t i = 0; i < j["lights"].size(); ++i) {
+    const nlohmann::json& entry = j["lights"][i];
+    const size_t from = in.NthKey("type", i);
+    if (!entry.is_object() || !entry.contains("type"))
+      throw InputError(path, in.LineOfKey("lights"), fmt::format("light {} is not an object with a 'type'", i));
+    lights.push_back(LightReader(in, entry, i, from, efficacy).Read(scene));
+  }
+  return lights;
+}
+
+}  // namespace pb

@@ -1,0 +1,213 @@
+// Point, spot, sun and sky lights (mesh/scene.h, mesh/lights.h): their photon emission against chi-square, their
+// flux on a floor against the closed form (the photons' count on it is binomial, so its tolerance is), and their
+// direct light sampled at points (estimators/light_sampler.h) against the closed forms
+//   point: H = I cos(theta) / r^2;  spot: times glTF's falloff;  sun: H = E cos(theta);
+//   sky over an open floor: H = pi L;  sky through a square window: Lambert's polygon formula with radiance L.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "estimators/emission.h"
+#include "estimators/light_sampler.h"
+#include "estimators/warps.h"
+#include "mesh/obj_loader.h"
+#include "tests/chi2.h"
+#include "tests/lambert.h"
+#include "tests/test_scenes.h"
+#include "tests/traced_scene.h"
+
+namespace pb {
+namespace {
+
+constexpr double kFloorHalf = 2;  // the floor spans [-2, 2] x [-2, 2] at y = 0, facing up
+
+// A black floor, and optionally a black box over it open at the bottom (a ceiling 1 m up with a 0.5 x 0.5 m
+// window over the origin and four walls), so that light reaches the floor under it only through the window.
+Scene FloorScene(const std::string& name, bool room = false) {
+  const std::string dir = test::TempDirectory(name);
+  test::WriteText(dir + "/f.mtl", "newmtl black\nKd 0 0 0\n");
+  std::string obj = "mtllib f.mtl\nusemtl black\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nf 1 4 3 2\n";
+  if (room) {
+    // The ceiling (facing down) as four panels around the window [-0.25, 0.25]^2, and walls down to the floor.
+    obj += "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv -0.25 1 -0.25\nv 0.25 1 -0.25\nv 0.25 1 0.25\nv -0.25 1 0.25\n"
+           "f 5 6 10 9\nf 6 7 11 10\nf 7 8 12 11\nf 8 5 9 12\n"
+           "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n"
+           "f 13 14 6 5\nf 14 15 7 6\nf 15 16 8 7\nf 16 13 5 8\n";
+  }
+  test::WriteText(dir + "/f.obj", obj);
+  return LoadObj(dir + "/f.obj").scene;
+}
+
+AnalyticLight Point(Point3 at, float intensity) {
+  AnalyticLight a;
+  a.kind = LightKind::kPoint, a.position = at, a.intensity = {intensity, intensity, intensity};
+  return a;
+}
+AnalyticLight Spot(Point3 at, float inner, float outer) {
+  AnalyticLight a = Point(at, 2);
+  a.kind = LightKind::kSpot, a.direction = {0, -1, 0};
+  a.cosInner = std::cos(inner), a.cosOuter = std::cos(outer);
+  return a;
+}
+AnalyticLight Sun(Vector3 direction, float irradiance) {
+  AnalyticLight a;
+  a.kind = LightKind::kSun, a.direction = Normalize(direction), a.intensity = {irradiance, irradiance, irradiance};
+  return a;
+}
+AnalyticLight Sky(float radiance) {
+  AnalyticLight a;
+  a.kind = LightKind::kSky, a.intensity = {radiance, radiance, radiance};
+  return a;
+}
+
+test::TracedScene WithLight(Scene scene, const AnalyticLight& light) {
+  scene.analyticLights.push_back(light);
+  return test::TracedScene(std::move(scene));
+}
+
+// The direct light at floor point (x, z), from many samples.
+DirectSample DirectAt(const test::TracedScene& s, double x, double z, uint32_t samples = 1024) {
+  const LightSampler sampler(s.scene, s.lights, *s.rays);
+  Rng rng(5, uint64_t(std::fabs(x) * 1000 + std::fabs(z) * 10));
+  return sampler.Irradiance({float(x), 0, float(z)}, {0, 1, 0}, samples, rng);
+}
+
+// The flux that `photons` photons lay on the floor in their first hits, against `expected` [W]: each photon
+// carries Phi / N, so the count on the floor is binomial with p = expected / Phi; within 5 standard deviations.
+void ExpectFloorFlux(const test::TracedScene& s, double expected, uint64_t photons = 200'000) {
+  const PhotonStore store = s.Trace(photons, 3);
+  const double phi = Luminance(s.lights.back().Power());
+  double onFloor = 0;
+  for (const HitBlock& block : store.blocks)
+    for (const PhotonHit& h : block) onFloor += s.surfaces.surfaceOfTriangle[h.Triangle()] == 0;
+  const double p = expected / phi, sigma = std::sqrt(double(photons) * p * (1 - p));
+  EXPECT_NEAR(onFloor, p * double(photons), 5 * sigma + 1) << "expected " << expected << " W of " << phi << " W";
+}
+
+TEST(AnalyticLights, PowerIsTheIntegralOfTheirEmission) {
+  EXPECT_NEAR(SpotSolidAngle(1, -1), 4 * kPi / 3, 1e-9) << "inner 0, outer 180: the ramp integrates to a third";
+  EXPECT_NEAR(SpotSolidAngle(0.5f, 0.5f), 2 * kPi * 0.5, 1e-6) << "a hard cone of half-angle 60 degrees";
+  const test::TracedScene s = WithLight(FloorScene("power"), Point({0, 1, 0}, 3));
+  EXPECT_NEAR(s.lights.back().Power().g, 12 * kPi, 1e-4);
+}
+
+TEST(AnalyticLights, PointAndSpotEmissionMatchTheirDistributions) {
+  constexpr int kSamples = 200'000, kCells = 20;
+  const test::TracedScene point = WithLight(FloorScene("chi-point"), Point({0, 1, 0}, 1));
+  const float inner = 0.3f, outer = 0.6f;
+  const test::TracedScene spot = WithLight(FloorScene("chi-spot"), Spot({0, 1, 0}, inner, outer));
+  std::vector<double> zPoint(kCells, 0), zSpot(kCells, 0), phi(kCells, 0);
+  const float co = std::cos(outer);
+  for (int i = 0; i < kSamples; ++i) {
+    Rng a(1, uint64_t(i)), b(2, uint64_t(i));
+    const EmissionSample p = SampleEmission(point.scene, point.lights.back(), a);
+    const EmissionSample q = SampleEmission(spot.scene, spot.lights.back(), b);
+    ASSERT_FALSE(p.onSurface);
+    ASSERT_EQ(p.position.y, 1.0f);
+    zPoint[std::min(kCells - 1, int((p.direction.y + 1) / 2 * kCells))] += 1;
+    phi[std::min(kCells - 1, int((std::atan2(p.direction.z, p.direction.x) / kPi + 1) / 2 * kCells))] += 1;
+    const float c = -q.direction.y;  // the cosine from the spot's axis (down)
+    ASSERT_GE(c, co - 1e-6f) << "no photon leaves beyond the outer cone";
+    zSpot[std::min(kCells - 1, int((c - co) / (1 - co) * kCells))] += 1;
+  }
+  const test::Chi2Result pz = test::Chi2Test(zPoint, std::vector<double>(kCells, double(kSamples) / kCells));
+  EXPECT_GT(pz.pValue, 1e-3) << pz.histograms;
+  const test::Chi2Result pp = test::Chi2Test(phi, std::vector<double>(kCells, double(kSamples) / kCells));
+  EXPECT_GT(pp.pValue, 1e-3) << pp.histograms;
+  // The spot's expected share per cell of cos t: its falloff integrated over the cell, by the midpoint rule on a
+  // fine grid.
+  AnalyticLight s = Spot({0, 1, 0}, inner, outer);
+  std::vector<double> expected(kCells, 0);
+  double total = 0;
+  for (int k = 0; k < kCells * 1000; ++k) {
+    const double c = co + (1 - co) * (k + 0.5) / (kCells * 1000.0);
+    expected[size_t(k / 1000)] += SpotFalloff(s, float(c));
+    total += SpotFalloff(s, float(c));
+  }
+  for (double& e : expected) e *= kSamples / total;
+  const test::Chi2Result sz = test::Chi2Test(zSpot, expected);
+  EXPECT_GT(sz.pValue, 1e-3) << sz.histograms;
+}
+
+TEST(AnalyticLights, SunAndSkyPhotonsLeaveDiscsOutsideTheScene) {
+  constexpr int kSamples = 100'000, kCells = 20;
+  const test::TracedScene sun = WithLight(FloorScene("chi-sun"), Sun({0.3f, -1, 0.2f}, 1));
+  const test::TracedScene sky = WithLight(FloorScene("chi-sky"), Sky(1));
+  const Light& s = sun.lights.back();
+  std::vector<double> radius(kCells, 0), height(kCells, 0);
+  for (int i = 0; i < kSamples; ++i) {
+    Rng a(3, uint64_t(i)), b(4, uint64_t(i));
+    const EmissionSample e = SampleEmission(sun.scene, s, a);
+    EXPECT_EQ(e.direction.x, s.analytic.direction.x);
+    const Vector3 offset = e.position - s.boundsCentre;
+    ASSERT_NEAR(Dot(offset, e.direction), -s.boundsRadius, 1e-4f) << "on the plane R behind the centre";
+    const Vector3 lateral = offset + e.direction * s.boundsRadius;
+    radius[std::min(kCells - 1, int(LengthSquared(lateral) / (s.boundsRadius * s.boundsRadius) * kCells))] += 1;
+    const EmissionSample k = SampleEmission(sky.scene, sky.lights.back(), b);
+    ASSERT_LT(k.direction.y, 0) << "sky light travels down";
+    height[std::min(kCells - 1, int(-k.direction.y * kCells))] += 1;
+  }
+  const std::vector<double> uniform(kCells, double(kSamples) / kCells);
+  const test::Chi2Result r = test::Chi2Test(radius, uniform);
+  EXPECT_GT(r.pValue, 1e-3) << "r^2 is uniform on a uniform disc\n" << r.histograms;
+  const test::Chi2Result h = test::Chi2Test(height, uniform);
+  EXPECT_GT(h.pValue, 1e-3) << "uniform directions: the height is uniform\n" << h.histograms;
+}
+
+TEST(AnalyticLights, PhotonFluxOnTheFloorIsTheClosedForm) {
+  // A point light 1 m over the centre of a 4 x 4 m floor: I times the solid angle the floor subtends.
+  const double a = kFloorHalf, h = 1;
+  const double omega = 4 * std::atan(a * a / (h * std::sqrt(2 * a * a + h * h)));
+  ExpectFloorFlux(WithLight(FloorScene("flux-point"), Point({0, 1, 0}, 1)), omega);
+  // A sun at 60 degrees from the zenith: E A cos(theta).
+  ExpectFloorFlux(WithLight(FloorScene("flux-sun"), Sun({std::sqrt(3.0f), -1, 0}, 2)), 2 * 16 * 0.5);
+  // A sky over the open floor: pi L A.
+  ExpectFloorFlux(WithLight(FloorScene("flux-sky"), Sky(0.5)), kPi * 0.5 * 16);
+}
+
+TEST(AnalyticLights, SampledDirectLightIsTheClosedForm) {
+  const test::TracedScene point = WithLight(FloorScene("direct-point"), Point({0.5f, 1.5f, 0}, 2));
+  for (double x : {-1.5, 0.0, 0.5, 1.9}) {
+    const double r2 = (x - 0.5) * (x - 0.5) + 1.5 * 1.5 + 0.25;
+    EXPECT_NEAR(DirectAt(point, x, 0.5).irradiance.g, 2 * 1.5 / std::pow(r2, 1.5), 1e-5) << x;
+  }
+  // A spot 1 m up: full inside its inner cone (17.2 degrees), its falloff on the ramp, nothing beyond 34.4.
+  const float inner = 0.3f, outer = 0.6f;
+  const test::TracedScene spot = WithLight(FloorScene("direct-spot"), Spot({0, 1, 0}, inner, outer));
+  for (double x : {0.0, 0.2, 0.45, 0.6, 0.8}) {
+    const double r2 = x * x + 1, c = 1 / std::sqrt(r2);
+    const double f = c >= std::cos(inner) ? 1 : std::pow(std::clamp((c - std::cos(outer)) / (std::cos(inner) - std::cos(outer)), 0.0, 1.0), 2);
+    EXPECT_NEAR(DirectAt(spot, x, 0).irradiance.g, 2 * f * c / r2, 1e-5) << x;
+  }
+  const test::TracedScene sun = WithLight(FloorScene("direct-sun"), Sun({1, -1, 0}, 3));
+  EXPECT_NEAR(DirectAt(sun, 0.3, -0.7).irradiance.g, 3 / std::sqrt(2.0), 1e-5);
+  EXPECT_EQ(DirectAt(sun, 0.3, -0.7).relativeNoise, 0) << "a sun's light is exact";
+  // Under the room's ceiling the sun, straight down, reaches only the window's patch of floor.
+  const test::TracedScene roomSun = WithLight(FloorScene("direct-sun-room", true), Sun({0, -1, 0}, 3));
+  EXPECT_NEAR(DirectAt(roomSun, 0.1, 0.1).irradiance.g, 3, 1e-5);
+  EXPECT_EQ(DirectAt(roomSun, 0.6, 0.1).irradiance.g, 0);
+}
+
+TEST(AnalyticLights, SampledSkyIsPiLInTheOpenAndLambertThroughAWindow) {
+  const test::TracedScene open = WithLight(FloorScene("sky-open"), Sky(0.5));
+  const DirectSample e = DirectAt(open, 0.3, 0.2);
+  EXPECT_NEAR(e.irradiance.g, kPi * 0.5, 1e-5) << "every ray leaves toward the sky";
+  const test::TracedScene room = WithLight(FloorScene("sky-room", true), Sky(2));
+  const std::vector<test::V3> window = {{-0.25, 1, -0.25}, {0.25, 1, -0.25}, {0.25, 1, 0.25}, {-0.25, 1, 0.25}};
+  double z2 = 0;
+  int n = 0;
+  for (double x : {0.0, 0.2, 0.5}) {
+    for (double z : {0.0, -0.3}) {
+      const DirectSample s = DirectAt(room, x, z, 4096);
+      const double exact = test::LambertPolygonIrradiance({x, 0, z}, {0, 1, 0}, window, 2);
+      const double sigma = s.relativeNoise * s.irradiance.g;
+      ASSERT_GT(sigma, 0) << x << ", " << z;
+      EXPECT_NEAR(s.irradiance.g, exact, 5 * sigma) << x << ", " << z;
+      z2 += std::pow((s.irradiance.g - exact) / sigma, 2), ++n;
+    }
+  }
+  EXPECT_LT(z2 / n, 2.5) << "the predicted noise is honest";
+}
+
+}  // namespace
+}  // namespace pb
