@@ -253,9 +253,16 @@ class GltfReader {
     PB_CHECK(options_.scale > 0.0f && std::isfinite(options_.scale), "LoadOptions::scale is finite and > 0");
     Parse();
     RequireKnownExtensions();
-    for (const auto& [node, world] : SceneNodes()) AddNode(node, world);
+    for (const auto& [node, world] : SceneNodes()) {
+      if (model_.nodes[size_t(node)].mesh >= 0) AddNode(node, world);
+      AddPunctualLight(node, world);
+    }
     if (result_.scene.triangles.empty()) RefuseEmpty();
     builder_.StorePositions(path_);
+    for (auto& [light, world] : lights_) {
+      if (light.kind != LightKind::kSun) light.position = result_.scene.ToLocal(world[0], world[1], world[2]);
+      result_.scene.analyticLights.push_back(std::move(light));
+    }
     result_.warnings = warnings_.Lines();
     return std::move(result_);
   }
@@ -328,7 +335,7 @@ class GltfReader {
       path.push_back(v.node);
       const tg::Node& n = model_.nodes[size_t(v.node)];
       const Matrix world = Multiply(v.parent, LocalMatrix(n, where));
-      if (n.mesh >= 0) found.emplace_back(v.node, world);
+      if (n.mesh >= 0 || n.extensions.count("KHR_lights_punctual")) found.emplace_back(v.node, world);
       for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, world, v.depth + 1});
     }
     return found;
@@ -488,6 +495,48 @@ class GltfReader {
     if (result_.scene.degenerateTrianglesSkipped > 0)
       throw InputError(path_, 0, "scene has no faces to bake: every triangle has zero area");
     throw InputError(path_, 0, "scene has no triangles (no node of its scene carries a mesh of triangles)");
+  }
+
+  // ---- KHR_lights_punctual ----
+
+  // The light a node carries, if any: placed at the node's origin, pointing along its -z axis. Candela and lux are
+  // turned into W/sr and W/m^2 over the luminous efficacy.
+  void AddPunctualLight(int node, const Matrix& world) {
+    const tg::Node& n = model_.nodes[size_t(node)];
+    const tg::Value* index = Member(n.extensions, "KHR_lights_punctual", "light");
+    if (!index) return;
+    const std::string where = fmt::format("/nodes/{}/extensions/KHR_lights_punctual/light", node);
+    const int l = index->IsNumber() ? int(index->GetNumberAsDouble()) : -1;
+    if (l < 0 || size_t(l) >= model_.lights.size())
+      Fail(where, fmt::format("light {} does not exist ({} lights)", l, model_.lights.size()));
+    const tg::Light& g = model_.lights[size_t(l)];
+    const std::string self = fmt::format("/extensions/KHR_lights_punctual/lights/{}", l);
+    AnalyticLight light;
+    light.name = g.name.empty() ? (n.name.empty() ? g.type + " " + std::to_string(l) : n.name) : g.name;
+    light.source = path_ + ": " + self;
+    if (g.type == "point") light.kind = LightKind::kPoint;
+    else if (g.type == "spot") light.kind = LightKind::kSpot;
+    else if (g.type == "directional") light.kind = LightKind::kSun;
+    else Fail(self, "type '" + g.type + "' is not point, spot or directional");
+    if (!(g.intensity >= 0 && g.intensity <= 1e30)) Fail(self, "intensity must lie in [0, 1e30]");
+    const Rgb colour = g.color.size() == 3 ? Colour(g.color) : Rgb{1, 1, 1};
+    if (colour.r < 0 || colour.g < 0 || colour.b < 0) Fail(self, "color must not be negative");
+    light.intensity = colour * float(g.intensity / options_.luminousEfficacy);
+    if (g.range > 0) Warn("range", self, "range is ignored: the light falls off with the inverse square everywhere");
+    if (light.kind == LightKind::kSpot) {
+      const double inner = g.spot.innerConeAngle, outer = g.spot.outerConeAngle;
+      if (!(inner >= 0 && inner < outer && outer <= kPi / 2 + 1e-9))
+        Fail(self + "/spot", "cone angles must satisfy 0 <= innerConeAngle < outerConeAngle <= pi/2");
+      light.cosInner = float(std::cos(inner)), light.cosOuter = float(std::cos(outer));
+    }
+    const double origin[3] = {0, 0, 0}, ahead[3] = {0, 0, -1};
+    Position at = Apply(world, origin);
+    const Position tip = Apply(world, ahead);
+    const Vector3 d{float(tip[0] - at[0]), float(tip[1] - at[1]), float(tip[2] - at[2])};
+    if (!(Length(d) > 0) && light.kind != LightKind::kPoint) Fail(where, "the node's transform flattens the light's direction");
+    if (light.kind != LightKind::kPoint) light.direction = Normalize(d);
+    for (double& x : at) x *= options_.scale;
+    lights_.emplace_back(light, at);
   }
 
   // ---- materials ----
@@ -665,6 +714,7 @@ class GltfReader {
   tg::Model model_;
   ImageBytes imageBytes_;
   WarningLog warnings_;
+  std::vector<std::pair<AnalyticLight, Position>> lights_;  // KHR_lights_punctual, with world positions [m]
   std::string firstIgnored_;  // the first primitive of points or lines, for the message refusing an empty scene
   std::optional<uint32_t> defaultMaterial_;
   std::unordered_map<int, MaterialUse> materials_;           // glTF material -> ours

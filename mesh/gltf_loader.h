@@ -27,6 +27,11 @@
 //     warning. Note that glTF's v runs down the image: a glTF (u, v) is our (s, t) = (u, 1 - v).
 //   - ignored, with a warning: normal, occlusion and metallic-roughness textures, alpha (BLEND, MASK),
 //     KHR_materials_unlit (read as diffuse), and any other material extension.
+// Lights (KHR_lights_punctual): a node's point, spot or directional light sits at the node's origin and points
+// along its -z axis; intensity (candela for point and spot, lux for directional) times color is divided by
+// LoadOptions::luminousEfficacy [lm/W] into I [W/sr] or E [W/m^2] (mesh/scene.h). range is ignored, with a
+// warning (our lights fall off with the inverse square everywhere); a spot's cone angles must satisfy
+// 0 <= inner < outer <= pi/2.
 // A primitive without a material is grey Kd 0.8 (kDefaultAlbedo), as in the OBJ loader. An image that cannot be
 // found is a warning (its material keeps its factor); one that cannot be decoded is an error.
 //

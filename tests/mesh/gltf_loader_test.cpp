@@ -12,6 +12,7 @@
 #include "mesh/gltf_loader.h"
 #include "mesh/mtl_loader.h"
 #include "tests/gltf_builder.h"
+#include "tests/ply_reader.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
 
@@ -241,6 +242,44 @@ TEST(GltfLoader, FaultsNameTheJsonPath) {
   ExpectError(dir + "/broken.gltf", "broken.gltf: error: not a glTF 2.0 file that can be read");
   test::WriteText(dir + "/missing-bin.gltf", R"({"asset": {"version": "2.0"}, "buffers": [{"uri": "none.bin", "byteLength": 4}]})");
   ExpectError(dir + "/missing-bin.gltf", "missing-bin.gltf: error: not a glTF 2.0 file");
+}
+
+// KHR_lights_punctual: a point light and a spot turned to point down by its node, both 1 m over a black floor;
+// candela become W/sr over the luminous efficacy, and the baked floor's corners read I cos / r^2.
+TEST(GltfLoader, PunctualLightsAreReadAndBaked) {
+  const std::string dir = test::TempDirectory("gltf-lights");
+  GltfBuilder b;
+  b.AddMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}}}});
+  const int positions = b.AddPositions({{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}});
+  b.AddMesh(positions, b.AddIndices(kSquareIndices), 0);
+  b.json()["extensionsUsed"] = {"KHR_lights_punctual"};
+  b.json()["extensions"]["KHR_lights_punctual"]["lights"] = Json::parse(R"([
+      {"type": "point", "name": "bulb", "intensity": 683, "color": [1, 0.5, 0.25]},
+      {"type": "spot", "intensity": 1366, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}, "range": 10}])");
+  const int bulb = b.AddNode({{"translation", {0, 1, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  const int spot = b.AddNode({{"translation", {5, 1, 0}}, {"rotation", {-std::sqrt(0.5), 0, 0, std::sqrt(0.5)}},
+                              {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  b.SetRoots({b.AddNode({{"mesh", 0}}), bulb, spot});
+  const std::string path = b.WriteGltf(dir, "s");
+  const LoadedScene loaded = LoadGltf(path);
+  const std::vector<AnalyticLight>& lights = loaded.scene.analyticLights;
+  ASSERT_EQ(lights.size(), 2u);
+  EXPECT_EQ(lights[0].kind, LightKind::kPoint);
+  EXPECT_EQ(lights[0].name, "bulb");
+  EXPECT_FLOAT_EQ(lights[0].intensity.r, 1.0f) << "683 cd over 683 lm/W";
+  EXPECT_FLOAT_EQ(lights[0].intensity.b, 0.25f);
+  EXPECT_FLOAT_EQ(lights[0].position.y, 1.0f);
+  EXPECT_EQ(lights[1].kind, LightKind::kSpot);
+  EXPECT_NEAR(lights[1].direction.y, -1.0f, 1e-6) << "-z turned a quarter about x points down";
+  EXPECT_NEAR(lights[1].cosOuter, std::cos(0.5), 1e-6);
+  EXPECT_NE(loaded.warnings.back().find("range is ignored"), std::string::npos) << loaded.warnings.back();
+  const test::ToolRun run = test::RunTool(PB_BAKE_EXE, path + " -o " + dir + "/s.ply --photons 20000 -q");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const test::PlyData ply = test::ReadPly(dir + "/s.ply");
+  // Every corner is 1 m below and sqrt(2) m beside the bulb. Its light is sampled 0.2 mm inside the floor (the
+  // rays' start, baker/3_irradiance_field.h), which raises it by 3e-4 of itself here.
+  for (size_t v = 0; v < ply.VertexCount(); ++v)
+    EXPECT_NEAR(ply.vertex.at("irradiance_r")[v] / (1 / (3 * std::sqrt(3.0))), 1, 1e-3) << v;
 }
 
 // Blender 3.4's glTF exporter writes the scene of tools/blender-export.py as a .glb (images inside) and as a
