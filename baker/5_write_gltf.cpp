@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "baker/gltf_buffers.h"
 #include "baker/tone_map.h"
 #include "mesh/errors.h"
 
@@ -14,12 +15,6 @@ namespace pb {
 namespace {
 
 namespace tg = tinygltf;
-
-bool EndsWithBinary(const std::string& path) {
-  return path.size() >= 4 && std::tolower(static_cast<unsigned char>(path[path.size() - 1])) == 'b' &&
-         std::tolower(static_cast<unsigned char>(path[path.size() - 2])) == 'l' &&
-         std::tolower(static_cast<unsigned char>(path[path.size() - 3])) == 'g' && path[path.size() - 4] == '.';
-}
 
 // The triangles of one (object, material) pair, with their own vertex numbering.
 struct Group {
@@ -51,53 +46,9 @@ std::vector<Group> GroupFaces(const BakedMesh& baked, const SurfaceNames& names)
   return groups;
 }
 
-// Appends the values as a new buffer view and an accessor of it; returns the accessor's index.
-class BufferWriter {
- public:
-  explicit BufferWriter(tg::Model& model) : model_(model) { model_.buffers.emplace_back(); }
-
-  int Vec3(const std::vector<std::array<float, 3>>& values, bool bounds) {
-    const int a = Append(values.data(), values.size() * sizeof(values[0]), TINYGLTF_TARGET_ARRAY_BUFFER,
-                         TINYGLTF_COMPONENT_TYPE_FLOAT, values.size(), TINYGLTF_TYPE_VEC3);
-    if (bounds) {
-      std::vector<double> lo(3, INFINITY), hi(3, -INFINITY);
-      for (const auto& v : values)
-        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], double(v[k])), hi[k] = std::max(hi[k], double(v[k]));
-      model_.accessors[size_t(a)].minValues = lo;
-      model_.accessors[size_t(a)].maxValues = hi;
-    }
-    return a;
-  }
-  int Indices(const std::vector<std::array<uint32_t, 3>>& faces) {
-    return Append(faces.data(), faces.size() * sizeof(faces[0]), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
-                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, faces.size() * 3, TINYGLTF_TYPE_SCALAR);
-  }
-
- private:
-  int Append(const void* bytes, size_t size, int target, int componentType, size_t count, int type) {
-    std::vector<unsigned char>& data = model_.buffers[0].data;
-    tg::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = data.size();
-    view.byteLength = size;
-    view.target = target;
-    const auto* b = static_cast<const unsigned char*>(bytes);
-    data.insert(data.end(), b, b + size);  // every element is 4-byte, so every view stays 4-byte aligned
-    model_.bufferViews.push_back(view);
-    tg::Accessor accessor;
-    accessor.bufferView = int(model_.bufferViews.size() - 1);
-    accessor.componentType = componentType;
-    accessor.count = count;
-    accessor.type = type;
-    model_.accessors.push_back(accessor);
-    return int(model_.accessors.size() - 1);
-  }
-  tg::Model& model_;
-};
-
 std::array<float, 3> Array(Rgb c) { return {c.r, c.g, c.b}; }
 
-tg::Primitive Primitive(BufferWriter& buffers, const BakedMesh& baked, const Group& g, float exposure) {
+tg::Primitive Primitive(GltfBufferWriter& buffers, const BakedMesh& baked, const Group& g, float exposure) {
   std::vector<std::array<float, 3>> position, normal, colour, irradiance, radiance, reflectance;
   for (uint32_t v : g.vertices) {
     const Point3 p = baked.mesh.positions[v];
@@ -144,7 +95,7 @@ tg::Model BuildModel(const BakedMesh& baked, const SurfaceNames& names, float ex
   root.name = names.scene;
   const std::array<double, 3>& o = baked.mesh.origin;
   if (o[0] != 0 || o[1] != 0 || o[2] != 0) root.translation = {o[0], o[1], o[2]};
-  BufferWriter buffers(model);
+  GltfBufferWriter buffers(model);
   std::map<uint32_t, int> meshOfObject;
   for (const Group& g : GroupFaces(baked, names)) {
     const auto [it, isNew] = meshOfObject.emplace(g.object, int(model.meshes.size()));
@@ -192,15 +143,7 @@ SurfaceNames NamesOf(const Scene& scene, const SurfaceSet& surfaces) {
 
 void WriteGltf(OutputFiles& outputs, const std::string& path, const BakedMesh& baked, const SurfaceNames& names,
                float exposure) {
-  const tg::Model model = BuildModel(baked, names, exposure);
-  const bool binary = EndsWithBinary(path);
-  outputs.Write(path, [&](std::ostream& out) {
-    tg::TinyGLTF writer;
-    std::ostringstream text;
-    if (!writer.WriteGltfSceneToStream(&model, text, !binary, binary))
-      throw InputError(path, 0, "tinygltf could not write the glTF file");
-    out << text.str();
-  });
+  WriteGltfModel(outputs, path, BuildModel(baked, names, exposure));
 }
 
 }  // namespace pb

@@ -733,6 +733,7 @@ bool EndsWith(const std::string& s, const char* suffix) {
 }  // namespace
 
 bool HasGltfExtension(const std::string& path) { return EndsWith(path, ".gltf") || EndsWith(path, ".glb"); }
+bool IsBinaryGltfPath(const std::string& path) { return EndsWith(path, ".glb"); }
 
 bool IsGltfFile(const std::string& path) {
   if (HasGltfExtension(path)) return true;

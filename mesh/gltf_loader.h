@@ -49,8 +49,9 @@ namespace pb {
 
 LoadedScene LoadGltf(const std::string& path, const LoadOptions& options = {});
 
-// True when the name ends in .gltf or .glb, in any case.
+// True when the name ends in .gltf or .glb, in any case; IsBinaryGltfPath: in .glb.
 bool HasGltfExtension(const std::string& path);
+bool IsBinaryGltfPath(const std::string& path);
 // True when HasGltfExtension, or the file's first bytes are those of a binary glTF (.glb).
 bool IsGltfFile(const std::string& path);
 
