@@ -498,6 +498,22 @@ TEST(BakeCli, ANonUtf8NameIsReplacedInTheReport) {
   EXPECT_NE(r.dump().find("sc\xef\xbf\xbdne.obj"), std::string::npos) << "the scene path, replaced";
 }
 
+// A glTF scene that cannot be read is refused with its file and the JSON path of the fault, exit 1, and the
+// output it would have replaced is left as it was.
+TEST(BakeCli, ABadGltfSceneIsRefusedAndNothingIsWritten) {
+  const std::string dir = test::TempDirectory("cli-bad-gltf");
+  test::WriteText(dir + "/s.gltf", R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+      "nodes": [{"mesh": 3}], "meshes": []})");
+  test::WriteText(dir + "/out.glb", "earlier");
+  const BakeRun run = RunBake(dir + "/s.gltf -o " + dir + "/out.glb --photons 1000");
+  EXPECT_EQ(run.status, 1) << run.output;
+  EXPECT_NE(run.output.find("s.gltf: error: /nodes/0: mesh 3 does not exist"), std::string::npos) << run.output;
+  EXPECT_EQ(test::ReadBytes(dir + "/out.glb"), "earlier");
+  size_t files = 0;
+  for ([[maybe_unused]] const auto& f : std::filesystem::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 2u) << "no temporary file is left";
+}
+
 // Ke so large that Phi = pi Ke A overflows float (1e36 on a 20 x 20 m light) is refused, not a NaN photon count.
 TEST(BakeCli, ALightWhoseFluxOverflowsIsRefused) {
   const std::string dir = test::TempDirectory("cli-bright");
