@@ -100,9 +100,10 @@ std::vector<std::string> UnlitLightWarnings(const PreparedScene& scene, const Ph
   for (size_t l = 0; l < scene.lights.size(); ++l) {
     if (!scene.plan.lightReaches[l] || photons.emitted[l] > 0) continue;
     const Light& light = scene.lights[l];
-    warnings.push_back(fmt::format("{}: warning: the light of material '{}' ({:.3g} W of {:.3g} W) got no photon, so "
+    const std::string which = light.IsArea() ? "the light of material" : fmt::format("the {} light", LightKindName(light.kind));
+    warnings.push_back(fmt::format("{}: warning: {} '{}' ({:.3g} W of {:.3g} W) got no photon, so "
                                    "its light is missing; raise --photons to at least {:.0f}", scene.scene.path,
-                                   LightName(scene.scene, light),
+                                   which, LightName(scene.scene, light),
                                    light.Power().Mean(), total, std::ceil(total / light.Power().Mean())));
   }
   return warnings;

@@ -233,7 +233,8 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
                 {"curved_charts", r.curvedCharts},
                 {"worst_area_distortion", r.worstAreaDistortion}};
   for (const LightReport& l : r.lights)
-    j["lights"].push_back({{"kind", l.kind}, {"surface", l.surface}, {"material", l.material}, {"area_m2", l.area},
+    j["lights"].push_back({{"kind", l.kind}, {"surface", l.surface == kNoSurface ? nlohmann::json() : nlohmann::json(l.surface)},
+                           {"material", l.material}, {"area_m2", l.area},
                            {"power_W", Json(l.power)}, {"photons", l.photons}, {"note", l.note}});
   j["photons"] = TraceJson(r.trace);
   j["progressive"] = ProgressiveJson(r.progressive);

@@ -93,6 +93,9 @@ struct MaterialUse {
 
 // ---- a bounds-checked accessor ------------------------------------------------------------------------------
 
+// The most elements an accessor without a buffer view (all zeros) may have: no buffer bounds them.
+constexpr size_t kMaxZeroElements = size_t(1) << 24;
+
 int ComponentBytes(int type) {
   switch (type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
@@ -125,7 +128,10 @@ class Accessor {
       fail(fmt::format("{} has component type {}, which is not allowed here", self, a.componentType));
     type_ = a.componentType, components_ = components, normalized_ = a.normalized, count_ = a.count;
     const size_t element = size_t(ComponentBytes(type_)) * size_t(components);
-    if (a.bufferView < 0) return;  // all zeros (glTF 3.6.2.4)
+    if (a.bufferView < 0) {  // all zeros (glTF 3.6.2.4); no buffer bounds its count, so a limit does
+      if (a.count > kMaxZeroElements) fail(fmt::format("{} has no buffer view and {} elements", self, a.count));
+      return;
+    }
     if (size_t(a.bufferView) >= model.bufferViews.size())
       fail(fmt::format("{}: buffer view {} does not exist", self, a.bufferView));
     const tg::BufferView& view = model.bufferViews[size_t(a.bufferView)];

@@ -238,6 +238,13 @@ TEST(GltfLoader, FaultsNameTheJsonPath) {
     b.SetRoots({b.AddNode({{"mesh", 0}})});
     ExpectError(b.WriteGltf(dir, "points"), "/meshes/0/primitives/0: scene has no triangles to bake");
   }
+  {
+    GltfBuilder b = SquareMesh();
+    b.json()["accessors"][0].erase("bufferView");  // zeros, of a count no buffer bounds
+    b.json()["accessors"][0]["count"] = 4000000000u;
+    b.SetRoots({b.AddNode({{"mesh", 0}})});
+    ExpectError(b.WriteGlb(dir, "zeros"), "/accessors/0 has no buffer view and 4000000000 elements");
+  }
   test::WriteText(dir + "/broken.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [");
   ExpectError(dir + "/broken.gltf", "broken.gltf: error: not a glTF 2.0 file that can be read");
   test::WriteText(dir + "/missing-bin.gltf", R"({"asset": {"version": "2.0"}, "buffers": [{"uri": "none.bin", "byteLength": 4}]})");
