@@ -95,7 +95,9 @@ namespace {
 void AddLightsFile(Scene& scene, const std::string& named) {
   const std::string path = named.empty() ? LightsSidecarPath(scene.path) : named;
   if (named.empty() && !std::filesystem::is_regular_file(path)) return;
-  for (AnalyticLight& light : LoadLightsFile(path, scene)) scene.analyticLights.push_back(std::move(light));
+  LightsFile file = LoadLightsFile(path, scene);
+  for (AnalyticLight& light : file.lights) scene.analyticLights.push_back(std::move(light));
+  scene.portals = std::move(file.portals);
   scene.lightsFile = path;
 }
 

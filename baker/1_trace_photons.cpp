@@ -36,6 +36,7 @@ class PhotonTracer {
     const EmissionSample e = SampleEmission(scene_, light, rng);
     block.stats.fluxEmitted.Add(attenuation);
     ++block.stats.emitted;
+    if (!e.carriesLight) return Escape(attenuation, block.stats);
     Point3 origin = e.onSurface ? rays_.SpawnPoint(e.position, e.normal) : e.position;
     Vector3 direction = e.direction;
     bool afterSpecular = false;

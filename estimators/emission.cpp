@@ -37,10 +37,27 @@ EmissionSample FromDisc(const Light& light, Vector3 w, Point2 u, float pdfDirect
   return {position, frame.n, false, AsVector(frame.n), 0, float(1.0 / (kPi * double(r) * r)), pdfDirection};
 }
 
+// From a point uniform on a portal picked by its share of the light's flux.
+EmissionSample FromPortal(const Light& light, Rng& rng) {
+  const auto pick = SampleDiscreteCdf(light.portalCdf, rng.Uniform());
+  PB_CHECK(pick.has_value(), "a light aimed at portals has one");
+  const Portal& portal = light.portals[pick->index];
+  const Point2 ab = rng.Uniform2();
+  const Point3 position = portal.origin + portal.u * ab.u + portal.v * ab.v;
+  const AnalyticLight& a = light.analytic;
+  if (light.kind == LightKind::kSun) return {position, NormalFrom(a.direction), false, a.direction, 0, 0, 0};
+  const DirectionSample d = SampleCosineHemisphere(rng.Uniform2());
+  const Vector3 w = Frame::FromNormal(portal.Inward()).ToWorld(d.direction);  // the way the light travels
+  EmissionSample e{position, NormalFrom(w), false, w, 0, float(1 / portal.Area()), d.pdf};
+  e.carriesLight = a.wholeSphere || Dot(-w, a.up) > 0;
+  return e;
+}
+
 }  // namespace
 
 EmissionSample SampleEmission(const Scene& scene, const Light& light, Rng& rng) {
   const AnalyticLight& a = light.analytic;
+  if (!light.portals.empty()) return FromPortal(light, rng);
   switch (light.kind) {
     case LightKind::kArea: return FromArea(scene, light, rng);
     case LightKind::kPoint: return FromPoint(a.position, {0, 0, 1}, SampleUniformSphere(rng.Uniform2()));

@@ -9,6 +9,8 @@
 //          behind the sphere's centre (pdf 1/(pi R^2));
 //   sky:   direction uniform over the sky's solid angle (toward the scene, from above its horizon or from
 //          anywhere), then a position on such a disc for it.
+//   sun and sky with portals (mesh/lights.h): a portal by its share, a point uniform on it (pdf 1/A_p), and the
+//          sun's direction, or for the sky a direction cosine-distributed about the inward normal.
 #pragma once
 
 #include <cstdint>
@@ -28,6 +30,7 @@ struct EmissionSample {
   uint32_t triangle = 0;
   float pdfArea = 0;       // [1/m^2]; area lights, sun and sky
   float pdfDirection = 0;  // [1/sr]; area, point, spot and sky lights
+  bool carriesLight = true;  // false for a portal's sky photon from below the horizon: it ends at once
 };
 
 EmissionSample SampleEmission(const Scene& scene, const Light& light, Rng& rng);

@@ -100,7 +100,25 @@ std::string LightsSidecarPath(const std::string& scenePath) {
   return camera.substr(0, camera.size() - std::string(".camera.json").size()) + ".lights.json";
 }
 
-std::vector<AnalyticLight> LoadLightsFile(const std::string& path, const Scene& scene) {
+// The portal `index`, its corners in order; they must form a parallelogram of non-zero area.
+Portal ReadPortal(const JsonInput& in, const nlohmann::json& j, size_t index, const Scene& scene) {
+  const int line = in.LineOfKey("corners_m", in.NthKey("corners_m", index));
+  const std::string owner = fmt::format("portal {}", index);
+  if (!j.is_object() || !j.contains("corners_m") || !j["corners_m"].is_array() || j["corners_m"].size() != 4)
+    throw InputError(in.path, line, owner + ": 'corners_m' must hold its 4 corners");
+  std::array<Point3, 4> c;
+  for (size_t k = 0; k < 4; ++k) {
+    const auto p = ReadTriple(in, nlohmann::json{{"corner", j["corners_m"][k]}}, "corner", owner);
+    c[k] = scene.ToLocal(p[0], p[1], p[2]);
+  }
+  const Portal portal{c[0], c[1] - c[0], c[3] - c[0]};
+  const Vector3 skew = c[2] - (c[1] + portal.v);
+  if (!(portal.Area() > 0) || Length(skew) > 1e-3f * (Length(portal.u) + Length(portal.v)))
+    throw InputError(in.path, line, owner + ": its corners must form a parallelogram of non-zero area, in order");
+  return portal;
+}
+
+LightsFile LoadLightsFile(const std::string& path, const Scene& scene) {
   const JsonInput in = ReadJsonInput(path, "lights file");
   const nlohmann::json& j = in.json;
   if (!j.is_object() || !j.contains("lights") || !j["lights"].is_array())
@@ -113,7 +131,8 @@ std::vector<AnalyticLight> LoadLightsFile(const std::string& path, const Scene& 
       throw InputError(path, in.LineOfKey("luminous_efficacy_lm_per_W"),
                        "'luminous_efficacy_lm_per_W' must lie in [1, 683]");
   }
-  std::vector<AnalyticLight> lights;
+  LightsFile file;
+  std::vector<AnalyticLight>& lights = file.lights;
   for (size_t i = 0; i < j["lights"].size(); ++i) {
     const nlohmann::json& entry = j["lights"][i];
     const size_t from = in.NthKey("type", i);
@@ -121,7 +140,11 @@ std::vector<AnalyticLight> LoadLightsFile(const std::string& path, const Scene& 
       throw InputError(path, in.LineOfKey("lights"), fmt::format("light {} is not an object with a 'type'", i));
     lights.push_back(LightReader(in, entry, i, from, efficacy).Read(scene));
   }
-  return lights;
+  if (j.contains("portals")) {
+    if (!j["portals"].is_array()) throw InputError(path, in.LineOfKey("portals"), "'portals' must be an array");
+    for (size_t i = 0; i < j["portals"].size(); ++i) file.portals.push_back(ReadPortal(in, j["portals"][i], i, scene));
+  }
+  return file;
 }
 
 }  // namespace pb

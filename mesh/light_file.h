@@ -8,8 +8,12 @@
 //        "inner_cone_deg": 20, "outer_cone_deg": 35},
 //       {"type": "sun", "direction": [0.4, -1, 0.3], "irradiance_W_m2": 600},
 //       {"type": "sky", "radiance_W_m2_sr": 20, "up": [0, 1, 0], "whole_sphere": false}
-//     ]
+//     ],
+//     "portals": [{"corners_m": [[1.5, 1, 4], [1.5, 2.2, 4], [3.5, 2.2, 4], [3.5, 1, 4]]}]
 //   }
+// "portals" (optional) are the windows of a closed scene: sun and sky photons, the scene's glTF ones included, then
+// start on them instead of outside the scene (mesh/lights.h). Each is a parallelogram given by its four corners in
+// order, counter-clockwise seen from inside; nothing outside it may block the light.
 // Each light's strength is given once, radiometrically or photometrically (divided by the luminous efficacy,
 // 683 lm/W by default: the definition of the candela at 555 nm), and multiplied by its optional "color":
 //   point, spot: "intensity_W_sr" [W/sr] or "intensity_cd" [cd = lm/sr], on the spot's axis;
@@ -31,7 +35,12 @@ inline constexpr double kDefaultLuminousEfficacy = 683;  // [lm/W]
 // "dir/scene.obj" -> "dir/scene.lights.json".
 std::string LightsSidecarPath(const std::string& scenePath);
 
-// The lights of `path`, positions in `scene`'s local coordinates (Scene::ToLocal). InputError naming file:line.
-std::vector<AnalyticLight> LoadLightsFile(const std::string& path, const Scene& scene);
+struct LightsFile {
+  std::vector<AnalyticLight> lights;
+  std::vector<Portal> portals;
+};
+
+// The lights and portals of `path`, in `scene`'s local coordinates (Scene::ToLocal). InputError naming file:line.
+LightsFile LoadLightsFile(const std::string& path, const Scene& scene);
 
 }  // namespace pb

@@ -6,6 +6,14 @@
 namespace pb {
 namespace {
 
+// Each portal's flux per unit E (sun) or L (sky): A_p max(0, d . n_p), or pi A_p.
+std::vector<double> PortalWeights(const AnalyticLight& a, const std::vector<Portal>& portals) {
+  std::vector<double> w;
+  for (const Portal& p : portals)
+    w.push_back(a.kind == LightKind::kSun ? p.Area() * std::max(0.0f, Dot(a.direction, p.Inward())) : kPi * p.Area());
+  return w;
+}
+
 // The sphere about the positions' bounding box centre that holds them all, grown by 1% so that the discs sun and
 // sky photons leave from lie clear of every surface.
 void BoundingSphere(const Scene& scene, Point3& centre, float& radius) {
@@ -18,6 +26,19 @@ void BoundingSphere(const Scene& scene, Point3& centre, float& radius) {
   float r2 = 0;
   for (const Point3& p : scene.positions) r2 = std::max(r2, LengthSquared(p - centre));
   radius = 1.01f * std::sqrt(r2) + 1e-6f;
+}
+
+// Portals that pass none of the light (a sun parallel to them) are kept with weight 0; when all do, the light
+// keeps its bounding discs.
+void AimAtPortals(Light& light, const std::vector<Portal>& portals) {
+  double sum = 0;
+  std::vector<double> cdf;
+  for (double w : PortalWeights(light.analytic, portals)) cdf.push_back(sum += w);
+  if (!(sum > 0)) return;
+  for (double& c : cdf) c /= sum;
+  cdf.back() = 1;
+  light.portals = portals;
+  light.portalCdf = std::move(cdf);
 }
 
 }  // namespace
@@ -34,6 +55,11 @@ float SpotFalloff(const AnalyticLight& spot, float cosAngle) {
 
 Rgb Light::Power() const {
   const AnalyticLight& a = analytic;
+  if (!portals.empty()) {
+    double sum = 0;
+    for (double w : PortalWeights(a, portals)) sum += w;
+    return a.intensity * float(sum);
+  }
   const double disc = kPi * double(boundsRadius) * boundsRadius;
   switch (kind) {
     case LightKind::kArea: return radiance * float(kPi * area);
@@ -84,6 +110,7 @@ std::vector<Light> CollectLights(const Scene& scene, const SurfaceSet& surfaces)
     light.kind = a.kind;
     light.analytic = a;
     light.boundsCentre = centre, light.boundsRadius = radius;
+    if (a.kind == LightKind::kSun || a.kind == LightKind::kSky) AimAtPortals(light, scene.portals);
     lights.push_back(std::move(light));
   }
   return lights;

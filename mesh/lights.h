@@ -10,6 +10,11 @@
 //   sky: its photons leave such discs, one per direction, for directions uniform over the sky's solid angle Omega
 //        (2 pi above the horizon, or 4 pi): Phi = L pi R^2 Omega. A surface open to the sky receives H = pi L
 //        (upper hemisphere, facing up), whatever R.
+// With portals (mesh/scene.h), sun and sky photons start on the portals instead, so that none is spent on the
+// outside of a closed room: a portal is picked in proportion to its share of the flux, a point uniformly on it;
+//   sun: Phi = E sum_p A_p max(0, d . n_p);
+//   sky: Phi = L pi sum_p A_p, directions cosine-distributed about the portal's inward normal; a photon whose
+//        direction comes from below the sky's horizon carries no light and ends at once (counted as escaped).
 #pragma once
 
 #include <cstdint>
@@ -34,6 +39,8 @@ struct Light {
   AnalyticLight analytic;           // the other kinds
   Point3 boundsCentre;              // sun, sky: the scene's bounding sphere, local [m]
   float boundsRadius = 0;
+  std::vector<Portal> portals;      // sun, sky: the scene's portals; empty: photons leave the bounding discs
+  std::vector<double> portalCdf;    // sun, sky with portals: cumulative share of the flux by portal; back() == 1
   Rgb Power() const;  // Phi [W]
   bool IsArea() const { return kind == LightKind::kArea; }
 };

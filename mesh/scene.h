@@ -67,6 +67,16 @@ struct AnalyticLight {
   std::string source;            // where it was declared ("scene.gltf: /extensions/KHR_lights_punctual/lights/0")
 };
 
+// A window through which sun and sky light enter a closed scene (a lights file's "portals"): the parallelogram
+// origin + a u + b v, a and b in [0, 1], with nothing outside it that blocks the light. Its inward normal is
+// u x v normalised: the corners run counter-clockwise seen from inside. Local coordinates [m].
+struct Portal {
+  Point3 origin;
+  Vector3 u, v;
+  double Area() const { return Length(Cross(u, v)); }
+  Normal3 Inward() const { return NormalFrom(Cross(u, v)); }
+};
+
 inline constexpr uint32_t kNoTexcoord = ~0u;
 
 struct Triangle {
@@ -92,6 +102,7 @@ struct Scene {
   std::string lightsFile;                      // the lights file read (mesh/light_file.h), or ""
   std::vector<std::string> objectNames;     // from 'o' (or 'g') statements; "" before the first.
   std::vector<AnalyticLight> analyticLights;  // lights that are not surfaces (glTF, SCENE.lights.json)
+  std::vector<Portal> portals;                // windows that sun and sky photons are aimed at (lights file)
   uint32_t degenerateTrianglesSkipped = 0;  // zero-area faces dropped at load time.
   uint32_t duplicateTrianglesSkipped = 0;   // exact repeats (same corners, same side) dropped at load time.
 

@@ -6,7 +6,7 @@
 //   glass Tf, Ni        -> KHR_materials_transmission 1, baseColorFactor Tf, KHR_materials_ior Ni
 //   Ke                  -> emissiveFactor Ke / max(Ke), KHR_materials_emissive_strength max(Ke)
 //   point, spot, sun    -> KHR_lights_punctual (W/sr and W/m^2 times --luminous-efficacy: candela and lux)
-//   sky                 -> glTF has none: written to OUT.lights.json beside the output, which bake reads
+//   sky, portals        -> glTF has none: written to OUT.lights.json beside the output, which bake reads
 // One node per object, one primitive per material; --without MATERIAL leaves that material's faces out.
 //   scene-to-gltf SCENE -o OUT.glb|OUT.gltf [--lights FILE] [--without MATERIAL]... [--scale S]
 #include <CLI/CLI.hpp>
@@ -221,7 +221,19 @@ void WriteSky(pb::OutputFiles& outputs, const std::string& path, const pb::Scene
       lights.push_back({{"type", "sky"}, {"name", l.name}, {"radiance_W_m2_sr", 1},  // L as its colour: exact
                         {"color", {l.intensity.r, l.intensity.g, l.intensity.b}}, {"up", {l.up.x, l.up.y, l.up.z}},
                         {"whole_sphere", l.wholeSphere}});
-  if (!lights.empty()) pb::WriteJsonFile(outputs, path, {{"lights", lights}});
+  nlohmann::json portals = nlohmann::json::array();
+  for (const pb::Portal& p : scene.portals) {
+    nlohmann::json corners = nlohmann::json::array();
+    for (const pb::Point3 c : {p.origin, p.origin + p.u, p.origin + p.u + p.v, p.origin + p.v}) {
+      const std::array<double, 3> w = scene.ToWorld(c);
+      corners.push_back({w[0], w[1], w[2]});
+    }
+    portals.push_back({{"corners_m", corners}});
+  }
+  if (lights.empty() && portals.empty()) return;
+  nlohmann::json file = {{"lights", lights}};
+  if (!portals.empty()) file["portals"] = portals;
+  pb::WriteJsonFile(outputs, path, file);
 }
 
 }  // namespace
@@ -243,8 +255,11 @@ int main(int argc, char** argv) {
     if (!pb::HasGltfExtension(outputPath)) throw pb::InputError(outputPath, 0, "the output must end in .glb or .gltf");
     pb::LoadedScene loaded = pb::LoadScene(scenePath, {scale, efficacy});
     const std::string lights = lightsPath.empty() ? pb::LightsSidecarPath(scenePath) : lightsPath;
-    if (!lightsPath.empty() || std::filesystem::is_regular_file(lights))
-      for (pb::AnalyticLight& l : pb::LoadLightsFile(lights, loaded.scene)) loaded.scene.analyticLights.push_back(l);
+    if (!lightsPath.empty() || std::filesystem::is_regular_file(lights)) {
+      pb::LightsFile file = pb::LoadLightsFile(lights, loaded.scene);
+      for (pb::AnalyticLight& l : file.lights) loaded.scene.analyticLights.push_back(l);
+      loaded.scene.portals = file.portals;
+    }
     for (const std::string& w : loaded.warnings) std::fprintf(stderr, "%s\n", w.c_str());
     const std::string folder = std::filesystem::path(outputPath).parent_path().string();
     const tg::Model model =

@@ -72,16 +72,35 @@ DirectSample DirectAt(const test::TracedScene& s, double x, double z, uint32_t s
   return sampler.Irradiance({float(x), 0, float(z)}, {0, 1, 0}, samples, rng);
 }
 
-// The flux that `photons` photons lay on the floor in their first hits, against `expected` [W]: each photon
-// carries Phi / N, so the count on the floor is binomial with p = expected / Phi; within 5 standard deviations.
-void ExpectFloorFlux(const test::TracedScene& s, double expected, uint64_t photons = 200'000) {
+// The flux [W] that `photons` photons lay on the floor in their first hits, and its standard deviation: each
+// photon carries Phi / N, so the count on the floor is binomial.
+struct Flux {
+  double watts = 0, sigma = 0;
+};
+// Only hits within `half` of the floor's centre in x and z count (1: the room's floor, under its ceiling).
+Flux FloorFlux(const test::TracedScene& s, uint64_t photons, float half = kFloorHalf) {
   const PhotonStore store = s.Trace(photons, 3);
   const double phi = Luminance(s.lights.back().Power());
   double onFloor = 0;
   for (const HitBlock& block : store.blocks)
-    for (const PhotonHit& h : block) onFloor += s.surfaces.surfaceOfTriangle[h.Triangle()] == 0;
-  const double p = expected / phi, sigma = std::sqrt(double(photons) * p * (1 - p));
-  EXPECT_NEAR(onFloor, p * double(photons), 5 * sigma + 1) << "expected " << expected << " W of " << phi << " W";
+    for (const PhotonHit& h : block) {
+      const Point3 p = s.scene.PointAt(h.Triangle(), h.b1, h.b2);
+      onFloor += s.surfaces.surfaceOfTriangle[h.Triangle()] == 0 && std::fabs(p.x) <= half && std::fabs(p.z) <= half;
+    }
+  const double p = onFloor / double(photons);
+  return {phi * p, phi * std::sqrt(p * (1 - p) / double(photons)) + phi / double(photons)};
+}
+
+// FloorFlux against `expected` [W], within 5 standard deviations.
+void ExpectFloorFlux(const test::TracedScene& s, double expected, uint64_t photons = 200'000, float half = kFloorHalf) {
+  const Flux f = FloorFlux(s, photons, half);
+  EXPECT_NEAR(f.watts, expected, 5 * f.sigma) << "of " << Luminance(s.lights.back().Power()) << " W";
+}
+
+// The room's window (FloorScene) as a portal: counter-clockwise seen from inside, so its inward normal is -y.
+Scene WithPortal(Scene scene) {
+  scene.portals.push_back({{-0.25f, 1, -0.25f}, {0.5f, 0, 0}, {0, 0, 0.5f}});
+  return scene;
 }
 
 TEST(AnalyticLights, PowerIsTheIntegralOfTheirEmission) {
@@ -163,6 +182,34 @@ TEST(AnalyticLights, PhotonFluxOnTheFloorIsTheClosedForm) {
   ExpectFloorFlux(WithLight(FloorScene("flux-sun"), Sun({std::sqrt(3.0f), -1, 0}, 2)), 2 * 16 * 0.5);
   // A sky over the open floor: pi L A.
   ExpectFloorFlux(WithLight(FloorScene("flux-sky"), Sky(0.5)), kPi * 0.5 * 16);
+}
+
+// Portals aim sun and sky photons at the window: the floor under it receives the same flux as from the bounding
+// discs (the sun straight down: E A_window; the sky: the two runs agree within their noise), from far fewer photons
+// lost outside, and the portal's sky directions are cosine-distributed about its inward normal.
+TEST(AnalyticLights, PortalsAimSunAndSkyPhotonsAtTheWindow) {
+  const test::TracedScene sunDiscs = WithLight(FloorScene("portal-sun-discs", true), Sun({0, -1, 0}, 3));
+  const test::TracedScene sunPortal = WithLight(WithPortal(FloorScene("portal-sun", true)), Sun({0, -1, 0}, 3));
+  ExpectFloorFlux(sunDiscs, 3 * 0.25, 200'000, 1);
+  ExpectFloorFlux(sunPortal, 3 * 0.25, 200'000, 1);
+  EXPECT_NEAR(Luminance(sunPortal.lights.back().Power()), 3 * 0.25, 1e-6) << "E A cos: every photon enters";
+  const test::TracedScene skyDiscs = WithLight(FloorScene("portal-sky-discs", true), Sky(2));
+  const test::TracedScene skyPortal = WithLight(WithPortal(FloorScene("portal-sky", true)), Sky(2));
+  const Flux a = FloorFlux(skyDiscs, 400'000, 1), b = FloorFlux(skyPortal, 100'000, 1);
+  EXPECT_NEAR(a.watts, b.watts, 5 * std::hypot(a.sigma, b.sigma));
+  EXPECT_LT(b.sigma, a.sigma / 3) << "a quarter of the photons, and still far less noise";
+  constexpr int kSamples = 100'000, kCells = 20;
+  std::vector<double> cos2(kCells, 0);
+  for (int i = 0; i < kSamples; ++i) {
+    Rng rng(9, uint64_t(i));
+    const EmissionSample e = SampleEmission(skyPortal.scene, skyPortal.lights.back(), rng);
+    ASSERT_TRUE(e.carriesLight);
+    ASSERT_NEAR(e.position.y, 1, 1e-6);
+    ASSERT_LE(std::fabs(e.position.x), 0.25f);
+    cos2[std::min(kCells - 1, int(e.direction.y * e.direction.y * kCells))] += 1;
+  }
+  const test::Chi2Result lobe = test::Chi2Test(cos2, std::vector<double>(kCells, double(kSamples) / kCells));
+  EXPECT_GT(lobe.pValue, 1e-3) << lobe.histograms;
 }
 
 TEST(AnalyticLights, SampledDirectLightIsTheClosedForm) {

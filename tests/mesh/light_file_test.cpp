@@ -32,7 +32,7 @@ TEST(LightFile, ReadsEveryKindWithItsUnits) {
        "inner_cone_deg": 20, "outer_cone_deg": 40},
       {"type": "sun", "direction": [0, -3, 4], "illuminance_lux": 50000},
       {"type": "sky", "radiance_W_m2_sr": 2, "whole_sphere": true}
-    ]})"), scene);
+    ]})"), scene).lights;
   ASSERT_EQ(lights.size(), 4u);
   EXPECT_EQ(lights[0].kind, LightKind::kPoint);
   EXPECT_EQ(lights[0].name, "bulb");
@@ -49,6 +49,18 @@ TEST(LightFile, ReadsEveryKindWithItsUnits) {
   EXPECT_EQ(lights[3].source.substr(lights[3].source.size() - 2), ":8") << "the line of its type: " << lights[3].source;
 }
 
+TEST(LightFile, ReadsPortalsAsParallelogramsFacingInside) {
+  Scene scene;
+  scene.origin = {0, 0, 10};
+  const LightsFile file = LoadLightsFile(Write("lights-portals", R"({"lights": [],
+    "portals": [{"corners_m": [[1.5, 1, 14], [1.5, 2.2, 14], [3.5, 2.2, 14], [3.5, 1, 14]]}]})"), scene);
+  ASSERT_EQ(file.portals.size(), 1u);
+  const Portal& p = file.portals[0];
+  EXPECT_FLOAT_EQ(p.origin.z, 4.0f) << "local coordinates";
+  EXPECT_NEAR(p.Area(), 2.4, 1e-6);
+  EXPECT_NEAR(p.Inward().z, -1, 1e-6) << "counter-clockwise seen from inside, at z < 4";
+}
+
 TEST(LightFile, FaultsNameTheLine) {
   const Scene scene;
   const std::pair<const char*, const char*> cases[] = {
@@ -62,6 +74,9 @@ TEST(LightFile, FaultsNameTheLine) {
       {"{\"lights\": [{\"type\": \"sky\", \"radiance_W_m2_sr\": -1}]}", "'radiance_W_m2_sr' must lie in [0, 1e+30]"},
       {"{\"lights\": [{\"type\": \"sky\", \"radiance_W_m2_sr\": 1, \"whole_sphere\": 1}]}", "'whole_sphere' must be true or false"},
       {"{\"lights\": {}}", "a lights file is an object with an array 'lights'"},
+      {"{\"lights\": [], \"portals\": [\n{\"corners_m\": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 2, 0]]}]}",
+       ":2: error: portal 0: its corners must form a parallelogram"},
+      {"{\"lights\": [], \"portals\": [{\"corners_m\": [[0, 0, 0], [1, 0, 0]]}]}", "portal 0: 'corners_m' must hold its 4 corners"},
       {"{\"lights\": [\n", "s.lights.json:2: error: malformed JSON"},
   };
   for (const auto& [text, fragment] : cases) {

@@ -78,12 +78,12 @@ TEST(SceneToGltf, LightsBecomeKhrLightsAndTheSkyASidecar) {
   ASSERT_EQ(run.status, 0) << run.output;
   const Scene original = [&] {
     Scene s = LoadObj(obj).scene;
-    s.analyticLights = LoadLightsFile(dir + "/l.json", s);
+    s.analyticLights = LoadLightsFile(dir + "/l.json", s).lights;
     return s;
   }();
   Scene back = LoadGltf(dir + "/out.gltf").scene;
   ASSERT_TRUE(std::filesystem::exists(dir + "/out.lights.json"));
-  for (const AnalyticLight& l : LoadLightsFile(dir + "/out.lights.json", back)) back.analyticLights.push_back(l);
+  for (const AnalyticLight& l : LoadLightsFile(dir + "/out.lights.json", back).lights) back.analyticLights.push_back(l);
   ASSERT_EQ(back.analyticLights.size(), 3u);
   for (size_t i = 0; i < 3; ++i) {
     const AnalyticLight &a = original.analyticLights[i], &b = back.analyticLights[i];
