@@ -7,7 +7,6 @@
 #include "mesh/color.h"
 
 #include <algorithm>
-#include <filesystem>
 #include "mesh/gltf_loader.h"
 
 namespace pb {
@@ -89,19 +88,6 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
   return p;
 }
 
-namespace {
-
-// The lights file --lights names, or else the scene's sidecar where there is one.
-void AddLightsFile(Scene& scene, const std::string& named) {
-  const std::string path = named.empty() ? LightsSidecarPath(scene.path) : named;
-  if (named.empty() && !std::filesystem::is_regular_file(path)) return;
-  LightsFile file = LoadLightsFile(path, scene);
-  for (AnalyticLight& light : file.lights) scene.analyticLights.push_back(std::move(light));
-  scene.portals = std::move(file.portals);
-  scene.lightsFile = path;
-}
-
-}  // namespace
 
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock) {
   LoadedScene loaded = clock.Time("load", [&] {

@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include "mesh/errors.h"
+#include "mesh/gltf_accessor.h"
 #include "mesh/input_file.h"
 #include "mesh/mtl_loader.h"
 #include "mesh/scene_builder.h"
@@ -23,6 +24,8 @@ namespace pb {
 namespace {
 
 namespace tg = tinygltf;
+using gltf::Accessor, gltf::Apply, gltf::FromTrs, gltf::kIdentity, gltf::LinearDeterminant, gltf::Matrix,
+    gltf::Multiply;
 
 unsigned char uchar(char c) { return static_cast<unsigned char>(c); }
 
@@ -32,44 +35,6 @@ const std::set<std::string>& KnownExtensions() {
                                            "KHR_materials_transmission", "KHR_materials_ior",
                                            "KHR_materials_unlit", "KHR_lights_punctual"};
   return known;
-}
-
-// ---- 4x4 transforms, column-major as glTF stores them --------------------------------------------------------
-
-using Matrix = std::array<double, 16>;
-
-constexpr Matrix kIdentity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-
-Matrix Multiply(const Matrix& a, const Matrix& b) {
-  Matrix m{};
-  for (int col = 0; col < 4; ++col)
-    for (int row = 0; row < 4; ++row)
-      for (int k = 0; k < 4; ++k) m[col * 4 + row] += a[k * 4 + row] * b[col * 4 + k];
-  return m;
-}
-
-// T * R * S, with R from the unit quaternion (x, y, z, w).
-Matrix FromTrs(const std::vector<double>& t, const std::vector<double>& r, const std::vector<double>& s) {
-  const double x = r.size() == 4 ? r[0] : 0, y = r.size() == 4 ? r[1] : 0, z = r.size() == 4 ? r[2] : 0,
-               w = r.size() == 4 ? r[3] : 1;
-  const double sx = s.size() == 3 ? s[0] : 1, sy = s.size() == 3 ? s[1] : 1, sz = s.size() == 3 ? s[2] : 1;
-  Matrix m{1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),     0,
-           2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),     0,
-           2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y), 0,
-           0,                       0,                       0,                       1};
-  for (int k = 0; k < 3; ++k) m[k] *= sx, m[4 + k] *= sy, m[8 + k] *= sz;
-  if (t.size() == 3) m[12] = t[0], m[13] = t[1], m[14] = t[2];
-  return m;
-}
-
-double LinearDeterminant(const Matrix& m) {
-  return m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
-         m[8] * (m[1] * m[6] - m[5] * m[2]);
-}
-
-Position Apply(const Matrix& m, const double p[3]) {
-  return {m[0] * p[0] + m[4] * p[1] + m[8] * p[2] + m[12], m[1] * p[0] + m[5] * p[1] + m[9] * p[2] + m[13],
-          m[2] * p[0] + m[6] * p[1] + m[10] * p[2] + m[14]};
 }
 
 // ---- texture coordinates ------------------------------------------------------------------------------------
@@ -89,98 +54,6 @@ struct MaterialUse {
   std::optional<UvTransform> albedoUv;  // when the albedo is textured
   int emissiveTexture = -1;             // Scene::textures index of the emissive texture, or -1
   UvTransform emissiveUv;
-};
-
-// ---- a bounds-checked accessor ------------------------------------------------------------------------------
-
-// The most elements an accessor without a buffer view (all zeros) may have: no buffer bounds them.
-constexpr size_t kMaxZeroElements = size_t(1) << 24;
-
-int ComponentBytes(int type) {
-  switch (type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
-    case TINYGLTF_COMPONENT_TYPE_INT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    default: return 0;
-  }
-}
-
-class Accessor {
- public:
-  // The accessor `index`, which must have `components` components of one of `types`. `where` is the JSON path
-  // of the reference, for messages.
-  Accessor(const tg::Model& model, int index, int components, std::initializer_list<int> types,
-           const std::string& where, const std::string& file) {
-    auto fail = [&](const std::string& what) { throw InputError(file, 0, where + ": " + what); };
-    if (index < 0 || size_t(index) >= model.accessors.size())
-      fail(fmt::format("accessor {} does not exist ({} accessors)", index, model.accessors.size()));
-    const tg::Accessor& a = model.accessors[size_t(index)];
-    const std::string self = fmt::format("/accessors/{}", index);
-    if (a.sparse.isSparse) fail(self + " is sparse, which is not read");
-    if (tg::GetNumComponentsInType(uint32_t(a.type)) != components)
-      fail(fmt::format("{} has {} components where {} are needed", self, tg::GetNumComponentsInType(uint32_t(a.type)),
-                       components));
-    if (std::find(types.begin(), types.end(), a.componentType) == types.end())
-      fail(fmt::format("{} has component type {}, which is not allowed here", self, a.componentType));
-    type_ = a.componentType, components_ = components, normalized_ = a.normalized, count_ = a.count;
-    const size_t element = size_t(ComponentBytes(type_)) * size_t(components);
-    if (a.bufferView < 0) {  // all zeros (glTF 3.6.2.4); no buffer bounds its count, so a limit does
-      if (a.count > kMaxZeroElements) fail(fmt::format("{} has no buffer view and {} elements", self, a.count));
-      return;
-    }
-    if (size_t(a.bufferView) >= model.bufferViews.size())
-      fail(fmt::format("{}: buffer view {} does not exist", self, a.bufferView));
-    const tg::BufferView& view = model.bufferViews[size_t(a.bufferView)];
-    const std::string viewPath = fmt::format("/bufferViews/{}", a.bufferView);
-    if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size())
-      fail(fmt::format("{}: buffer {} does not exist", viewPath, view.buffer));
-    const std::vector<unsigned char>& buffer = model.buffers[size_t(view.buffer)].data;
-    if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
-      fail(fmt::format("{} (bytes {} to {}) lies beyond its buffer of {} bytes", viewPath, view.byteOffset,
-                       view.byteOffset + view.byteLength, buffer.size()));
-    stride_ = view.byteStride ? view.byteStride : element;
-    if (stride_ < element) fail(fmt::format("{}: byteStride {} is less than an element's {} bytes", viewPath, stride_, element));
-    const bool fits = a.count == 0 || (a.byteOffset <= view.byteLength &&
-                                       (a.count - 1) <= (view.byteLength - a.byteOffset) / stride_ &&
-                                       a.byteOffset + (a.count - 1) * stride_ + element <= view.byteLength);
-    if (!fits) fail(fmt::format("{}: {} elements from byte {} do not fit in {} of {} bytes", self, a.count,
-                                a.byteOffset, viewPath, view.byteLength));
-    data_ = buffer.data() + view.byteOffset + a.byteOffset;
-  }
-
-  size_t count() const { return count_; }
-  // Component k of element i; normalized integers are mapped to [0, 1] (or [-1, 1]).
-  double Get(size_t i, int k) const {
-    if (!data_) return 0;
-    const unsigned char* p = data_ + i * stride_ + size_t(k) * size_t(ComponentBytes(type_));
-    switch (type_) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: return Read<float>(p, 1);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return Read<uint8_t>(p, 255.0);
-      case TINYGLTF_COMPONENT_TYPE_BYTE: return std::max(-1.0, Read<int8_t>(p, 127.0));
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return Read<uint16_t>(p, 65535.0);
-      case TINYGLTF_COMPONENT_TYPE_SHORT: return std::max(-1.0, Read<int16_t>(p, 32767.0));
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return Read<uint32_t>(p, 4294967295.0);
-      default: return Read<int32_t>(p, 2147483647.0);
-    }
-  }
-  uint64_t Index(size_t i) const { return uint64_t(Get(i, 0)); }  // for index accessors (never normalized)
-
- private:
-  template <typename T>
-  double Read(const unsigned char* p, double unit) const {
-    T value;
-    std::memcpy(&value, p, sizeof value);
-    return normalized_ ? double(value) / unit : double(value);
-  }
-
-  const unsigned char* data_ = nullptr;  // null: every element is zero
-  size_t count_ = 0, stride_ = 0;
-  int type_ = 0, components_ = 0;
-  bool normalized_ = false;
 };
 
 // ---- files, as tinygltf reads them --------------------------------------------------------------------------

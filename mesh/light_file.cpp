@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "mesh/camera.h"
 #include "mesh/errors.h"
@@ -94,6 +95,15 @@ class LightReader {
 };
 
 }  // namespace
+
+void AddLightsFile(Scene& scene, const std::string& named) {
+  const std::string path = named.empty() ? LightsSidecarPath(scene.path) : named;
+  if (named.empty() && !std::filesystem::is_regular_file(path)) return;
+  LightsFile file = LoadLightsFile(path, scene);
+  for (AnalyticLight& light : file.lights) scene.analyticLights.push_back(std::move(light));
+  scene.portals = std::move(file.portals);
+  scene.lightsFile = path;
+}
 
 std::string LightsSidecarPath(const std::string& scenePath) {
   const std::string camera = CameraSidecarPath(scenePath);

@@ -43,4 +43,8 @@ struct LightsFile {
 // The lights and portals of `path`, in `scene`'s local coordinates (Scene::ToLocal). InputError naming file:line.
 LightsFile LoadLightsFile(const std::string& path, const Scene& scene);
 
+// Adds to `scene` the lights and portals of the file `named` (--lights), or else of the scene's sidecar
+// (LightsSidecarPath) where there is one, and records it as Scene::lightsFile.
+void AddLightsFile(Scene& scene, const std::string& named);
+
 }  // namespace pb

@@ -254,12 +254,7 @@ int main(int argc, char** argv) {
   try {
     if (!pb::HasGltfExtension(outputPath)) throw pb::InputError(outputPath, 0, "the output must end in .glb or .gltf");
     pb::LoadedScene loaded = pb::LoadScene(scenePath, {scale, efficacy});
-    const std::string lights = lightsPath.empty() ? pb::LightsSidecarPath(scenePath) : lightsPath;
-    if (!lightsPath.empty() || std::filesystem::is_regular_file(lights)) {
-      pb::LightsFile file = pb::LoadLightsFile(lights, loaded.scene);
-      for (pb::AnalyticLight& l : file.lights) loaded.scene.analyticLights.push_back(l);
-      loaded.scene.portals = file.portals;
-    }
+    pb::AddLightsFile(loaded.scene, lightsPath);
     for (const std::string& w : loaded.warnings) std::fprintf(stderr, "%s\n", w.c_str());
     const std::string folder = std::filesystem::path(outputPath).parent_path().string();
     const tg::Model model =
