@@ -57,9 +57,10 @@ tg::Primitive Primitive(GltfBufferWriter& buffers, const BakedMesh& baked, const
     position.push_back({p.x, p.y, p.z});
     normal.push_back(length > 0 ? std::array<float, 3>{n.x / length, n.y / length, n.z / length}
                                 : std::array<float, 3>{0, 0, 1});
-    colour.push_back(Array(ToneMapLinear(baked.Radiance(v), exposure)));
+    const Rgb L = baked.Radiance(v);
+    colour.push_back(Array(ToneMapLinear(L, exposure)));
     irradiance.push_back(Array(baked.irradiance[v]));
-    radiance.push_back(Array(baked.Radiance(v)));
+    radiance.push_back(Array(L));
     reflectance.push_back(Array(baked.albedo[v]));
   }
   tg::Primitive primitive;

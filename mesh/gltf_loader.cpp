@@ -291,8 +291,9 @@ class GltfReader {
       for (size_t i = 0; i < texcoords->count(); ++i)
         result_.scene.texcoords.push_back(use.albedoUv->Apply(texcoords->Get(i, 0), texcoords->Get(i, 1)));
     uint32_t material = use.material;
-    if (use.emissiveTexture >= 0) material = EmissiveVariant(primitive, use, where, first, positions.count());
-    for (std::array<uint32_t, 3> c : Corners(primitive, positions.count(), where)) {
+    const std::vector<std::array<uint32_t, 3>> corners = Corners(primitive, positions.count(), where);
+    if (use.emissiveTexture >= 0) material = EmissiveVariant(primitive, use, where, first, corners);
+    for (std::array<uint32_t, 3> c : corners) {
       if (flip) std::swap(c[1], c[2]);
       Triangle t{{first + c[0], first + c[1], first + c[2]}, {kNoTexcoord, kNoTexcoord, kNoTexcoord}, material, object, 0};
       if (texcoords) t.vt = {firstTexcoord + c[0], firstTexcoord + c[1], firstTexcoord + c[2]};
@@ -556,14 +557,15 @@ class GltfReader {
   // An emissive texture's mean over the primitive (area-weighted, four points per triangle) folded into Ke: a copy
   // of the material per primitive, since a light has one radiance.
   uint32_t EmissiveVariant(const tg::Primitive& primitive, const MaterialUse& use, const std::string& where,
-                           uint32_t first, size_t vertices) {
+                           uint32_t first, const std::vector<std::array<uint32_t, 3>>& corners) {
+    const size_t vertices = builder_.PositionCount() - first;
     std::optional<Accessor> uv = TexcoordAccessor(primitive, use.emissiveUv.texCoord, vertices, where);
     if (!uv) return use.material;
     const Texture& texture = result_.scene.textures[size_t(use.emissiveTexture)];
     Rgb sum;
     double area = 0;
     constexpr double kPoints[4][2] = {{1.0 / 3, 1.0 / 3}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}, {1.0 / 6, 1.0 / 6}};
-    for (const std::array<uint32_t, 3>& c : Corners(primitive, vertices, where)) {
+    for (const std::array<uint32_t, 3>& c : corners) {
       const double a = TriangleArea(first + c[0], first + c[1], first + c[2]);
       for (const auto& b : kPoints) {
         const double w0 = 1 - b[0] - b[1];
