@@ -22,7 +22,8 @@ std::vector<uint32_t> Shuffled(uint32_t n, Rng& rng) {
 
 }  // namespace
 
-LightSampler::LightSampler(const Scene& scene, const std::vector<Light>& lights, const RayScene& rays)
+LightSampler::LightSampler(const Scene& scene, const std::vector<Light>& lights, const RayScene& rays,
+                           size_t treeFrom)
     : scene_(scene), lights_(lights), rays_(rays) {
   for (uint32_t l = 0; l < lights.size(); ++l) (lights[l].IsArea() ? areas_ : others_).push_back(l);
   for (uint32_t l : areas_) {
@@ -41,6 +42,36 @@ LightSampler::LightSampler(const Scene& scene, const std::vector<Light>& lights,
     shape.power = Luminance(light.radiance) * light.area;
     shapes_.push_back(std::move(shape));
   }
+  if (areas_.size() < treeFrom) return;
+  std::vector<LightBounds> bounds;
+  for (size_t i = 0; i < areas_.size(); ++i) bounds.push_back(BoundsOf(shapes_[i], lights[areas_[i]]));
+  tree_.emplace(bounds);
+}
+
+// The light's box, the cone about its area-weighted front normal that holds every triangle's, and its power
+// (floored so that a black emitter still has a leaf the tree can weigh).
+LightBounds LightSampler::BoundsOf(const LightShape& shape, const Light& light) const {
+  LightBounds b;
+  b.lo = b.hi = shape.corners.front();
+  for (Point3 c : shape.corners) {
+    b.lo = {std::min(b.lo.x, c.x), std::min(b.lo.y, c.y), std::min(b.lo.z, c.z)};
+    b.hi = {std::max(b.hi.x, c.x), std::max(b.hi.y, c.y), std::max(b.hi.z, c.z)};
+  }
+  Vector3 sum{0, 0, 0};
+  for (uint32_t t : light.triangles) sum = sum + scene_.AreaVector(t);
+  const float length = Length(sum);
+  if (!(length > 1e-6f * float(light.area))) {
+    b.spread = kPi;
+  } else {
+    b.axis = sum * (1.0f / length);
+    for (uint32_t t : light.triangles) {
+      const float cosine = std::clamp(Dot(b.axis, scene_.FrontNormal(t)), -1.0f, 1.0f);
+      b.spread = std::max(b.spread, std::acos(cosine));
+    }
+    b.spread = std::min(b.spread * 1.0001f + 1e-5f, kPi);  // rounding must not shrink the cone
+  }
+  b.power = std::max(shape.power, 1e-30);
+  return b;
 }
 
 bool LightSampler::CanReach(const LightShape& shape, const Light& light, Point3 p, Normal3 n) const {
@@ -96,18 +127,31 @@ Rgb LightSampler::SampleOne(const Light& light, Point3 p, Normal3 n, Point2 u) c
   return light.radiance * float(double(cosX) * cosY / d2 * light.area);
 }
 
+std::optional<LightSampler::Pick> LightSampler::PickLight(const std::vector<double>& cdf, Point3 p, Normal3 n,
+                                                          float u) const {
+  if (tree_) {
+    const auto choice = tree_->Choose(p, n, u);
+    if (!choice) return std::nullopt;
+    return Pick{choice->light, choice->pmf};
+  }
+  const auto choice = SampleDiscreteCdf(cdf, u);
+  if (!choice) return std::nullopt;
+  return Pick{choice->index, choice->pmf};
+}
+
 DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
-  const std::vector<double> cdf = SelectionCdf(p, n);
-  if (cdf.empty() || samples == 0) return {};
+  if (samples == 0 || areas_.empty()) return {};
+  std::vector<double> cdf;  // the exact guess, without a tree
+  if (tree_ ? !tree_->AnyCanReach(p, n) : (cdf = SelectionCdf(p, n)).empty()) return {};
   const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
   const std::vector<uint32_t> cells = Shuffled(side * side, rng);
   StratifiedMean mean(side);
   for (uint32_t j = 0; j < samples; ++j) {
-    const auto choice = SampleDiscreteCdf(cdf, std::min((float(j) + rng.Uniform()) / float(samples), 0x1.fffffep-1f));
+    const auto pick = PickLight(cdf, p, n, std::min((float(j) + rng.Uniform()) / float(samples), 0x1.fffffep-1f));
     const uint32_t cell = cells[j];
     const Point2 jitter = rng.Uniform2();
     const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
-    mean.Add(cell, SampleOne(lights_[areas_[choice->index]], p, n, u) * float(1.0 / choice->pmf));
+    mean.Add(cell, pick ? SampleOne(lights_[areas_[pick->area]], p, n, u) * float(1.0 / pick->pmf) : Rgb{});
   }
   return mean.Result();
 }

@@ -184,6 +184,36 @@ std::string WriteSquareLightOverFloor(const std::string& directory, float lightS
   return directory + "/scene.obj";
 }
 
+double LampGridRadiance(int i, int j) { return std::pow(10.0, 3.0 * double((i * 7 + j * 13) % 20) / 19.0); }
+
+std::vector<std::array<double, 3>> LampGridSquare(int side, float pitch, float lampSide, float height, int i, int j) {
+  const double x = (i - 0.5 * (side - 1)) * pitch - 0.5 * lampSide, z = (j - 0.5 * (side - 1)) * pitch - 0.5 * lampSide;
+  // Counter-clockwise seen from below: facing down.
+  return {{x, height, z}, {x + lampSide, height, z}, {x + lampSide, height, z + lampSide}, {x, height, z + lampSide}};
+}
+
+std::string WriteLampGrid(const std::string& directory, int side, float pitch, float lampSide, float height,
+                          float floorSide) {
+  std::string mtl = "newmtl black\nKd 0 0 0\n";
+  for (int level = 0; level < 20; ++level)
+    mtl += fmt::format("newmtl lamp_{0}\nKd 0 0 0\nKe {1} {1} {1}\n", level, std::pow(10.0, 3.0 * level / 19.0));
+  WriteText(directory + "/lamps.mtl", mtl);
+  const float f = floorSide / 2;
+  std::string obj = fmt::format("mtllib lamps.mtl\nusemtl black\nv {0} 0 {0}\nv {1} 0 {0}\nv {1} 0 {1}\nv {0} 0 {1}\n"
+                                "f 1 4 3 2\n", -f, f);
+  int vertex = 5;
+  for (int i = 0; i < side; ++i)
+    for (int j = 0; j < side; ++j) {
+      obj += fmt::format("usemtl lamp_{}\n", (i * 7 + j * 13) % 20);
+      for (const auto& c : LampGridSquare(side, pitch, lampSide, height, i, j))
+        obj += fmt::format("v {} {} {}\n", c[0], c[1], c[2]);
+      obj += fmt::format("f {} {} {} {}\n", vertex, vertex + 1, vertex + 2, vertex + 3);
+      vertex += 4;
+    }
+  WriteText(directory + "/lamps.obj", obj);
+  return directory + "/lamps.obj";
+}
+
 std::string WriteShadowScene(const std::string& directory, float albedo, float lightSide, float radiance,
                              float occluderSide, int floorCells) {
   WriteText(directory + "/shadow.mtl", fmt::format("newmtl floor\nKd {0} {0} {0}\nnewmtl black\nKd 0 0 0\n"

@@ -2,6 +2,7 @@
 // All lengths in metres, radiance in W/(m^2 sr).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,16 @@ struct TestLamp {
 };
 std::string WriteFloorWithLamps(const std::string& directory, float albedo, float radiance,
                                 const std::vector<TestLamp>& lamps);
+
+// An LED ceiling: side x side square lamps (Kd 0) of side `lampSide` on a grid of pitch `pitch` centred over the
+// origin at height `height`, facing down, each its own surface and so its own light, over a black floor y = 0 of
+// side `floorSide` (one quad). Lamp (i, j) has the grey radiance LampGridRadiance(i, j): 20 levels spread evenly
+// in log over 1 to 1000 W/(m^2 sr), so that the lamps' powers span three decades. Returns the OBJ path
+// (dir/lamps.obj); LampGridSquare gives lamp (i, j)'s corners.
+std::string WriteLampGrid(const std::string& directory, int side, float pitch, float lampSide, float height,
+                          float floorSide);
+double LampGridRadiance(int i, int j);
+std::vector<std::array<double, 3>> LampGridSquare(int side, float pitch, float lampSide, float height, int i, int j);
 
 // A grey (Kd 0.5) 10 x 10 m floor y = 0 under two 1 x 1 m lamps facing down at y = 1: "a" of radiance 1 and "b"
 // of radiance 3, so Phi_a : Phi_b = 1 : 3. Returns the OBJ path.

@@ -9,11 +9,15 @@
 // Writes DIR/accuracy.csv, DIR/accuracy.svg (error against seconds, log-log, with each estimator's best error per
 // second) and DIR/cheapest.md (the cheapest run reaching each error target).
 //
-// With --box, the bundled Cornell box instead, measured against a path-traced bake of --truth-paths per vertex
-// (bake --reference): photons only, --direct sampled, and the path tracer's own vertex bake, each a curve.
+// With --scene box or office, a bundled scene instead (the Cornell box gridded at 25 mm, data/box/box_25mm.obj, or
+// the office with books), measured against a path-traced bake of --truth-paths per vertex (bake --reference):
+// photons only, --direct sampled, and the path tracer's own vertex bake, each a curve. The truth's own noise (its predicted sigma_H per vertex) is taken out of
+// the bias column. These scenes also write DIR/objects.md and DIR/objects.csv: the error of each object (relative
+// RMSE and mean bias over its vertices, relative to its own mean true H) for every run, and in the table for the
+// most accurate run of each method.
 //
-// Usage: accuracy [--out DIR] [--quick] [--box] [--threads T]. --quick runs a handful of small configurations (a smoke
-// test); the full sweep takes about 10 minutes on 2 cores.
+// Usage: accuracy [--out DIR] [--quick] [--scene closed-form|box|office] [--threads T]. --quick runs a handful of
+// small configurations (a smoke test); the full sweeps take minutes on 2 cores (see the README).
 #include <fmt/format.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -41,6 +45,8 @@ constexpr float kLightSide = 0.13f, kRadiance = 50.0f, kHeight = 0.55f, kFloorSi
 constexpr int kFloorCells = 40;
 constexpr double kEdgeBand = 0.1 * kFloorSide;  // vertices this close to the boundary count as edge vertices
 
+enum class Bench { kClosedForm, kBox, kOffice };
+
 struct Config {
   pb::EstimatorSettings estimator;
   bool autoBandwidth = false;
@@ -48,9 +54,9 @@ struct Config {
   pb::DirectSettings direct{pb::DirectLight::kPhotons};  // --direct, --direct-samples (the closed form: photons)
   uint32_t referencePaths = 0;  // > 0: a path tracer's vertex bake (--reference) instead of photons
   // The curve this run belongs to: the method on the box, the estimator on the closed form.
-  std::string Group(bool box) const {
+  std::string Group(Bench bench) const {
     if (referencePaths > 0) return "path tracer";
-    if (!box) return pb::EstimatorName(estimator.kind);
+    if (bench == Bench::kClosedForm) return pb::EstimatorName(estimator.kind);
     return direct.mode == pb::DirectLight::kSampled ? "sampled" : "photons";
   }
   std::string Label() const {
@@ -68,12 +74,25 @@ struct Config {
 
 struct ErrorSplit {
   double rmse = 0, rmseInterior = 0, rmseEdge = 0, bias = 0, maxError = 0, noise = 0, systematic = 0;
+  double truthNoise = 0;  // the truth's own RMS standard error, relative like the rest (0 on the closed form)
+  double edgeBias = 0;    // mean H - truth over the edge vertices
+  double coveredMean = 0; // mean H over the covered vertices (whose truth is 0)
+  uint32_t coveredVertices = 0, edgeVertices = 0;
+  double meanTruth = 0;   // the mean exact H [W/m^2], which the rest are relative to
 };
+
+// One object's error, relative to its own mean true H.
+struct ObjectError {
+  double rmse = 0, bias = 0, truthNoise = 0, meanTruth = 0;  // meanTruth [W/m^2]
+  uint32_t vertices = 0;
+};
+constexpr size_t kMaxObjects = 48;  // objects measured one by one; the rest are in the totals only
 
 // What a child process measures and sends back through a pipe, as plain bytes.
 struct Measured {
   double seconds = 0, traceSeconds = 0, estimateSeconds = 0;
   ErrorSplit error;
+  std::array<ObjectError, kMaxObjects> objects{};
 };
 
 struct Run : Measured {
@@ -89,20 +108,32 @@ double ExactIrradiance(double x, double z) {
 }
 
 // The truth at each vertex that is measured: Lambert's formula on the closed form's floor (the light's vertices
-// are left out), or a long reference bake's H on the box, every vertex.
+// are left out), or a long reference bake's H on a bundled scene, every vertex.
 struct Truth {
   std::vector<double> reference;  // per vertex [W/m^2] (luminance); empty on the closed form
+  std::vector<double> variance;   // the reference's predicted sigma_H^2 per vertex [(W/m^2)^2]
+  std::vector<uint32_t> object;   // each vertex's object (index into objects)
+  std::vector<std::string> objects;
+  std::vector<bool> boundary;     // on an edge of its surface that one triangle uses
+  // Covered: the reference reads exactly 0 (every path and light sample from it is blocked at once: the floor
+  // under a block). Edge: on the closed form, within kEdgeBand of the floor's boundary; on a scene, on its
+  // surface's boundary (a contact line or an open edge) and not covered.
+  bool Covered(size_t v) const { return !reference.empty() && reference[v] == 0; }
   bool Measured(pb::Point3 p) const { return !reference.empty() || std::abs(p.y) <= 1e-6f; }
   double At(size_t v, pb::Point3 p) const { return reference.empty() ? ExactIrradiance(p.x, p.z) : reference[v]; }
-  bool Edge(pb::Point3 p) const {
-    return reference.empty() && kFloorSide / 2 - std::max(std::abs(p.x), std::abs(p.z)) < kEdgeBand;
+  double VarianceAt(size_t v) const { return variance.empty() ? 0.0 : variance[v]; }
+  uint32_t ObjectAt(size_t v) const { return object.empty() ? 0 : object[v]; }
+  bool Edge(size_t v, pb::Point3 p) const {
+    if (!reference.empty()) return boundary[v] && !Covered(v);
+    return kFloorSide / 2 - std::max(std::abs(p.x), std::abs(p.z)) < kEdgeBand;
   }
 };
 
 // Measured vertices' H (luminance) from one bake, and the stage times.
 struct Sample {
-  std::vector<double> h, exact;
-  std::vector<bool> edge;
+  std::vector<double> h, exact, truthVariance;
+  std::vector<uint32_t> object;
+  std::vector<bool> edge, covered;
   double seconds = 0, trace = 0, estimate = 0;
 };
 
@@ -133,7 +164,10 @@ Sample BakeOnce(const std::string& scene, const Truth& truth, const Config& c, u
     if (!truth.Measured(p)) continue;
     s.h.push_back(pb::Luminance(r.mesh.irradiance[v]));
     s.exact.push_back(truth.At(v, p));
-    s.edge.push_back(truth.Edge(p));
+    s.truthVariance.push_back(truth.VarianceAt(v));
+    s.object.push_back(truth.ObjectAt(v));
+    s.edge.push_back(truth.Edge(v, p));
+    s.covered.push_back(truth.Covered(v));
   }
   return s;
 }
@@ -142,11 +176,14 @@ ErrorSplit Errors(const Sample& a, const Sample& b) {
   double meanExact = 0;
   for (double e : a.exact) meanExact += e;
   meanExact /= double(a.exact.size());
-  double all = 0, interior = 0, edge = 0, bias = 0, worst = 0, noise = 0;
-  size_t nInterior = 0, nEdge = 0;
+  double all = 0, interior = 0, edge = 0, bias = 0, worst = 0, noise = 0, truthNoise = 0, edgeBias = 0, covered = 0;
+  size_t nInterior = 0, nEdge = 0, nCovered = 0;
   for (size_t i = 0; i < a.h.size(); ++i) {
     const double d = a.h[i] - a.exact[i], d2 = d * d;
     all += d2;
+    if (a.edge[i]) edgeBias += d;
+    if (a.covered[i]) covered += a.h[i], ++nCovered;
+    truthNoise += a.truthVariance[i];
     (a.edge[i] ? edge : interior) += d2;
     ++(a.edge[i] ? nEdge : nInterior);
     bias += d;
@@ -155,14 +192,42 @@ ErrorSplit Errors(const Sample& a, const Sample& b) {
   }
   const double n = double(a.h.size());
   ErrorSplit e;
+  e.meanTruth = meanExact;
   e.rmse = std::sqrt(all / n) / meanExact;
   e.rmseInterior = std::sqrt(interior / double(std::max<size_t>(nInterior, 1))) / meanExact;
   e.rmseEdge = std::sqrt(edge / double(std::max<size_t>(nEdge, 1))) / meanExact;
   e.bias = bias / n / meanExact;
   e.maxError = worst / meanExact;
   e.noise = std::sqrt(noise / n) / meanExact;
-  e.systematic = std::sqrt(std::max(0.0, e.rmse * e.rmse - e.noise * e.noise));
+  e.truthNoise = std::sqrt(truthNoise / n) / meanExact;
+  e.edgeVertices = uint32_t(nEdge), e.coveredVertices = uint32_t(nCovered);
+  e.edgeBias = edgeBias / double(std::max<size_t>(nEdge, 1)) / meanExact;
+  e.coveredMean = covered / double(std::max<size_t>(nCovered, 1)) / meanExact;
+  e.systematic = std::sqrt(std::max(0.0, e.rmse * e.rmse - e.noise * e.noise - e.truthNoise * e.truthNoise));
   return e;
+}
+
+// Each object's relative RMSE, mean bias and truth noise, over its own vertices and relative to its own mean.
+std::array<ObjectError, kMaxObjects> ObjectErrors(const Sample& a) {
+  std::array<ObjectError, kMaxObjects> sums{};
+  std::array<double, kMaxObjects> squares{}, variances{};
+  for (size_t i = 0; i < a.h.size(); ++i) {
+    if (a.object[i] >= kMaxObjects) continue;
+    ObjectError& o = sums[a.object[i]];
+    const double d = a.h[i] - a.exact[i];
+    ++o.vertices, o.meanTruth += a.exact[i], o.bias += d;
+    squares[a.object[i]] += d * d, variances[a.object[i]] += a.truthVariance[i];
+  }
+  for (size_t k = 0; k < kMaxObjects; ++k) {
+    ObjectError& o = sums[k];
+    if (o.vertices == 0) continue;
+    const double n = o.vertices;
+    o.meanTruth /= n;
+    const double scale = o.meanTruth > 0 ? 1 / o.meanTruth : 0.0;
+    o.rmse = std::sqrt(squares[k] / n) * scale, o.bias = o.bias / n * scale;
+    o.truthNoise = std::sqrt(variances[k] / n) * scale;
+  }
+  return sums;
 }
 
 // Runs one configuration in a child process (two seeds), so that its peak memory is its own.
@@ -173,7 +238,7 @@ Run Measure(const std::string& scene, const Truth& truth, const Config& c, unsig
   if (child == 0) {
     close(fds[0]);
     const Sample a = BakeOnce(scene, truth, c, 1, threads), b = BakeOnce(scene, truth, c, 2, threads);
-    const Measured m{a.seconds, a.trace, a.estimate, Errors(a, b)};
+    const Measured m{a.seconds, a.trace, a.estimate, Errors(a, b), ObjectErrors(a)};
     _exit(write(fds[1], &m, sizeof m) == ssize_t(sizeof m) ? 0 : 1);
   }
   close(fds[1]);
@@ -190,7 +255,7 @@ Run Measure(const std::string& scene, const Truth& truth, const Config& c, unsig
   return run;
 }
 
-std::vector<Config> Sweep(bool quick) {
+std::vector<Config> ClosedFormConfigs(bool quick) {
   using pb::EstimatorKind;
   using pb::Kernel;
   std::vector<Config> configs;
@@ -213,9 +278,17 @@ std::vector<Config> Sweep(bool quick) {
   return configs;
 }
 
-// The box: photons only (the paper's method) and --direct sampled over photon counts, h and direct samples, and
-// the path tracer's vertex bake over samples per vertex.
-std::vector<Config> BoxSweep(bool quick) {
+// A bundled scene's sweep: photons only (the paper's method) and --direct sampled over photon counts, h and direct
+// samples, and the path tracer's vertex bake over samples per vertex.
+struct SceneSweep {
+  std::vector<uint64_t> photonsOnly;
+  std::vector<float> photonsOnlyH;
+  std::vector<uint64_t> sampled;
+  std::vector<float> sampledH;
+  std::vector<uint32_t> shadowRays, paths;
+};
+
+std::vector<Config> Sweep(const SceneSweep& sweep) {
   std::vector<Config> configs;
   const auto add = [&](pb::DirectLight mode, uint32_t samples, float h, uint64_t n, uint32_t paths) {
     Config c;
@@ -225,28 +298,46 @@ std::vector<Config> BoxSweep(bool quick) {
     c.referencePaths = paths;
     configs.push_back(c);
   };
-  if (quick) {
-    add(pb::DirectLight::kSampled, 16, 0.05f, 100'000, 0);
-    add(pb::DirectLight::kPhotons, 64, 0.05f, 1, 64);
-    return configs;
-  }
-  for (uint64_t n : {1'000'000, 4'000'000, 16'000'000})
-    for (float h : {0.01f, 0.02f, 0.03f}) add(pb::DirectLight::kPhotons, 64, h, n, 0);
-  for (uint64_t n : {250'000, 1'000'000, 4'000'000})
-    for (float h : {0.05f, 0.08f, 0.12f})
-      for (uint32_t samples : {64u, 256u, 1024u}) add(pb::DirectLight::kSampled, samples, h, n, 0);
-  for (uint32_t paths : {64u, 256u, 1024u, 4096u}) add(pb::DirectLight::kPhotons, 64, 0.05f, 1, paths);
+  for (uint64_t n : sweep.photonsOnly)
+    for (float h : sweep.photonsOnlyH) add(pb::DirectLight::kPhotons, 64, h, n, 0);
+  for (uint64_t n : sweep.sampled)
+    for (float h : sweep.sampledH)
+      for (uint32_t samples : sweep.shadowRays) add(pb::DirectLight::kSampled, samples, h, n, 0);
+  for (uint32_t paths : sweep.paths) add(pb::DirectLight::kPhotons, 64, 0.05f, 1, paths);
   return configs;
 }
 
-// The box's truth: a path-traced bake with `paths` per vertex (seed 99, unlike every measured run).
-Truth BoxTruth(const std::string& scene, uint32_t paths, unsigned threads) {
+std::vector<Config> SceneConfigs(Bench bench, bool quick) {
+  if (quick) return Sweep({{}, {}, {100'000}, {0.05f}, {16}, {64}});
+  if (bench == Bench::kBox)
+    return Sweep({{1'000'000, 4'000'000, 16'000'000}, {0.01f, 0.02f, 0.03f}, {250'000, 1'000'000, 4'000'000},
+                  {0.05f, 0.08f, 0.12f}, {64, 256, 1024}, {64, 256, 1024, 4096}});
+  // The office is 5 x 4 x 3 m: about 30 times the box's area, so wider kernels and more photons.
+  return Sweep({{4'000'000, 16'000'000}, {0.03f, 0.05f, 0.1f}, {1'000'000, 4'000'000, 16'000'000},
+                {0.05f, 0.1f, 0.2f}, {64, 256}, {64, 256, 1024}});
+}
+
+// A bundled scene's truth: a path-traced bake with `paths` per vertex (seed 99, unlike every measured run), its
+// predicted noise per vertex, and each vertex's object.
+Truth SceneTruth(const std::string& scene, uint32_t paths, unsigned threads) {
   Config c;
   c.photons = 1;
   c.referencePaths = paths;
   const pb::BakeResult r = BakeMesh(scene, c, 99, threads);
   Truth truth;
-  for (const pb::Rgb& h : r.mesh.irradiance) truth.reference.push_back(pb::Luminance(h));
+  truth.objects = r.names.objects;
+  for (size_t v = 0; v < r.mesh.irradiance.size(); ++v) {
+    const double h = pb::Luminance(r.mesh.irradiance[v]), sigma = h * r.mesh.irradianceNoise[v];
+    truth.reference.push_back(h);
+    truth.variance.push_back(sigma * sigma);
+    truth.object.push_back(r.names.objectOfSurface[r.mesh.mesh.surface[v]]);
+  }
+  std::map<std::pair<uint32_t, uint32_t>, int> uses;  // the split mesh's edges (a surface's own vertices)
+  for (const auto& f : r.mesh.mesh.faces)
+    for (int k = 0; k < 3; ++k) ++uses[std::minmax(f[k], f[(k + 1) % 3])];
+  truth.boundary.assign(truth.reference.size(), false);
+  for (const auto& [edge, count] : uses)
+    if (count == 1) truth.boundary[edge.first] = truth.boundary[edge.second] = true;
   return truth;
 }
 
@@ -254,23 +345,25 @@ void WriteCsv(const std::string& path, const std::vector<Run>& runs) {
   pb::WriteFileAtomically(path, [&](std::ostream& out) {
     out << "estimator,kernel,h_m,auto_h,k,edge_correction,photons,seconds,trace_s,estimate_s,peak_mib,rmse_rel,"
            "rmse_interior_rel,rmse_edge_rel,mean_bias_rel,max_error_rel,noise_rel,bias_rel,direct,direct_samples,"
-           "reference_paths\n";
+           "reference_paths,truth_noise_rel,edge_vertices,edge_bias_rel,covered_vertices,covered_mean_rel\n";
     for (const Run& r : runs) {
       const pb::EstimatorSettings& e = r.config.estimator;
       out << fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.1f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},"
-                         "{},{},{}\n",
+                         "{},{},{},{:.5f},{},{:.5f},{},{:.5f}\n",
                          pb::EstimatorName(e.kind), pb::KernelName(e.kernel), e.bandwidth, r.config.autoBandwidth,
                          e.neighbours, e.edgeCorrection, r.config.photons, r.seconds, r.traceSeconds,
                          r.estimateSeconds, r.peakMiB, r.error.rmse, r.error.rmseInterior, r.error.rmseEdge,
                          r.error.bias, r.error.maxError, r.error.noise, r.error.systematic,
-                         pb::DirectLightName(r.config.direct.mode), r.config.direct.samples, r.config.referencePaths);
+                         pb::DirectLightName(r.config.direct.mode), r.config.direct.samples, r.config.referencePaths,
+                         r.error.truthNoise, r.error.edgeVertices, r.error.edgeBias, r.error.coveredVertices,
+                         r.error.coveredMean);
     }
   });
 }
 
 // Log-log SVG of relative RMSE against seconds: every run as a dot, and each estimator's lower envelope (the
 // best error reachable in a given time) as a line.
-void WriteSvg(const std::string& path, const std::vector<Run>& runs, bool box) {
+void WriteSvg(const std::string& path, const std::vector<Run>& runs, Bench bench) {
   constexpr double kW = 720, kH = 480, kLeft = 70, kBottom = 50, kTop = 20, kRight = 160;
   double t0 = 1e9, t1 = 0, e0 = 1e9, e1 = 0;
   for (const Run& r : runs) {
@@ -283,7 +376,7 @@ void WriteSvg(const std::string& path, const std::vector<Run>& runs, bool box) {
   const auto Y = [&](double e) { return kH - kBottom - (std::log10(e) - le0) / (le1 - le0) * (kH - kBottom - kTop); };
   std::vector<std::string> groups;  // in order of first appearance
   for (const Run& r : runs)
-    if (std::find(groups.begin(), groups.end(), r.config.Group(box)) == groups.end()) groups.push_back(r.config.Group(box));
+    if (std::find(groups.begin(), groups.end(), r.config.Group(bench)) == groups.end()) groups.push_back(r.config.Group(bench));
   const std::vector<std::string> colours = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"};
   std::string svg = fmt::format("<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' font-family='sans-serif' "
                                 "font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n", kW, kH);
@@ -304,7 +397,7 @@ void WriteSvg(const std::string& path, const std::vector<Run>& runs, bool box) {
     const std::string& c = colours[g % colours.size()];
     std::vector<const Run*> mine;
     for (const Run& r : runs)
-      if (r.config.Group(box) == groups[g]) mine.push_back(&r);
+      if (r.config.Group(bench) == groups[g]) mine.push_back(&r);
     std::sort(mine.begin(), mine.end(), [](const Run* a, const Run* b) { return a->seconds < b->seconds; });
     std::string envelope;
     double best = 1e300;
@@ -343,37 +436,108 @@ void WriteCheapest(const std::string& path, const std::vector<Run>& runs) {
   pb::WriteFileAtomically(path, [&](std::ostream& out) { out << md; });
 }
 
+// Every run's error per object (objects.csv), and a table of each object's error in the most accurate run of each
+// method (objects.md).
+void WriteObjects(const std::string& dir, const std::vector<Run>& runs, const Truth& truth, Bench bench) {
+  const size_t count = std::min(truth.objects.size(), kMaxObjects);
+  pb::WriteFileAtomically(dir + "/objects.csv", [&](std::ostream& out) {
+    out << "run,photons,seconds,object,vertices,mean_truth_w_m2,rmse_rel,mean_bias_rel,truth_noise_rel\n";
+    for (const Run& r : runs)
+      for (size_t k = 0; k < count; ++k)
+        if (const ObjectError& o = r.objects[k]; o.vertices > 0)
+          out << fmt::format("{},{},{:.4f},{},{},{:.6g},{:.5f},{:.5f},{:.5f}\n", r.config.Label(), r.config.photons,
+                             r.seconds, truth.objects[k], o.vertices, o.meanTruth, o.rmse, o.bias, o.truthNoise);
+  });
+  std::vector<const Run*> best;  // the least RMSE of each method, in order of first appearance
+  for (const Run& r : runs) {
+    const auto same = std::find_if(best.begin(), best.end(),
+                                   [&](const Run* b) { return b->config.Group(bench) == r.config.Group(bench); });
+    if (same == best.end()) best.push_back(&r);
+    else if (r.error.rmse < (*same)->error.rmse) *same = &r;
+  }
+  std::string md = "| object | vertices | mean true H [W/m²] | truth's noise |";
+  for (const Run* r : best) md += fmt::format(" {} ({:.2f} s): RMSE, bias |", r->config.Label(), r->seconds);
+  md += "\n|---|---|---|---|";
+  for (size_t b = 0; b < best.size(); ++b) md += "---|";
+  md += "\n";
+  const auto row = [&](const std::string& name, uint32_t vertices, double mean, double truthNoise,
+                       const auto& errorOf) {
+    md += fmt::format("| {} | {} | {:.4g} | {:.2f}% |", name, vertices, mean, 100 * truthNoise);
+    for (const Run* r : best) {
+      const auto [rmse, bias] = errorOf(*r);
+      md += fmt::format(" {:.2f}%, {:+.2f}% |", 100 * rmse, 100 * bias);
+    }
+    md += "\n";
+  };
+  for (size_t k = 0; k < count; ++k) {
+    const ObjectError& o = best.front()->objects[k];
+    if (o.vertices == 0) continue;
+    row(truth.objects[k], o.vertices, o.meanTruth, o.truthNoise,
+        [&](const Run& r) { return std::pair{r.objects[k].rmse, r.objects[k].bias}; });
+  }
+  const ErrorSplit& all = best.front()->error;
+  row("**all**", uint32_t(truth.reference.size()), all.meanTruth, all.truthNoise,
+      [](const Run& r) { return std::pair{r.error.rmse, r.error.bias}; });
+  md += fmt::format("| **edge vertices**: mean bias, of the mean H | {} | | |", all.edgeVertices);
+  for (const Run* r : best) md += fmt::format(" {:+.2f}% |", 100 * r->error.edgeBias);
+  md += fmt::format("\n| **covered vertices** (true H = 0): mean H, of the mean H | {} | 0 | |", all.coveredVertices);
+  for (const Run* r : best) md += fmt::format(" {:.2f}% |", 100 * r->error.coveredMean);
+  md += "\n";
+  pb::WriteFileAtomically(dir + "/objects.md", [&](std::ostream& out) { out << md; });
+}
+
+Bench ParseBench(const std::string& name) {
+  if (name == "closed-form") return Bench::kClosedForm;
+  if (name == "box") return Bench::kBox;
+  return Bench::kOffice;
+}
+
+std::string ScenePath(Bench bench, const std::string& out) {
+  switch (bench) {
+    case Bench::kBox: return PB_SOURCE_DIR "/data/box/box_25mm.obj";
+    case Bench::kOffice: return PB_SOURCE_DIR "/data/office_books/office_books.obj";
+    default:
+      return pb::test::WriteSquareLightOverFloor(out, kLightSide, kRadiance, kHeight, kFloorSide, kFloorCells);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"accuracy: error of H against time, on a closed-form scene or the Cornell box (photonbake)"};
-  std::string out = "out/accuracy";
-  bool quick = false, box = false;
+  CLI::App app{"accuracy: error of H against time, on a closed-form scene or a bundled scene (photonbake)"};
+  std::string out = "out/accuracy", sceneName = "closed-form";
+  bool quick = false;
   unsigned threads = 0;
   uint32_t truthPaths = 16384;
   app.add_option("--out", out, "folder for accuracy.csv, accuracy.svg and cheapest.md")->capture_default_str();
   app.add_flag("--quick", quick, "a handful of small runs, as a smoke test");
   app.add_option("--threads", threads, "worker threads per bake; 0 = all cores")->capture_default_str();
-  app.add_flag("--box", box, "the bundled Cornell box against a long path-traced bake, instead of the closed form");
-  app.add_option("--truth-paths", truthPaths, "--box: paths per vertex of the truth")->capture_default_str();
+  app.add_option("--scene", sceneName, "closed-form, or box / office: a bundled scene against a long path-traced bake")
+      ->check(CLI::IsMember({"closed-form", "box", "office"}))
+      ->capture_default_str();
+  app.add_option("--truth-paths", truthPaths, "box, office: paths per vertex of the truth")->capture_default_str();
   return pb::tools::RunTool(app, argc, argv, [] {}, [&] {
     std::filesystem::create_directories(out);
-    const std::string scene = box ? std::string(PB_SOURCE_DIR "/data/box/box.obj")
-                                  : pb::test::WriteSquareLightOverFloor(out, kLightSide, kRadiance, kHeight, kFloorSide,
-                                                                        kFloorCells);
-    const Truth truth = box ? BoxTruth(scene, quick ? 256 : truthPaths, threads) : Truth{};
+    const Bench bench = ParseBench(sceneName);
+    const std::string scene = ScenePath(bench, out);
+    const bool closedForm = bench == Bench::kClosedForm;
+    const Truth truth = closedForm ? Truth{} : SceneTruth(scene, quick ? 256 : truthPaths, threads);
     std::vector<Run> runs;
-    const std::vector<Config> configs = box ? BoxSweep(quick) : Sweep(quick);
+    const std::vector<Config> configs = closedForm ? ClosedFormConfigs(quick) : SceneConfigs(bench, quick);
     for (size_t i = 0; i < configs.size(); ++i) {
       runs.push_back(Measure(scene, truth, configs[i], threads));
       const Run& r = runs.back();
-      fmt::print(stderr, "[{}/{}] {:<32} {:>9} photons  {:7.3f} s  RMSE {:6.2f}% (noise {:.2f}%, bias {:.2f}%)  {:.0f} MiB\n",
+      fmt::print(stderr, "[{}/{}] {:<32} {:>9} photons  {:7.3f} s  RMSE {:6.2f}% (noise {:.2f}%, bias {:.2f}%)  {:.0f} MiB{}\n",
                  i + 1, configs.size(), r.config.Label(), r.config.referencePaths > 0 ? 0 : r.config.photons, r.seconds, 100 * r.error.rmse,
-                 100 * r.error.noise, 100 * r.error.systematic, r.peakMiB);
+                 100 * r.error.noise, 100 * r.error.systematic, r.peakMiB,
+                 closedForm ? std::string() : fmt::format("  edges {:+.2f}%, covered {:.2f}%", 100 * r.error.edgeBias,
+                                                          100 * r.error.coveredMean));
     }
     WriteCsv(out + "/accuracy.csv", runs);
-    WriteSvg(out + "/accuracy.svg", runs, box);
+    WriteSvg(out + "/accuracy.svg", runs, bench);
     WriteCheapest(out + "/cheapest.md", runs);
-    fmt::print(stderr, "wrote {0}/accuracy.csv, {0}/accuracy.svg and {0}/cheapest.md\n", out);
+    if (!closedForm) WriteObjects(out, runs, truth, bench);
+    fmt::print(stderr, "wrote {0}/accuracy.csv, {0}/accuracy.svg and {0}/cheapest.md{1}\n", out,
+               closedForm ? "" : fmt::format(", {0}/objects.csv and {0}/objects.md", out));
   });
 }

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes box.obj and box.mtl: the published Cornell box (../../../shared/reference/cornell-box.md, Cornell
-Program of Computer Graphics) in metres, meshed at about 5 cm, plus a second light behind the camera as in the
+Program of Computer Graphics) in metres, meshed at about 5 cm (and box_25mm.obj at 2.5 cm, for the accuracy tool), plus a second light behind the camera as in the
 particle-tracing paper; and ../box_glass/box_glass.obj: the same box with a glass sphere on the floor in place
 of the blocks. Run it from this folder; the outputs are committed, so building never needs Python."""
 import math
@@ -104,11 +104,15 @@ def icosphere(obj, name, material, centre, radius, detail):
     obj.lines += ["f %d %d %d" % (first + a, first + b, first + c) for a, b, c in faces]
 
 def main():
+    global CELL
     write_box(os.curdir, "box", blocks=True)
     write_box(os.path.join(os.pardir, "box_glass"), "box_glass", blocks=False)
+    # The accuracy tool's box: the same scene gridded at 25 mm, as the issue's production reference was.
+    CELL = 0.025
+    write_box(os.curdir, "box_25mm", blocks=True, mtl="box.mtl")
 
-def write_box(folder, stem, blocks):
-    obj = Obj(stem + ".mtl")
+def write_box(folder, stem, blocks, mtl=None):
+    obj = Obj(mtl or stem + ".mtl")
     inside = (278, 274.4, 279.6)
     quad(obj, "floor", "white", [(552.8, 0, 0), (0, 0, 0), (0, 0, 559.2), (549.6, 0, 559.2)], inside)
     quad(obj, "back_wall", "white", [(549.6, 0, 559.2), (0, 0, 559.2), (0, 548.8, 559.2), (556, 548.8, 559.2)], inside)

@@ -36,18 +36,23 @@ TEST(AccuracyCli, QuickSweepWritesCsvPlotAndTable) {
   EXPECT_NE(test::ReadBytes(dir + "/cheapest.md").find("| 10% |"), std::string::npos);
 }
 
-// --box --quick: the box against a short path-traced truth; one --direct sampled run and one path-traced run, each
-// its own curve in the plot.
+// --scene box --quick: the box gridded at 25 mm against a short path-traced truth; one --direct sampled run and one
+// path-traced run, each its own curve in the plot, and each object's error.
 TEST(AccuracyCli, QuickBoxSweepMeasuresSampledAndPathTracedRuns) {
   const std::string dir = test::TempDirectory("accuracy-box");
-  const test::ToolRun run = test::RunTool(PB_ACCURACY_EXE, "--box --quick --out " + dir);
+  const test::ToolRun run = test::RunTool(PB_ACCURACY_EXE, "--scene box --quick --out " + dir);
   ASSERT_EQ(run.status, 0) << run.output;
   const std::string csv = test::ReadBytes(dir + "/accuracy.csv");
-  EXPECT_NE(csv.find(",sampled,16,0\n"), std::string::npos) << csv;
-  EXPECT_NE(csv.find(",photons,64,64\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",sampled,16,0,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",photons,64,64,"), std::string::npos) << csv;
   const std::string svg = test::ReadBytes(dir + "/accuracy.svg");
   EXPECT_NE(svg.find(">sampled<"), std::string::npos);
   EXPECT_NE(svg.find(">path tracer<"), std::string::npos);
+  // Each object's error: a row per object of the box in the table, and one per run and object in the CSV.
+  const std::string objects = test::ReadBytes(dir + "/objects.md");
+  for (const char* row : {"| floor | 576 |", "| tall_block_top | 64 |", "| **all** | 3937 |"})
+    EXPECT_NE(objects.find(row), std::string::npos) << row << "\n" << objects;
+  EXPECT_NE(test::ReadBytes(dir + "/objects.csv").find("path tracer 64 spp,1,"), std::string::npos);
 }
 
 }  // namespace
