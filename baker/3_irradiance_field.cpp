@@ -76,8 +76,9 @@ IrradianceSample PointSampledIrradiance::WithNoise(const SurfacePoint& p) const 
   return {e.irradiance, e.relativeNoise};
 }
 
-DirectIrradiance::DirectIrradiance(const PreparedScene& scene, uint32_t samples, uint64_t seed)
-    : PointSampledIrradiance(scene, samples, seed), sampler_(scene.scene, scene.lights, *scene.rays) {}
+DirectIrradiance::DirectIrradiance(const PreparedScene& scene, const DirectSettings& direct, uint64_t seed)
+    : PointSampledIrradiance(scene, direct.samples, seed), sampler_(scene.scene, scene.lights, *scene.rays),
+      noise_(direct.noise) {}
 
 ReferenceIrradiance::ReferenceIrradiance(const PreparedScene& scene, uint32_t paths, uint64_t seed)
     : PointSampledIrradiance(scene, paths, seed), lights_(scene.scene, scene.lights, *scene.rays),
@@ -138,7 +139,7 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
   if (settings.referencePaths > 0)
     field.Add(std::make_unique<ReferenceIrradiance>(scene, settings.referencePaths, settings.seed));
   else if (settings.direct.mode == DirectLight::kSampled)
-    field.Add(std::make_unique<DirectIrradiance>(scene, settings.direct.samples, settings.seed));
+    field.Add(std::make_unique<DirectIrradiance>(scene, settings.direct, settings.seed));
   return field;
 }
 

@@ -107,17 +107,20 @@ class PointSampledIrradiance : public IrradianceContribution {
   uint64_t seed_;
 };
 
-// The direct light at a point, sampled there with `samples` shadow rays (estimators/light_sampler.h).
+// The direct light at a point, sampled there with `direct.samples` shadow rays, or with as many as its noise
+// target `direct.noise` needs, up to that many (estimators/light_sampler.h).
 class DirectIrradiance final : public PointSampledIrradiance {
  public:
-  DirectIrradiance(const PreparedScene& scene, uint32_t samples, uint64_t seed);
+  DirectIrradiance(const PreparedScene& scene, const DirectSettings& direct, uint64_t seed);
   std::string_view Name() const override { return "direct"; }
 
  private:
   DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const override {
-    return sampler_.Irradiance(position, normal, count, rng);
+    return noise_ > 0 ? sampler_.AdaptiveIrradiance(position, normal, noise_, count, rng)
+                      : sampler_.Irradiance(position, normal, count, rng);
   }
   LightSampler sampler_;
+  double noise_;
 };
 
 // All of H at a point by `paths` paths gathered there (estimators/irradiance_gather.h).

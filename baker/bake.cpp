@@ -153,7 +153,13 @@ std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& l
   std::vector<std::string> remedies;
   if (!reference && r.photons > lit.photons.stats.emitted)
     remedies.push_back(fmt::format("--photons {}", TwoDigits(1.05 * double(r.photons))));
-  if (r.pointSamples > samples)
+  // With --direct-noise the points' own noise falls by sqrt(factor) when their target does; and at most half the
+  // visible noise, as the pilot's noisy estimate leaves the 95th percentile above the target (1.3x it measured).
+  const bool adaptive = !reference && o.direct.mode == DirectLight::kSampled && o.direct.noise > 0;
+  if (r.pointSamples > samples && adaptive)
+    remedies.push_back(fmt::format("--direct-noise {:.2g}", std::min(o.direct.noise / std::sqrt(1.05 * r.pointSamples / samples),
+                                                                  kVisibleNoise / 2)));
+  else if (r.pointSamples > samples)
     remedies.push_back(fmt::format("{} {}", reference ? "--reference" : "--direct-samples",
                                    TwoDigits(1.05 * r.pointSamples)));
   const std::string remedy = remedies.empty() ? "" : remedies.size() == 1 ? remedies[0] : remedies[0] + " and " + remedies[1];

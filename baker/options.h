@@ -29,6 +29,10 @@ std::string DirectLightNames();  // comma-separated, for --help and error messag
 struct DirectSettings {
   DirectLight mode = DirectLight::kSampled;
   uint32_t samples = 256;  // --direct-samples: shadow rays per point; range [1, 1e6], typical 64-1024
+  // --direct-noise: with a target (> 0), each point takes as many shadow rays as its own noise needs to reach
+  // this relative standard error of its direct light, up to `samples` (LightSampler::AdaptiveIrradiance);
+  // 0: every point takes `samples`. Range 0 or [1e-4, 1], typical 0.005-0.02.
+  double noise = 0;
 };
 
 // --quality: photons, h and shadow rays per point together, chosen from the box's measured error against time

@@ -123,7 +123,7 @@ Rgb LightSampler::SampleOne(const Light& light, Point3 p, Normal3 n, Point2 u) c
   const Point3 origin = rays_.SpawnPoint(p, n);
   const Vector3 span = y - origin;
   const float length = Length(span);
-  if (rays_.Intersect(origin, span * (1.0f / length), length * (1 - 1e-4f))) return {};
+  if (rays_.Occluded(origin, span * (1.0f / length), length * (1 - 1e-4f))) return {};
   return light.radiance * float(double(cosX) * cosY / d2 * light.area);
 }
 
@@ -156,7 +156,7 @@ DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples,
   return mean.Result();
 }
 
-bool LightSampler::Escapes(Point3 origin, Vector3 w) const { return !rays_.Intersect(origin, w); }
+bool LightSampler::Escapes(Point3 origin, Vector3 w) const { return !rays_.Occluded(origin, w); }
 
 Rgb LightSampler::DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n) const {
   const Point3 origin = rays_.SpawnPoint(p, n);
@@ -175,7 +175,7 @@ Rgb LightSampler::DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 
   if (falloff <= 0) return {};
   const Vector3 span = light.position - origin;
   const float length = Length(span);
-  if (rays_.Intersect(origin, span * (1.0f / length), length * (1 - 1e-4f))) return {};
+  if (rays_.Occluded(origin, span * (1.0f / length), length * (1 - 1e-4f))) return {};
   return light.intensity * (falloff * cosX / d2);
 }
 
@@ -196,6 +196,7 @@ DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Nor
 
 DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
   DirectSample result = AreaIrradiance(p, n, samples, rng);
+  result.samples = samples;
   if (others_.empty() || samples == 0) return result;
   double variance = std::pow(result.relativeNoise * Luminance(result.irradiance), 2);
   for (uint32_t l : others_) {
@@ -210,6 +211,20 @@ DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng
   }
   const double mean = Luminance(result.irradiance);
   result.relativeNoise = mean > 0 ? std::sqrt(variance) / mean : 0.0;
+  return result;
+}
+
+DirectSample LightSampler::AdaptiveIrradiance(Point3 p, Normal3 n, double target, uint32_t maxSamples,
+                                              Rng& rng) const {
+  const uint64_t pilotSeed = (uint64_t(rng.NextU32()) << 32) | rng.NextU32();
+  Rng pilotRng(pilotSeed, 0x70696c6f74ull);  // "pilot"
+  const DirectSample pilot = Irradiance(p, n, kPilotSamples, pilotRng);
+  const double ratio = pilot.relativeNoise / target;
+  // Rounded up to a square, so that the samples fill their stratification grid and its error estimate holds.
+  const double side = std::ceil(std::sqrt(double(kPilotSamples) * std::pow(ratio, 1 / kStratifiedOrder)));
+  const auto count = uint32_t(std::clamp(side * side, double(kPilotSamples), double(std::max(maxSamples, kPilotSamples))));
+  DirectSample result = Irradiance(p, n, count, rng);
+  result.samples = count + kPilotSamples;
   return result;
 }
 

@@ -44,6 +44,7 @@ namespace pb {
 struct DirectSample {
   Rgb irradiance;            // [W/m^2]
   double relativeNoise = 0;  // standard error of the luminance over its mean; 0 when the mean is 0
+  uint32_t samples = 0;      // shadow rays cast for it (AdaptiveIrradiance: the pilot's included)
 };
 
 // The mean of independent samples of an irradiance, and the standard error of its luminance.
@@ -92,6 +93,18 @@ class LightSampler {
 
   // E_d at point p (local coordinates [m]) with unit normal n, from `samples` shadow rays drawn from `rng`.
   DirectSample Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
+
+  // E_d with as many shadow rays as reach relative standard error `target` at p: a pilot of kPilotSamples, from
+  // a stream of its own, predicts the count S = kPilotSamples (r / target)^(1 / kStratifiedOrder) from its
+  // relative error r: the error of stratified samples falls as S^-3/4 where a shadow's edge crosses the light
+  // (Mitchell 1996, "Consequences of stratified sampling in graphics"), and faster where the light is smooth, so
+  // S is conservative; independent samples' S^-1/2 would ask several times too many. Then E_d
+  // comes from S fresh samples alone, S rounded up to a square (it fills the stratification grid) and clamped to
+  // [kPilotSamples, maxSamples]. The pilot is not averaged in: the count
+  // depends on it, and keeping it would bias E_d. Unbiased; the returned relative noise is the fresh samples'.
+  static constexpr uint32_t kPilotSamples = 16;
+  static constexpr double kStratifiedOrder = 0.75;
+  DirectSample AdaptiveIrradiance(Point3 p, Normal3 n, double target, uint32_t maxSamples, Rng& rng) const;
 
   // The sky's radiance along a ray that leaves the scene in direction w [W/(m^2 sr)]: what a path that escapes
   // after a specular event sees.

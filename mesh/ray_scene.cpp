@@ -57,27 +57,45 @@ RayScene::~RayScene() {
   if (device_) rtcReleaseDevice(device_);
 }
 
+namespace {
+
+RTCRay MakeRay(Point3 origin, Vector3 direction, float tFar) {
+  RTCRay ray;
+  ray.org_x = origin.x;
+  ray.org_y = origin.y;
+  ray.org_z = origin.z;
+  ray.dir_x = direction.x;
+  ray.dir_y = direction.y;
+  ray.dir_z = direction.z;
+  ray.tnear = 0.0f;  // the origin is already offset off its surface by SpawnPoint.
+  ray.tfar = tFar;
+  ray.time = 0.0f;
+  ray.mask = ~0u;  // all geometry.
+  ray.flags = 0;
+  ray.id = 0;
+  return ray;
+}
+
+}  // namespace
+
 std::optional<RayHit> RayScene::Intersect(Point3 origin, Vector3 direction, float tFar) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);  // default flags: incoherent rays.
   RTCRayHit rh;
-  rh.ray.org_x = origin.x;
-  rh.ray.org_y = origin.y;
-  rh.ray.org_z = origin.z;
-  rh.ray.dir_x = direction.x;
-  rh.ray.dir_y = direction.y;
-  rh.ray.dir_z = direction.z;
-  rh.ray.tnear = 0.0f;  // the origin is already offset off its surface by SpawnPoint.
-  rh.ray.tfar = tFar;
-  rh.ray.time = 0.0f;
-  rh.ray.mask = ~0u;  // all geometry.
-  rh.ray.flags = 0;
-  rh.ray.id = 0;
+  rh.ray = MakeRay(origin, direction, tFar);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   return RayHit{rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v};
+}
+
+bool RayScene::Occluded(Point3 origin, Vector3 direction, float tFar) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray = MakeRay(origin, direction, tFar);
+  rtcOccluded1(scene_, &context, &ray);
+  return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
 }  // namespace pb

@@ -36,6 +36,9 @@ class RayScene {
 
   // The nearest hit with t in [0, tFar) along unit `direction`, or nothing if the ray leaves the scene.
   std::optional<RayHit> Intersect(Point3 origin, Vector3 direction, float tFar = INFINITY) const;
+  // Whether anything lies along unit `direction` with t in [0, tFar): Intersect(...).has_value(), by Embree's
+  // any-hit query (rtcOccluded1), which stops at the first hit it finds. For shadow rays.
+  bool Occluded(Point3 origin, Vector3 direction, float tFar = INFINITY) const;
 
   // A ray origin for leaving the surface at `p` on the side `side` faces: p moved off the surface by an
   // offset proportional to the scene's largest coordinate, so that the ray cannot re-hit its own triangle.

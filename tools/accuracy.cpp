@@ -61,7 +61,9 @@ struct Config {
   }
   std::string Label() const {
     if (referencePaths > 0) return fmt::format("path tracer {} spp", referencePaths);
-    std::string s = direct.mode == pb::DirectLight::kSampled ? fmt::format("sampled x{} ", direct.samples) : "";
+    std::string s = direct.mode != pb::DirectLight::kSampled ? ""
+                    : direct.noise > 0 ? fmt::format("sampled noise {} (<= {}) ", direct.noise, direct.samples)
+                                       : fmt::format("sampled x{} ", direct.samples);
     s += pb::EstimatorName(estimator.kind);
     if (estimator.kind == pb::EstimatorKind::kKernel) s += "/" + pb::KernelName(estimator.kernel);
     s += estimator.kind == pb::EstimatorKind::kNearest ? fmt::format(" k={}", estimator.neighbours)
@@ -286,6 +288,7 @@ struct SceneSweep {
   std::vector<uint64_t> sampled;
   std::vector<float> sampledH;
   std::vector<uint32_t> shadowRays, paths;
+  std::vector<double> directNoise;  // --direct-noise targets, each at every sampled count and h, up to 1,024 rays
 };
 
 std::vector<Config> Sweep(const SceneSweep& sweep) {
@@ -303,6 +306,12 @@ std::vector<Config> Sweep(const SceneSweep& sweep) {
   for (uint64_t n : sweep.sampled)
     for (float h : sweep.sampledH)
       for (uint32_t samples : sweep.shadowRays) add(pb::DirectLight::kSampled, samples, h, n, 0);
+  for (uint64_t n : sweep.sampled)
+    for (float h : sweep.sampledH)
+      for (double noise : sweep.directNoise) {
+        add(pb::DirectLight::kSampled, 1024, h, n, 0);
+        configs.back().direct.noise = noise;
+      }
   for (uint32_t paths : sweep.paths) add(pb::DirectLight::kPhotons, 64, 0.05f, 1, paths);
   return configs;
 }
@@ -311,10 +320,10 @@ std::vector<Config> SceneConfigs(Bench bench, bool quick) {
   if (quick) return Sweep({{}, {}, {100'000}, {0.05f}, {16}, {64}});
   if (bench == Bench::kBox)
     return Sweep({{1'000'000, 4'000'000, 16'000'000}, {0.01f, 0.02f, 0.03f}, {250'000, 1'000'000, 4'000'000},
-                  {0.05f, 0.08f, 0.12f}, {64, 256, 1024}, {64, 256, 1024, 4096}});
+                  {0.05f, 0.08f, 0.12f}, {64, 256, 1024}, {64, 256, 1024, 4096}, {0.02, 0.01}});
   // The office is 5 x 4 x 3 m: about 30 times the box's area, so wider kernels and more photons.
   return Sweep({{4'000'000, 16'000'000}, {0.03f, 0.05f, 0.1f}, {1'000'000, 4'000'000, 16'000'000},
-                {0.05f, 0.1f, 0.2f}, {64, 256}, {64, 256, 1024}});
+                {0.05f, 0.1f, 0.2f}, {64, 256}, {64, 256, 1024}, {}});
 }
 
 // A bundled scene's truth: a path-traced bake with `paths` per vertex (seed 99, unlike every measured run), its
@@ -345,18 +354,18 @@ void WriteCsv(const std::string& path, const std::vector<Run>& runs) {
   pb::WriteFileAtomically(path, [&](std::ostream& out) {
     out << "estimator,kernel,h_m,auto_h,k,edge_correction,photons,seconds,trace_s,estimate_s,peak_mib,rmse_rel,"
            "rmse_interior_rel,rmse_edge_rel,mean_bias_rel,max_error_rel,noise_rel,bias_rel,direct,direct_samples,"
-           "reference_paths,truth_noise_rel,edge_vertices,edge_bias_rel,covered_vertices,covered_mean_rel\n";
+           "reference_paths,truth_noise_rel,edge_vertices,edge_bias_rel,covered_vertices,covered_mean_rel,direct_noise\n";
     for (const Run& r : runs) {
       const pb::EstimatorSettings& e = r.config.estimator;
       out << fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.1f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},"
-                         "{},{},{},{:.5f},{},{:.5f},{},{:.5f}\n",
+                         "{},{},{},{:.5f},{},{:.5f},{},{:.5f},{}\n",
                          pb::EstimatorName(e.kind), pb::KernelName(e.kernel), e.bandwidth, r.config.autoBandwidth,
                          e.neighbours, e.edgeCorrection, r.config.photons, r.seconds, r.traceSeconds,
                          r.estimateSeconds, r.peakMiB, r.error.rmse, r.error.rmseInterior, r.error.rmseEdge,
                          r.error.bias, r.error.maxError, r.error.noise, r.error.systematic,
                          pb::DirectLightName(r.config.direct.mode), r.config.direct.samples, r.config.referencePaths,
                          r.error.truthNoise, r.error.edgeVertices, r.error.edgeBias, r.error.coveredVertices,
-                         r.error.coveredMean);
+                         r.error.coveredMean, r.config.direct.noise);
     }
   });
 }

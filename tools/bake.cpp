@@ -91,7 +91,13 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
                             "shadow rays, and the photons carry only the rest; 'photons' takes it from the photons "
                             "like every bounce (the paper's method; README, 'Direct light')");
   app.add_option("--direct-samples", o.direct.samples,
-                 "shadow rays per point with --direct sampled; range 1-1e6, typical 16-256")
+                 "shadow rays per point with --direct sampled (with --direct-noise, the most a point may take); "
+                 "range 1-1e6, typical 16-256")
+      ->capture_default_str();
+  app.add_option("--direct-noise", o.direct.noise,
+                 "with --direct sampled: each point takes the shadow rays that bring its direct light's relative "
+                 "standard error to this, up to --direct-samples (a pilot of 16 chooses; README, 'Direct light'); "
+                 "0 = off; range 0 or 1e-4 to 1, typical 0.005-0.02")
       ->capture_default_str();
   app.add_option("--reference", o.referencePaths,
                  "trace no photons: gather this many paths at every vertex and texel instead, an unbiased path-traced "

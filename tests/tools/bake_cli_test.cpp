@@ -94,7 +94,9 @@ TEST(BakeCli, OutOfRangeOptionsAreRefusedBeforeAnyWork) {
            {"--scale 1e11", "--scale"}, {"--max-bounces 10001", "--max-bounces"}, {"--exposure 0", "--exposure"},
            {"--exposure inf", "--exposure"}, {"--texel 0", "--texel"}, {"--tolerance 1", "--tolerance"},
            {"--subdivide 9", "--subdivide"}, {"--max-vertices 2", "--max-vertices"},
-           {"--target-noise 0", "--target-noise"}, {"--target-noise 0.1 --max-photons 10", "--max-photons"}}) {
+           {"--target-noise 0", "--target-noise"}, {"--target-noise 0.1 --max-photons 10", "--max-photons"},
+           {"--direct-noise 1e-5", "--direct-noise"}, {"--direct-noise 2", "--direct-noise"},
+           {"--direct-noise -0.01", "--direct-noise"}}) {
     // 4e8 photons would take minutes: a refusal in moments shows that nothing was traced first.
     const std::string photons = name == "--photons" ? "" : " --photons 400000000 ";
     const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply " + photons + option);
@@ -232,6 +234,29 @@ TEST(BakeCli, NoiseIsInEverySummaryAndItsRemedyWorks) {
     EXPECT_LE(lower, 0.02) << followed;
     EXPECT_EQ(after.find("enough to show as blotches"), std::string::npos) << after;
   }
+}
+
+// With --direct-noise the points' count follows their target, so the remedy names a lower target, and following it
+// brings the noise under 2%.
+TEST(BakeCli, WithADirectNoiseTargetTheRemedyIsALowerTarget) {
+  const std::string dir = test::TempDirectory("cli-direct-noise");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 2.0f, 20, 0.5f);
+  const auto bake = [&](const std::string& args) {
+    const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply --h 0.1 --direct-samples 65536 --report " + dir +
+                                "/r.json " + args);
+    EXPECT_EQ(run.status, 0) << run.output;
+    return std::pair{run.output, nlohmann::json::parse(test::ReadBytes(dir + "/r.json")).at("noise").get<double>()};
+  };
+  const auto [output, noise] = bake("--direct-noise 0.2");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(output, m, std::regex(R"(about --direct-noise ([0-9.e-]+) would bring it under 2%)")))
+      << output;
+  const double target = std::stod(m[1].str());
+  EXPECT_LT(target, 0.2);
+  const auto [after, lower] = bake("--direct-noise " + m[1].str());
+  std::printf("noise %.4f at --direct-noise 0.2, %.4f at the advised %g\n", noise, lower, target);
+  EXPECT_LE(lower, 0.02);
+  EXPECT_EQ(after.find("enough to show as blotches"), std::string::npos) << after;
 }
 
 // Off a terminal, every long stage prints its final line, with its rate, and every stage ends at 100%: coarsening
