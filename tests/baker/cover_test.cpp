@@ -124,6 +124,45 @@ TEST(Cover, TheBoxsBlocksCoverTheirFootprintsAndNothingElseIsCovered) {
   EXPECT_LE(covered, 0.0552595);
 }
 
+// At a kernel much wider than the mesh (h = 0.08 m over the 25 mm box), every floor vertex 1 mm or more inside a
+// block's footprint reads exactly 0: the cover lattice is at most 10 mm apart, so no footprint corner is cut past
+// a vertex. At h/2 = 40 mm the short block's corner was cut past the vertex (0.2397, 0.2674), 4.6 mm inside it,
+// which read the open floor's light.
+TEST(Cover, AWideKernelLeavesNoFloorVertexUnderTheBlocksLit) {
+  BakeOptions o;
+  o.scenePath = PB_SOURCE_DIR "/data/box/box_25mm.obj";
+  o.outputPath = test::TempDirectory("cover-wide") + "/box.ply";
+  o.photons = 200'000;
+  o.estimator.bandwidth = 0.08f;
+  Bake(o, Log(true));
+  const test::PlyData ply = test::ReadPly(o.outputPath);
+  // The published footprints [mm], counter-clockwise seen from above (cornell-box.md).
+  const std::vector<std::vector<std::pair<double, double>>> footprints = {
+      {{130, 65}, {82, 225}, {240, 272}, {290, 114}}, {{423, 247}, {265, 296}, {314, 456}, {472, 406}}};
+  const auto depthInside = [](const std::vector<std::pair<double, double>>& f, double x, double z) {
+    double depth = 1e9;  // the least signed distance to an edge's line, positive inside [mm]
+    for (size_t k = 0; k < f.size(); ++k) {
+      const auto [ax, az] = f[k];
+      const auto [bx, bz] = f[(k + 1) % f.size()];
+      const double ex = bx - ax, ez = bz - az, length = std::hypot(ex, ez);
+      depth = std::min(depth, ((x - ax) * ez - (z - az) * ex) / length);
+    }
+    return depth;
+  };
+  int under = 0;
+  for (size_t v = 0; v < ply.vertex.at("x").size(); ++v) {
+    if (ply.vertex.at("y")[v] != 0) continue;
+    const double x = 1000 * ply.vertex.at("x")[v], z = 1000 * ply.vertex.at("z")[v];
+    for (const auto& f : footprints) {
+      const double depth = std::max(depthInside(f, x, z), depthInside({f.rbegin(), f.rend()}, x, z));
+      if (depth < 1) continue;
+      ++under;
+      EXPECT_EQ(ply.vertex.at("irradiance_g")[v], 0.0) << x << ", " << z << " mm, " << depth << " mm inside";
+    }
+  }
+  EXPECT_GT(under, 80);
+}
+
 // Lambert's E at a floor point under the scene's light.
 double Lambert(double x, double z) {
   static const std::vector<test::V3> light = {{-0.25, 1, -0.25}, {0.25, 1, -0.25}, {0.25, 1, 0.25}, {-0.25, 1, 0.25}};
