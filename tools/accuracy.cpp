@@ -26,9 +26,11 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "baker/bake.h"
@@ -232,28 +234,48 @@ std::array<ObjectError, kMaxObjects> ObjectErrors(const Sample& a) {
   return sums;
 }
 
-// Runs one configuration in a child process (two seeds), so that its peak memory is its own.
-Run Measure(const std::string& scene, const Truth& truth, const Config& c, unsigned threads) {
+// Runs `work` in a child process and returns the bytes it produced, and the child's peak memory [MiB]. Every bake
+// runs in a child: its peak memory is its own, and the parent never starts TBB's worker threads, which a forked
+// child would not inherit (a child forked after them ran its bakes on about one core).
+template <class Work>
+std::string InChild(const std::string& what, Work work, double* peakMiB = nullptr) {
   int fds[2];
   if (pipe(fds) != 0) throw std::runtime_error("pipe failed");
   const pid_t child = fork();
   if (child == 0) {
     close(fds[0]);
-    const Sample a = BakeOnce(scene, truth, c, 1, threads), b = BakeOnce(scene, truth, c, 2, threads);
-    const Measured m{a.seconds, a.trace, a.estimate, Errors(a, b), ObjectErrors(a)};
-    _exit(write(fds[1], &m, sizeof m) == ssize_t(sizeof m) ? 0 : 1);
+    const std::string bytes = work();
+    for (size_t done = 0; done < bytes.size();) {
+      const ssize_t n = write(fds[1], bytes.data() + done, bytes.size() - done);
+      if (n <= 0) _exit(1);
+      done += size_t(n);
+    }
+    _exit(0);
   }
   close(fds[1]);
-  Run run;
-  run.config = c;
-  Measured& m = run;
-  const bool ok = read(fds[0], &m, sizeof m) == ssize_t(sizeof m);
+  std::string bytes;
+  char buffer[65536];
+  for (ssize_t n; (n = read(fds[0], buffer, sizeof buffer)) > 0;) bytes.append(buffer, size_t(n));
   close(fds[0]);
   int status = 0;
   rusage usage{};
   wait4(child, &status, 0, &usage);
-  if (!ok || !WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error("run failed: " + c.Label());
-  run.peakMiB = double(usage.ru_maxrss) / 1024.0;  // kilobytes on Linux
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) throw std::runtime_error("run failed: " + what);
+  if (peakMiB) *peakMiB = double(usage.ru_maxrss) / 1024.0;  // kilobytes on Linux
+  return bytes;
+}
+
+// One configuration (two seeds), in a child process.
+Run Measure(const std::string& scene, const Truth& truth, const Config& c, unsigned threads) {
+  Run run;
+  run.config = c;
+  const std::string bytes = InChild(c.Label(), [&] {
+    const Sample a = BakeOnce(scene, truth, c, 1, threads), b = BakeOnce(scene, truth, c, 2, threads);
+    const Measured m{a.seconds, a.trace, a.estimate, Errors(a, b), ObjectErrors(a)};
+    return std::string(reinterpret_cast<const char*>(&m), sizeof m);
+  }, &run.peakMiB);
+  if (bytes.size() != sizeof(Measured)) throw std::runtime_error("run failed: " + c.Label());
+  std::memcpy(static_cast<Measured*>(&run), bytes.data(), sizeof(Measured));
   return run;
 }
 
@@ -326,9 +348,52 @@ std::vector<Config> SceneConfigs(Bench bench, bool quick) {
                 {0.05f, 0.1f, 0.2f}, {64, 256}, {64, 256, 1024}, {}});
 }
 
-// A bundled scene's truth: a path-traced bake with `paths` per vertex (seed 99, unlike every measured run), its
-// predicted noise per vertex, and each vertex's object.
+// Plain bytes of a Truth, to bring it back from the child that computed it.
+template <class T>
+void Put(std::string& out, const std::vector<T>& v) {
+  const uint64_t n = v.size();
+  out.append(reinterpret_cast<const char*>(&n), sizeof n);
+  out.append(reinterpret_cast<const char*>(v.data()), n * sizeof(T));
+}
+template <class T>
+std::vector<T> Take(std::string_view& in) {
+  uint64_t n = 0;
+  std::memcpy(&n, in.data(), sizeof n);
+  std::vector<T> v(n);
+  std::memcpy(v.data(), in.data() + sizeof n, n * sizeof(T));
+  in.remove_prefix(sizeof n + n * sizeof(T));
+  return v;
+}
+std::string Serialise(const Truth& t) {
+  std::string out;
+  Put(out, t.reference), Put(out, t.variance), Put(out, t.object);
+  Put(out, std::vector<uint8_t>(t.boundary.begin(), t.boundary.end()));
+  std::string names;
+  for (const std::string& o : t.objects) names += o + '\n';
+  Put(out, std::vector<char>(names.begin(), names.end()));
+  return out;
+}
+Truth Deserialise(std::string_view in) {
+  Truth t;
+  t.reference = Take<double>(in), t.variance = Take<double>(in), t.object = Take<uint32_t>(in);
+  const std::vector<uint8_t> boundary = Take<uint8_t>(in);
+  t.boundary.assign(boundary.begin(), boundary.end());
+  const std::vector<char> names = Take<char>(in);
+  std::string name;
+  for (char ch : names) (ch == '\n') ? (t.objects.push_back(name), name.clear()) : name.push_back(ch);
+  return t;
+}
+
+Truth ComputeSceneTruth(const std::string& scene, uint32_t paths, unsigned threads);
+
+// A bundled scene's truth, computed in a child process (see InChild).
 Truth SceneTruth(const std::string& scene, uint32_t paths, unsigned threads) {
+  return Deserialise(InChild("the truth", [&] { return Serialise(ComputeSceneTruth(scene, paths, threads)); }));
+}
+
+// A path-traced bake with `paths` per vertex (seed 99, unlike every measured run), its predicted noise per vertex,
+// each vertex's object, and the vertices on a surface's boundary.
+Truth ComputeSceneTruth(const std::string& scene, uint32_t paths, unsigned threads) {
   Config c;
   c.photons = 1;
   c.referencePaths = paths;
