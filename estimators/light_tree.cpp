@@ -73,8 +73,6 @@ double LightTree::Compact::Importance(Point3 p, Normal3 n) const {
   return falloff * emitted * received;
 }
 
-double LightImportance(const LightBounds& b, Point3 p, Normal3 n) { return LightTree::Compact::Of(b).Importance(p, n); }
-
 LightTree::LightTree(const std::vector<LightBounds>& lights) {
   PB_CHECK(!lights.empty(), "a light tree holds at least one light");
   std::vector<uint32_t> order(lights.size());

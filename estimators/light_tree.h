@@ -41,9 +41,6 @@ struct NormalCone {
 };
 NormalCone UnionOfCones(NormalCone a, NormalCone b);
 
-// The importance I of bounds b at point p with normal n (see above); 0 when no light inside can reach p.
-double LightImportance(const LightBounds& b, Point3 p, Normal3 n);
-
 class LightTree {
  public:
   // lights[i] is light i; at least one, each of positive power.
@@ -63,7 +60,7 @@ class LightTree {
  private:
  public:
   // A node's bounds as the importance reads them: centre and radius of the box's bounding sphere, the cone's
-  // cosine and sine.
+  // cosine and sine. Importance(p, n) is I above; 0 when no light inside can reach p.
   struct Compact {
     Point3 centre;
     float radius;
