@@ -52,11 +52,7 @@ LightSampler::LightSampler(const Scene& scene, const std::vector<Light>& lights,
 // (floored so that a black emitter still has a leaf the tree can weigh).
 LightBounds LightSampler::BoundsOf(const LightShape& shape, const Light& light) const {
   LightBounds b;
-  b.lo = b.hi = shape.corners.front();
-  for (Point3 c : shape.corners) {
-    b.lo = {std::min(b.lo.x, c.x), std::min(b.lo.y, c.y), std::min(b.lo.z, c.z)};
-    b.hi = {std::max(b.hi.x, c.x), std::max(b.hi.y, c.y), std::max(b.hi.z, c.z)};
-  }
+  b.Enclose(shape.corners);
   Vector3 sum{0, 0, 0};
   for (uint32_t t : light.triangles) sum = sum + scene_.AreaVector(t);
   const float length = Length(sum);

@@ -46,6 +46,11 @@ NormalCone UnionOfCones(NormalCone a, NormalCone b) {
   return {Normalize(a.axis * std::cos(turn) + across * (std::sin(turn) / length)), spread};
 }
 
+void LightBounds::Enclose(const std::vector<Point3>& points) {
+  lo = hi = points.front();
+  for (Point3 p : points) lo = Min(lo, p), hi = Max(hi, p);
+}
+
 LightTree::Compact LightTree::Compact::Of(const LightBounds& b) {
   return {Centre(b), 0.5f * Length(b.hi - b.lo), b.axis, std::cos(b.spread), std::sin(b.spread), b.power};
 }
@@ -79,14 +84,17 @@ LightTree::LightTree(const std::vector<LightBounds>& lights) {
   std::iota(order.begin(), order.end(), 0u);
   leafOf_.assign(lights.size(), 0);
   nodes_.reserve(2 * lights.size() - 1);
+  std::vector<Point3> centres;
+  for (const LightBounds& b : lights) centres.push_back(Centre(b));
   LightBounds all;
-  Build(lights, order, 0, lights.size(), kInner, all);
+  Build(lights, centres, order, 0, lights.size(), kInner, all);
 }
 
 // Splits at the median centre along the axis where the centres spread most (ties by light index, so that the
 // tree is the same on every run).
-uint32_t LightTree::Build(const std::vector<LightBounds>& lights, std::vector<uint32_t>& order, size_t begin,
-                          size_t end, uint32_t parent, LightBounds& bounds) {
+uint32_t LightTree::Build(const std::vector<LightBounds>& lights, const std::vector<Point3>& centres,
+                          std::vector<uint32_t>& order, size_t begin, size_t end, uint32_t parent,
+                          LightBounds& bounds) {
   const auto self = uint32_t(nodes_.size());
   nodes_.push_back({});
   nodes_[self].parent = parent;
@@ -97,20 +105,20 @@ uint32_t LightTree::Build(const std::vector<LightBounds>& lights, std::vector<ui
     bounds = lights[order[begin]];
     return self;
   }
-  Point3 lo = Centre(lights[order[begin]]), hi = lo;
-  for (size_t i = begin; i < end; ++i) lo = Min(lo, Centre(lights[order[i]])), hi = Max(hi, Centre(lights[order[i]]));
+  Point3 lo = centres[order[begin]], hi = lo;
+  for (size_t i = begin; i < end; ++i) lo = Min(lo, centres[order[i]]), hi = Max(hi, centres[order[i]]);
   const Vector3 extent = hi - lo;
   const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
   const size_t middle = begin + (end - begin) / 2;
   std::nth_element(order.begin() + long(begin), order.begin() + long(middle), order.begin() + long(end),
                    [&](uint32_t a, uint32_t b) {
-                     const float ca = Coordinate(Centre(lights[a]), axis), cb = Coordinate(Centre(lights[b]), axis);
+                     const float ca = Coordinate(centres[a], axis), cb = Coordinate(centres[b], axis);
                      return ca < cb || (ca == cb && a < b);
                    });
   LightBounds merged;
-  const uint32_t left = Build(lights, order, begin, middle, self, merged);
+  const uint32_t left = Build(lights, centres, order, begin, middle, self, merged);
   LightBounds rightBounds;
-  const uint32_t right = Build(lights, order, middle, end, self, rightBounds);
+  const uint32_t right = Build(lights, centres, order, middle, end, self, rightBounds);
   merged = Union(merged, rightBounds);
   nodes_[self].left = left, nodes_[self].right = right;
   nodes_[self].bounds = Compact::Of(merged);

@@ -32,6 +32,8 @@ struct LightBounds {
   Vector3 axis{0, 0, 1};            // unit axis of the cone of front normals
   float spread = 0;                 // theta_o [rad], in [0, pi]; pi: any direction
   double power = 0;                 // relative weight, > 0
+  // The box of `points` (at least one); axis, spread and power are left as they are.
+  void Enclose(const std::vector<Point3>& points);
 };
 
 // The smallest cone (of the two candidates the union rule gives) holding both cones of directions.
@@ -80,8 +82,9 @@ class LightTree {
     uint32_t parent = kInner;      // kInner at the root
   };
   // Builds the node over lights order[begin, end); returns it, and its bounds in `bounds`.
-  uint32_t Build(const std::vector<LightBounds>& lights, std::vector<uint32_t>& order, size_t begin, size_t end,
-                 uint32_t parent, LightBounds& bounds);
+  // `centres` are the lights' box centres, along which the nodes split.
+  uint32_t Build(const std::vector<LightBounds>& lights, const std::vector<Point3>& centres,
+                 std::vector<uint32_t>& order, size_t begin, size_t end, uint32_t parent, LightBounds& bounds);
   // The probability of taking an inner node's left child at (p, n); -1 when neither child can reach p.
   double LeftShare(const Node& node, Point3 p, Normal3 n) const;
 

@@ -48,11 +48,7 @@ Panel RandomPanel(std::mt19937& g) {
 
 LightBounds BoundsOf(const Panel& panel) {
   LightBounds b;
-  b.lo = b.hi = panel.corners[0];
-  for (Point3 c : panel.corners) {
-    b.lo = {std::min(b.lo.x, c.x), std::min(b.lo.y, c.y), std::min(b.lo.z, c.z)};
-    b.hi = {std::max(b.hi.x, c.x), std::max(b.hi.y, c.y), std::max(b.hi.z, c.z)};
-  }
+  b.Enclose({panel.corners.begin(), panel.corners.end()});
   b.axis = panel.normal;
   b.spread = 0;
   b.power = panel.power;
