@@ -23,8 +23,8 @@ std::vector<uint32_t> Shuffled(uint32_t n, Rng& rng) {
 }  // namespace
 
 LightSampler::LightSampler(const Scene& scene, const std::vector<Light>& lights, const RayScene& rays,
-                           size_t treeFrom)
-    : scene_(scene), lights_(lights), rays_(rays) {
+                           size_t treeFrom, double solidAngleFrom)
+    : scene_(scene), lights_(lights), rays_(rays), solidAngleFrom_(solidAngleFrom) {
   for (uint32_t l = 0; l < lights.size(); ++l) (lights[l].IsArea() ? areas_ : others_).push_back(l);
   for (uint32_t l : areas_) {
     const Light& light = lights[l];
@@ -102,8 +102,43 @@ std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
   return cdf;
 }
 
-// Ke V cos cos / d^2 times the light's area, for the point of `light` that u picks (uniform over its area).
 Rgb LightSampler::SampleOne(const Light& light, Point3 p, Normal3 n, Point2 u) const {
+  const auto seen = SubtendedAt(light, p);
+  return seen ? SampleBySolidAngle(light, *seen, p, n, u) : SampleByArea(light, p, n, u);
+}
+
+std::optional<LightSampler::Subtended> LightSampler::SubtendedAt(const Light& light, Point3 p) const {
+  if (light.triangles.size() > kSolidAngleTriangles) return std::nullopt;
+  Subtended seen;
+  for (uint32_t t : light.triangles) {
+    if (!(Dot(p - scene_.Corner(t, 0), scene_.FrontNormal(t)) > 0)) continue;
+    const auto part = SphericalTriangle::From(p, scene_.Corner(t, 0), scene_.Corner(t, 1), scene_.Corner(t, 2));
+    if (!part) continue;
+    seen.parts[seen.count] = *part, seen.triangles[seen.count++] = t;
+    seen.total += part->SolidAngle();
+  }
+  if (!(seen.total >= solidAngleFrom_)) return std::nullopt;
+  return seen;
+}
+
+// Ke V cos(theta_x) Omega: a direction uniform over the light's solid angle at p (the triangle in proportion to
+// its part of it), its ray continued to the triangle's plane for the shadow ray.
+Rgb LightSampler::SampleBySolidAngle(const Light& light, const Subtended& seen, Point3 p, Normal3 n, Point2 u) const {
+  double lo = 0;
+  size_t k = 0;
+  const double target = double(u.u) * seen.total;
+  while (k + 1 < seen.count && lo + seen.parts[k].SolidAngle() <= target) lo += seen.parts[k++].SolidAngle();
+  const double within = std::clamp((target - lo) / seen.parts[k].SolidAngle(), 0.0, 1.0);
+  const Vector3 w = seen.parts[k].Sample({std::min(float(within), 0x1.fffffep-1f), u.v});
+  const uint32_t triangle = seen.triangles[k];
+  const Normal3 front = scene_.FrontNormal(triangle);
+  const float along = Dot(scene_.Corner(triangle, 0) - p, front) / Dot(w, front);
+  if (!(along > 0) || !(Dot(w, n) > 0)) return {};
+  return Unoccluded(light, p, n, p + w * along) * float(seen.total);
+}
+
+// Ke V cos cos / d^2 times the light's area, for the point of `light` that u picks (uniform over its area).
+Rgb LightSampler::SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u) const {
   const auto pick = SampleDiscreteCdf(light.triangleCdf, u.u);
   PB_CHECK(pick.has_value(), "a light has at least one triangle");
   const uint32_t triangle = light.triangles[pick->index];
@@ -112,15 +147,21 @@ Rgb LightSampler::SampleOne(const Light& light, Point3 p, Normal3 n, Point2 u) c
   const Vector3 toLight = y - p;
   const float d2 = LengthSquared(toLight);
   if (!(d2 > 0)) return {};
-  const float d = std::sqrt(d2);
-  const Vector3 w = toLight * (1.0f / d);
-  const float cosX = Dot(w, n), cosY = -Dot(w, scene_.FrontNormal(triangle));
-  if (cosX <= 0 || cosY <= 0) return {};
+  const float cosY = -Dot(toLight, scene_.FrontNormal(triangle)) / std::sqrt(d2);
+  if (cosY <= 0) return {};
+  return Unoccluded(light, p, n, y) * float(double(cosY) / d2 * light.area);
+}
+
+Rgb LightSampler::Unoccluded(const Light& light, Point3 p, Normal3 n, Point3 y) const {
+  const Vector3 toLight = y - p;
+  const float d = Length(toLight);
+  const float cosX = d > 0 ? Dot(toLight, n) / d : 0.0f;
+  if (!(cosX > 0)) return {};
   const Point3 origin = rays_.SpawnPoint(p, n);
   const Vector3 span = y - origin;
   const float length = Length(span);
   if (rays_.Occluded(origin, span * (1.0f / length), length * (1 - 1e-4f))) return {};
-  return light.radiance * float(double(cosX) * cosY / d2 * light.area);
+  return light.radiance * cosX;
 }
 
 std::optional<LightSampler::Pick> LightSampler::PickLight(const std::vector<double>& cdf, Point3 p, Normal3 n,

@@ -7,7 +7,10 @@
 // Glass and mirrors block it too: light that reaches x through them is scattered light, which the photons carry.
 //
 // Each of S samples picks light i with probability p_i, a point y uniform over its area (pdf 1 / A_i), and weighs
-// Ke V cos cos / d^2 by A_i / p_i. p_i is 90% in proportion to an unoccluded guess of the light's share at x
+// Ke V cos cos / d^2 by A_i / p_i. Where the light is large and near (it subtends kSolidAngleFrom or more at x
+// and has at most kSolidAngleTriangles triangles), the sample is a direction w uniform over the solid angle
+// Omega_i that it subtends instead (estimators/warps.h, Arvo 1995), weighed Ke V cos(theta_x) Omega_i / p_i: the
+// 1 / d^2 and cos(theta_y) factors, which vary most over a near light, leave the estimate. p_i is 90% in proportion to an unoccluded guess of the light's share at x
 // (its power over the squared distance to its centroid, floored at its area), 10% uniform over the lights that
 // can reach x, so that no light is starved by a poor guess. With kTreeLights area lights or more, p_i comes from a
 // light tree instead (estimators/light_tree.h: power, distance and orientation bounds, O(log lights) per sample),
@@ -27,12 +30,14 @@
 // point reads the same value on any thread.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
 
 #include "estimators/light_tree.h"
 #include "estimators/rng.h"
+#include "estimators/warps.h"
 #include "mesh/color.h"
 #include "mesh/geometry.h"
 #include "mesh/lights.h"
@@ -86,10 +91,15 @@ class LightSampler {
   // From this many area lights on, the light tree chooses them (below it, the exact guess over every light):
   // where the two cost about the same per point at 64 samples (build/bench_direct).
   static constexpr size_t kTreeLights = 1024;
+  // Lights of at most this many triangles that subtend at least this solid angle [sr] at a point are sampled by
+  // solid angle there (see the top).
+  static constexpr size_t kSolidAngleTriangles = 4;
+  static constexpr double kSolidAngleFrom = 0.01;
 
-  // All three must outlive the sampler. treeFrom: the number of area lights from which the tree chooses them.
+  // All three must outlive the sampler. treeFrom: the number of area lights from which the tree chooses them;
+  // solidAngleFrom: the solid angle [sr] from which a light is sampled by it (infinity: always by area).
   LightSampler(const Scene& scene, const std::vector<Light>& lights, const RayScene& rays,
-               size_t treeFrom = kTreeLights);
+               size_t treeFrom = kTreeLights, double solidAngleFrom = kSolidAngleFrom);
 
   // E_d at point p (local coordinates [m]) with unit normal n, from `samples` shadow rays drawn from `rng`.
   DirectSample Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
@@ -120,6 +130,18 @@ class LightSampler {
   std::vector<double> SelectionCdf(Point3 p, Normal3 n) const;
   bool CanReach(const LightShape& light, const Light& area, Point3 p, Normal3 n) const;
   Rgb SampleOne(const Light& light, Point3 p, Normal3 n, Point2 u) const;
+  Rgb SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u) const;
+  // The solid angle that a light's triangles subtend at p, each triangle whose front faces p.
+  struct Subtended {
+    std::array<SphericalTriangle, kSolidAngleTriangles> parts;
+    std::array<uint32_t, kSolidAngleTriangles> triangles;  // Scene::triangles indices
+    size_t count = 0;
+    double total = 0;  // [sr]
+  };
+  std::optional<Subtended> SubtendedAt(const Light& light, Point3 p) const;
+  Rgb SampleBySolidAngle(const Light& light, const Subtended& seen, Point3 p, Normal3 n, Point2 u) const;
+  // Ke V cos(theta_x) for the point y of a light: the shadow ray, which both samplers share.
+  Rgb Unoccluded(const Light& light, Point3 p, Normal3 n, Point3 y) const;
   struct Pick {
     uint32_t area;  // index into areas_
     double pmf;
@@ -139,6 +161,7 @@ class LightSampler {
   std::vector<LightShape> shapes_;  // per area light, in the order of areas_
   std::vector<uint32_t> others_;    // the other lights
   std::optional<LightTree> tree_;   // over areas_, from kTreeLights of them
+  double solidAngleFrom_;
 };
 
 }  // namespace pb

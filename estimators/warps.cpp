@@ -85,6 +85,56 @@ Point2 InvertUniformTriangle(Barycentrics b) {
   return {s * s, s > 0 ? b.b2 / s : 0.0f};
 }
 
+namespace {
+
+using D3 = std::array<double, 3>;
+D3 Of(Vector3 v) { return {v.x, v.y, v.z}; }
+D3 Minus(D3 a, D3 b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+D3 Plus(D3 a, D3 b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+D3 Times(D3 a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+double DotD(D3 a, D3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+D3 CrossD(D3 a, D3 b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+double NormD(D3 a) { return std::sqrt(DotD(a, a)); }
+D3 UnitD(D3 a) {
+  const double n = NormD(a);
+  return n > 0 ? Times(a, 1 / n) : D3{0, 0, 0};
+}
+// The unit component of `to` orthogonal to the unit `from`: the direction in which the arc from `from` leaves it.
+D3 Tangent(D3 from, D3 to) { return UnitD(Minus(to, Times(from, DotD(to, from)))); }
+// The angle at corner a of the spherical triangle (a, b, c): between the arcs to b and to c.
+double CornerAngle(D3 a, D3 b, D3 c) { return std::acos(std::clamp(DotD(Tangent(a, b), Tangent(a, c)), -1.0, 1.0)); }
+
+}  // namespace
+
+std::optional<SphericalTriangle> SphericalTriangle::From(Point3 p, Point3 v0, Point3 v1, Point3 v2) {
+  const D3 a = UnitD(Of(v0 - p)), b = UnitD(Of(v1 - p)), c = UnitD(Of(v2 - p));
+  const double triple = std::fabs(DotD(a, CrossD(b, c)));
+  const double area = 2 * std::atan2(triple, 1 + DotD(a, b) + DotD(b, c) + DotD(c, a));
+  if (!(area > 1e-9)) return std::nullopt;
+  SphericalTriangle t;
+  t.a_ = a, t.b_ = b, t.c_ = c;
+  t.area_ = area;
+  t.alpha_ = CornerAngle(a, b, c);
+  if (!(std::sin(t.alpha_) > 0)) return std::nullopt;
+  return t;
+}
+
+Vector3 SphericalTriangle::Sample(Point2 u) const {
+  const D3& a = a_;
+  const D3& b = b_;
+  const D3& c = c_;
+  // The sub-triangle (a, b, c') of area u.u * Omega: c' on the arc from a to c, by Arvo's closed form.
+  const double s = std::sin(double(u.u) * area_ - alpha_), t = std::cos(double(u.u) * area_ - alpha_);
+  const double cosAlpha = std::cos(alpha_), sinAlpha = std::sin(alpha_), cosC = DotD(a, b);
+  const double du = t - cosAlpha, dv = s + sinAlpha * cosC;
+  const double q = std::clamp(((dv * t - du * s) * cosAlpha - dv) / ((dv * s + du * t) * sinAlpha), -1.0, 1.0);
+  const D3 cPrime = Plus(Times(a, q), Times(Tangent(a, c), std::sqrt(std::max(0.0, 1 - q * q))));
+  // Then a point on the arc from b to c', uniform in the area it sweeps: its cosine to b is linear in u.v.
+  const double z = 1 - double(u.v) * (1 - DotD(cPrime, b));
+  const D3 w = UnitD(Plus(Times(b, z), Times(Tangent(b, cPrime), std::sqrt(std::max(0.0, 1 - z * z)))));
+  return {float(w[0]), float(w[1]), float(w[2])};
+}
+
 std::optional<DiscreteSample> SampleDiscreteCdf(std::span<const double> cdf, float u) {
   if (cdf.empty()) return std::nullopt;
   const auto it = std::upper_bound(cdf.begin(), cdf.end(), double(u));

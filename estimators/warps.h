@@ -3,6 +3,7 @@
 // unit solid angle [1/sr]. Directions are in a local frame whose z axis is the surface normal.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -44,6 +45,23 @@ struct Barycentrics {
 };
 Barycentrics SampleUniformTriangle(Point2 u);
 Point2 InvertUniformTriangle(Barycentrics b);
+
+// Arvo 1995, "Stratified sampling of spherical triangles" (SIGGRAPH): directions uniform over the solid angle
+// that a triangle subtends at a point, pdf = 1 / Omega [1/sr]. The map is area-preserving (u.u picks the area of
+// a sub-triangle, u.v a point along an arc of it), so strata of the square stay strata of the solid angle.
+// Omega = 2 atan2(|a . (b x c)|, 1 + a.b + b.c + c.a) for the unit directions a, b, c to the corners
+// (Van Oosterom and Strackee 1983). Everything is computed in double precision; From() refuses a triangle whose
+// solid angle is below 1e-9 sr or whose point lies in its plane.
+class SphericalTriangle {
+ public:
+  static std::optional<SphericalTriangle> From(Point3 p, Point3 v0, Point3 v1, Point3 v2);
+  double SolidAngle() const { return area_; }  // [sr]
+  Vector3 Sample(Point2 u) const;              // unit, world frame
+
+ private:
+  std::array<double, 3> a_{}, b_{}, c_{};  // unit directions to the corners
+  double area_ = 0, alpha_ = 0;             // Omega, and the angle at a between the arcs to b and c
+};
 
 // Picks index i with probability (cdf[i] - cdf[i-1]) from a non-decreasing CDF whose last entry is 1.
 // Returns the index, its probability (pmf, dimensionless) and u rescaled to [0,1) within the chosen interval,

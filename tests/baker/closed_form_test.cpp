@@ -262,7 +262,9 @@ TEST(ClosedForm, LocalLinearRemovesTheEdgesGradientBias) {
   EXPECT_LT(std::fabs(EdgeBias(linear)), 0.01) << "local linear";
   EXPECT_GT(EdgeBias(renormalised), 0.02) << "renormalisation's bias, which local linear removes";
   for (size_t i = 0; i < linear.H.size(); ++i)
-    if (std::fabs(linear.x[i]) < 0.89 && std::fabs(linear.z[i]) < 0.89) ASSERT_EQ(linear.H[i], renormalised.H[i]) << i;
+    if (std::fabs(linear.x[i]) < 0.89 && std::fabs(linear.z[i]) < 0.89) {
+      ASSERT_EQ(linear.H[i], renormalised.H[i]) << i;
+    }
 }
 
 }  // namespace

@@ -57,8 +57,12 @@ TEST(Energy, BounceLimitStoresTheTruncatedNeumannSeries) {
     const double balanceSigma = std::sqrt(rho / ((1 - rho) * double(o.photons)));  // the absorbed tally's, above
     EXPECT_NEAR((t.fluxAbsorbed.g + t.fluxEscaped.g + t.fluxForbidden.g) / t.fluxEmitted.g, 1.0, 5 * balanceSigma)
         << bounces << " bounces";
-    if (bounces < 3) EXPECT_GT(t.truncated, 0u);
-    if (bounces == kDefaultMaxBounces) EXPECT_EQ(t.truncated, 0u);
+    if (bounces < 3) {
+      EXPECT_GT(t.truncated, 0u);
+    }
+    if (bounces == kDefaultMaxBounces) {
+      EXPECT_EQ(t.truncated, 0u);
+    }
   }
 }
 

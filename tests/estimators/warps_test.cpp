@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "estimators/rng.h"
@@ -60,6 +61,75 @@ TEST(Warps, UniformTriangleMatchesItsPdf) {
   }
   const test::Chi2Result r = test::Chi2Test(observed, expected);
   EXPECT_GT(r.pValue, kSignificance) << "chi2 " << r.statistic << "\n" << r.histograms;
+}
+
+// The sub-triangle (of n^2, from splitting each side into n) that barycentrics (b1, b2) fall in: the upward
+// triangle of cell (i, j) is 2 (i n + j), the downward one 2 (i n + j) + 1.
+int SubTriangle(double b1, double b2, int n) {
+  const int i = std::clamp(int(b1 * n), 0, n - 1), j = std::clamp(int(b2 * n), 0, n - 1);
+  const bool down = b1 * n - i + (b2 * n - j) > 1 && i + j + 2 <= n;
+  return 2 * (i * n + j) + (down ? 1 : 0);
+}
+
+// Directions from p toward triangle (v0, v1, v2) against the solid angle of each of its n^2 sub-triangles.
+void ExpectUniformOverSolidAngle(Point3 p, Point3 v0, Point3 v1, Point3 v2, uint64_t seed) {
+  constexpr int n = 8;
+  const auto sphere = SphericalTriangle::From(p, v0, v1, v2);
+  ASSERT_TRUE(sphere.has_value());
+  const auto at = [&](double b1, double b2) { return v0 + (v1 - v0) * float(b1) + (v2 - v0) * float(b2); };
+  std::vector<double> observed(2 * n * n, 0), expected(2 * n * n, 0);
+  double total = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      const double s = 1.0 / n;
+      const auto up = SphericalTriangle::From(p, at(i * s, j * s), at((i + 1) * s, j * s), at(i * s, (j + 1) * s));
+      total += expected[2 * (i * n + j)] = up ? up->SolidAngle() : 0.0;
+      if (i + j + 2 > n) continue;
+      const auto down =
+          SphericalTriangle::From(p, at((i + 1) * s, j * s), at((i + 1) * s, (j + 1) * s), at(i * s, (j + 1) * s));
+      total += expected[2 * (i * n + j) + 1] = down ? down->SolidAngle() : 0.0;
+    }
+  ASSERT_NEAR(total, sphere->SolidAngle(), 1e-6 * sphere->SolidAngle());
+  for (double& e : expected) e *= kSamples / total;
+  // Each direction meets the triangle's plane inside the triangle: solve p + t w = v0 + b1 e1 + b2 e2.
+  const Vector3 e1 = v1 - v0, e2 = v2 - v0, normal = Cross(e1, e2);
+  Rng rng(seed, 0);
+  for (int s = 0; s < kSamples; ++s) {
+    const Vector3 w = sphere->Sample(rng.Uniform2());
+    ASSERT_NEAR(LengthSquared(w), 1.0f, 1e-5f);
+    const double t = double(Dot(v0 - p, normal)) / Dot(w, normal);
+    ASSERT_GT(t, 0);
+    const Vector3 r = (p + w * float(t)) - v0;
+    const double d = Dot(Cross(e1, e2), normal);
+    const double b1 = Dot(Cross(r, e2), normal) / d, b2 = Dot(Cross(e1, r), normal) / d;
+    ASSERT_GT(b1, -1e-3);
+    ASSERT_GT(b2, -1e-3);
+    ASSERT_LT(b1 + b2, 1 + 1e-3);
+    observed[SubTriangle(b1, b2, n)] += 1;
+  }
+  const test::Chi2Result r = test::Chi2Test(observed, expected);
+  EXPECT_GT(r.pValue, kSignificance) << "chi2 " << r.statistic << " dof " << r.degreesOfFreedom << "\n" << r.histograms;
+}
+
+TEST(Warps, SphericalTriangleIsUniformOverItsSolidAngle) {
+  const Point3 v0{0, 0, 0}, v1{1, 0, 0}, v2{0.2f, 1, 0};
+  ExpectUniformOverSolidAngle({0.3f, 0.3f, 1}, v0, v1, v2, 6);        // a light above the point
+  ExpectUniformOverSolidAngle({0.4f, 0.3f, 0.02f}, v0, v1, v2, 7);    // nearly the whole hemisphere
+  ExpectUniformOverSolidAngle({2, -1, 0.3f}, v0, v1, v2, 8);          // seen at a grazing angle, off to the side
+  ExpectUniformOverSolidAngle({0.3f, 0.3f, 150}, v0, v1, v2, 9);      // small and far: about 2e-5 sr
+}
+
+TEST(Warps, SphericalTriangleSolidAngleMatchesClosedForms) {
+  // An octant: the corners on the three axes subtend 4 pi / 8 from the origin.
+  const auto octant = SphericalTriangle::From({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+  ASSERT_TRUE(octant.has_value());
+  EXPECT_NEAR(octant->SolidAngle(), M_PI / 2, 1e-9);
+  // A far triangle: its area times the cosine over the squared distance.
+  const auto far = SphericalTriangle::From({0, 0, 100}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  ASSERT_TRUE(far.has_value());
+  EXPECT_NEAR(far->SolidAngle(), 0.5 / (100.0 * 100.0), 1e-3 * 0.5e-4);
+  // A point in the triangle's plane sees no solid angle.
+  EXPECT_FALSE(SphericalTriangle::From({5, 5, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}).has_value());
 }
 
 TEST(Warps, DiscreteCdfMatchesItsPmf) {
