@@ -166,7 +166,9 @@ std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<Light>& ligh
     for (size_t i; !InterruptRequested() && (i = next++) < work.size();) {
       const WorkItem& w = work[i];
       Block& block = blocks[w.block];
-      block.hits.reserve(kBlockPhotons * 3);  // ~2.5 hits per photon in a box: growth copies are rare
+      // ~2.5 hits per photon in a box: growth copies are rare. In proportion to the block's photons, so that a
+      // light of a few photons (one of 100,000 LEDs) costs a few hits' memory, not a full block's.
+      block.hits.reserve(block.hits.size() + (w.range.end - w.from) * 3);
       for (uint64_t j = w.from; j < w.range.end; ++j) {
         Rng rng(seed, PhotonStream(w.range.light, j));
         tracer.Trace(lights[w.range.light], rng, block);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -91,21 +92,45 @@ std::vector<std::string> BandwidthWarnings(const IrradianceField& field, const S
   return warnings;
 }
 
-// Warns about each light that reaches the scene but got no photon: its share n Phi_l / Phi is below one, so its
-// light is missing from the bake.
-std::vector<std::string> UnlitLightWarnings(const PreparedScene& scene, const PhotonStore& photons) {
-  std::vector<std::string> warnings;
-  double total = 0;
-  for (size_t l = 0; l < scene.lights.size(); ++l) total += scene.plan.lightReaches[l] ? scene.lights[l].Power().Mean() : 0;
+// Warns about the lights that reach the scene but got no photon: their share n Phi_l / Phi is below one, so their
+// light is missing from the bake (with --direct sampled, only their interreflected light). Up to kNamedUnlit
+// lights are named one by one; more make one line: how many, the flux they carry, and the brightest of them.
+constexpr size_t kNamedUnlit = 3;
+
+// "the light of material 'NAME' (P W" and what follows in `rest`, then ")".
+std::string UnlitLightName(const PreparedScene& scene, const Light& light, const std::string& rest = "") {
+  const std::string which = light.IsArea() ? "the light of material" : fmt::format("the {} light", LightKindName(light.kind));
+  return fmt::format("{} '{}' ({:.3g} W{})", which, LightName(scene.scene, light), light.Power().Mean(), rest);
+}
+
+std::vector<std::string> UnlitLightWarnings(const PreparedScene& scene, const PhotonStore& photons, bool sampled) {
+  double total = 0, unlitFlux = 0, weakest = INFINITY;
+  std::vector<size_t> unlit;
   for (size_t l = 0; l < scene.lights.size(); ++l) {
-    if (!scene.plan.lightReaches[l] || photons.emitted[l] > 0) continue;
-    const Light& light = scene.lights[l];
-    const std::string which = light.IsArea() ? "the light of material" : fmt::format("the {} light", LightKindName(light.kind));
-    warnings.push_back(fmt::format("{}: warning: {} '{}' ({:.3g} W of {:.3g} W) got no photon, so "
-                                   "its light is missing; raise --photons to at least {:.0f}", scene.scene.path,
-                                   which, LightName(scene.scene, light),
-                                   light.Power().Mean(), total, std::ceil(total / light.Power().Mean())));
+    if (!scene.plan.lightReaches[l]) continue;
+    const double power = scene.lights[l].Power().Mean();
+    total += power;
+    if (photons.emitted[l] > 0) continue;
+    unlit.push_back(l), unlitFlux += power, weakest = std::min(weakest, power);
   }
+  const std::string missing = sampled ? "interreflected light is missing (the direct light is sampled)" : "light is missing";
+  std::vector<std::string> warnings;
+  if (unlit.size() <= kNamedUnlit) {
+    for (size_t l : unlit)
+      warnings.push_back(fmt::format("{}: warning: {} got no photon, so its {}; raise --photons to at least {:.0f}",
+                                     scene.scene.path, UnlitLightName(scene, scene.lights[l], fmt::format(" of {:.3g} W", total)),
+                                     missing, std::ceil(total / scene.lights[l].Power().Mean())));
+    return warnings;
+  }
+  std::stable_sort(unlit.begin(), unlit.end(), [&](size_t a, size_t b) {
+    return scene.lights[a].Power().Mean() > scene.lights[b].Power().Mean();
+  });
+  std::string brightest;
+  for (size_t i = 0; i < kNamedUnlit; ++i) brightest += (i ? ", " : "") + UnlitLightName(scene, scene.lights[unlit[i]]);
+  warnings.push_back(fmt::format("{}: warning: {} of {} lights got no photon: {:.3g} W of {:.3g} W ({:.2g}% of the "
+                                 "flux), so their {}; the brightest: {}; raise --photons to at least {:.0f} for every "
+                                 "light to get one", scene.scene.path, unlit.size(), scene.lights.size(), unlitFlux,
+                                 total, 100 * unlitFlux / total, missing, brightest, std::ceil(total / weakest)));
   return warnings;
 }
 
@@ -221,7 +246,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs) 
   Lit lit = TraceAndEstimate(scene, o, outputs, clock, log);
   const IrradianceField& field = *lit.field;
   if (o.referencePaths == 0) {  // warnings about the photons
-    journal.Warn(UnlitLightWarnings(scene, lit.photons), log);
+    journal.Warn(UnlitLightWarnings(scene, lit.photons, o.direct.mode == DirectLight::kSampled), log);
     journal.Warn(BandwidthWarnings(field, lit.bins, o.estimator.kind), log);
   }
   journal.Warn(VisibleNoiseWarnings(o, lit), log);

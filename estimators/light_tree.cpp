@@ -52,11 +52,15 @@ void LightBounds::Enclose(const std::vector<Point3>& points) {
 }
 
 LightTree::Compact LightTree::Compact::Of(const LightBounds& b) {
-  return {Centre(b), 0.5f * Length(b.hi - b.lo), b.axis, std::cos(b.spread), std::sin(b.spread), b.power};
+  return {Centre(b), 0.5f * Length(b.hi - b.lo), (b.hi - b.lo) * 0.5f, b.axis, std::cos(b.spread), std::sin(b.spread),
+          b.power};
 }
 
 double LightTree::Compact::Importance(Point3 p, Normal3 n) const {
   const Vector3 v = p - centre;
+  // How far the box reaches in front of p's plane: its support along n.
+  const float inFront = -Dot(v, n) + std::fabs(half.x * n.x) + std::fabs(half.y * n.y) + std::fabs(half.z * n.z);
+  if (!(inFront > 0)) return 0.0;
   const float d2 = LengthSquared(v);
   const double falloff = power / std::max(double(d2), double(radius) * radius);
   if (!(d2 > radius * radius)) return falloff;  // p inside the bounding sphere: every direction is possible

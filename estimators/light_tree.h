@@ -61,11 +61,14 @@ class LightTree {
 
  private:
  public:
-  // A node's bounds as the importance reads them: centre and radius of the box's bounding sphere, the cone's
-  // cosine and sine. Importance(p, n) is I above; 0 when no light inside can reach p.
+  // A node's bounds as the importance reads them: centre and radius of the box's bounding sphere, the box's
+  // half extents, the cone's cosine and sine. Importance(p, n) is I above; 0 when no light inside can reach p,
+  // and 0 when the whole box lies on or behind p's tangent plane (which the sphere alone cannot tell: lamps in
+  // the plane of a point among them, an LED ceiling's own vertices, would each be visited to find nothing).
   struct Compact {
     Point3 centre;
     float radius;
+    Vector3 half;
     Vector3 axis;
     float cosSpread, sinSpread;
     double power;

@@ -5,6 +5,7 @@
 //  - chi-square: the lights that uniform u's choose follow Pmf;
 //  - conservative bounds: every light with a point in front of the receiver that faces it has pmf > 0, so the
 //    choice is unbiased;
+//  - lamps on a point's tangent plane are ruled out at the root;
 //  - stratified u's stay stratified: S evenly spaced u's choose each light within one of S times its pmf;
 //  - closed form: 400 small lights of radiances over three decades over a black floor (a tree of 799 nodes): the
 //    sampled E_d at 100 floor points matches the sum of Lambert's formula over the lights within 5 of its predicted
@@ -158,6 +159,26 @@ TEST(LightTree, EveryLightThatCanReachAPointCanBeChosen) {
     }
   }
   EXPECT_GT(checked, 10'000);
+}
+
+// Lamps in one plane facing down (an LED ceiling): a point among them, facing down too, has every lamp on its
+// tangent plane and none in front, so the tree rules them all out at the root instead of descending to each;
+// 1 mm below, facing up, every lamp can reach it.
+TEST(LightTree, LampsInAPointsTangentPlaneAreRuledOutAtTheRoot) {
+  std::vector<LightBounds> lamps;
+  for (int i = 0; i < 32; ++i)
+    for (int j = 0; j < 32; ++j) {
+      LightBounds b;
+      b.Enclose({{0.1f * i, 2, 0.1f * j}, {0.1f * i + 0.02f, 2, 0.1f * j + 0.02f}});
+      b.axis = {0, -1, 0};
+      b.power = 1;
+      lamps.push_back(b);
+    }
+  const LightTree tree(lamps);
+  EXPECT_FALSE(tree.AnyCanReach({1.51f, 2, 1.51f}, {0, -1, 0}));
+  EXPECT_FALSE(tree.Choose({1.51f, 2, 1.51f}, {0, -1, 0}, 0.5f).has_value());
+  EXPECT_TRUE(tree.AnyCanReach({1.51f, 1.999f, 1.51f}, {0, 1, 0}));
+  for (uint32_t l = 0; l < lamps.size(); ++l) ASSERT_GT(tree.Pmf({1.51f, 1.999f, 1.51f}, {0, 1, 0}, l), 0) << l;
 }
 
 TEST(LightTree, StratifiedNumbersStayStratifiedOverTheLights) {

@@ -1,5 +1,6 @@
 // The bake command as a user runs it: exit status, messages that name file:line, no output left behind on
 // error, --help that documents units, and byte-identical output for 1 and 2 threads.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -559,10 +560,38 @@ TEST(BakeCli, ALightThatGetsNoPhotonIsWarnedAbout) {
   const std::string scene = test::WriteTwoLamps(dir);
   const BakeRun few = RunBake(scene + " -o " + dir + "/out.ply --photons 3");  // light a: floor(3/4) = 0
   ASSERT_EQ(few.status, 0) << few.output;
-  EXPECT_NE(few.output.find("warning: the light of material 'a' (3.14 W of 12.6 W) got no photon, so its light is "
-                            "missing; raise --photons to at least 4"), std::string::npos) << few.output;
+  EXPECT_NE(few.output.find("warning: the light of material 'a' (3.14 W of 12.6 W) got no photon, so its "
+                            "interreflected light is missing (the direct light is sampled); raise --photons to at "
+                            "least 4"), std::string::npos) << few.output;
+  const BakeRun photonsOnly = RunBake(scene + " -o " + dir + "/out.ply --photons 3 --direct photons");
+  EXPECT_NE(photonsOnly.output.find("(3.14 W of 12.6 W) got no photon, so its light is missing; raise --photons to "
+                                    "at least 4"), std::string::npos) << photonsOnly.output;
   const BakeRun enough = RunBake(scene + " -o " + dir + "/out.ply --photons 4");
   EXPECT_EQ(enough.output.find("got no photon"), std::string::npos) << enough.output;
+}
+
+// Many such lights make one line, not one each: how many, their flux and share of it, and the brightest three.
+// 100 lamps of equal area over three decades of radiance at 50 photons: a lamp gets floor(50 L / sum L) photons.
+TEST(BakeCli, ManyLightsWithoutPhotonsAreSummarisedInOneLine) {
+  const std::string dir = test::TempDirectory("cli-unlit-many");
+  constexpr int kSide = 10;
+  const std::string scene = test::WriteLampGrid(dir, kSide, 0.2f, 0.05f, 1.0f, 3.0f);
+  double total = 0, dark = 0;
+  int unlit = 0;
+  for (int i = 0; i < kSide; ++i)
+    for (int j = 0; j < kSide; ++j) total += test::LampGridRadiance(i, j);
+  for (int i = 0; i < kSide; ++i)
+    for (int j = 0; j < kSide; ++j)
+      if (std::floor(50 * test::LampGridRadiance(i, j) / total) == 0) ++unlit, dark += test::LampGridRadiance(i, j);
+  const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply --photons 50 --direct-samples 4");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const size_t first = run.output.find("got no photon");
+  ASSERT_NE(first, std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("got no photon", first + 1), std::string::npos) << "one line\n" << run.output;
+  EXPECT_NE(run.output.find(fmt::format("warning: {} of {} lights got no photon", unlit, kSide * kSide)),
+            std::string::npos) << run.output;
+  EXPECT_NE(run.output.find(fmt::format("({:.2g}% of the flux)", 100 * dark / total)), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("; the brightest: the light of material"), std::string::npos) << run.output;
 }
 
 TEST(BakeCli, ResumeAndTargetNoiseAreReported) {

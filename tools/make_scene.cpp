@@ -1,0 +1,87 @@
+// make-scene: writes the large scenes that the scaling measurements bake (README, "Scale"), as OBJ and MTL.
+//   led-room:  a grey room (Kd 0.5; 10 x 3 x 10 m, y up) under an LED ceiling of --lamps lamps, each one
+//              emissive triangle (a right triangle of legs 2 cm) facing down 1 cm under the ceiling, in a square
+//              grid, their radiance over three decades (20 levels, log-uniform, 10^(3 k / 19) W/(m^2 sr)).
+//   one-light: the same room under one 1 x 1 m light of the LED ceiling's total flux, at the same height: the
+//              baseline that the ceiling's bake time is measured against.
+// Usage: make-scene led-room|one-light --lamps N --out DIR; prints the OBJ's path.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+constexpr double kRoom = 10, kHeight = 3, kLeg = 0.02, kBelowCeiling = 0.01;
+constexpr int kLevels = 20;
+
+double LevelRadiance(int level) { return std::pow(10.0, 3.0 * level / (kLevels - 1)); }
+
+// The lamp's level: a fixed scramble of its index, so that neighbouring lamps differ.
+int LampLevel(uint64_t lamp) { return int((lamp * 2654435761u >> 7) % kLevels); }
+
+// Floor, ceiling and four walls, each facing into the room.
+std::string Room() {
+  const double r = kRoom / 2, h = kHeight;
+  std::string obj = "mtllib room.mtl\nusemtl grey\n";
+  const double corners[8][3] = {{-r, 0, -r}, {r, 0, -r}, {r, 0, r}, {-r, 0, r},
+                                {-r, h, -r}, {r, h, -r}, {r, h, r}, {-r, h, r}};
+  for (const auto& c : corners) obj += fmt::format("v {} {} {}\n", c[0], c[1], c[2]);
+  obj += "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  return obj;
+}
+
+void Write(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"make-scene: the large scenes of the scaling measurements (photonbake)"};
+  std::string kind = "led-room", out = "out/scene";
+  uint64_t lamps = 100000;
+  app.add_option("kind", kind, "led-room or one-light")->check(CLI::IsMember({"led-room", "one-light"}));
+  app.add_option("--lamps", lamps, "lamps of the LED ceiling (one-light: whose flux it carries)")->capture_default_str();
+  app.add_option("--out", out, "folder for room.obj and room.mtl")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  std::filesystem::create_directories(out);
+
+  std::string mtl = "newmtl grey\nKd 0.5 0.5 0.5\n";
+  std::string obj = Room();
+  const auto side = uint64_t(std::ceil(std::sqrt(double(lamps))));
+  const double pitch = 0.9 * kRoom / double(side), y = kHeight - kBelowCeiling;
+  double flux = 0;  // sum of Ke A over the lamps [W/sr]
+  for (uint64_t lamp = 0; lamp < lamps; ++lamp) flux += LevelRadiance(LampLevel(lamp)) * kLeg * kLeg / 2;
+  if (kind == "one-light") {
+    mtl += fmt::format("newmtl light\nKd 0 0 0\nKe {0} {0} {0}\n", flux);  // 1 m^2
+    obj += fmt::format("usemtl light\nv -0.5 {0} -0.5\nv 0.5 {0} -0.5\nv 0.5 {0} 0.5\nv -0.5 {0} 0.5\n"
+                       "f 9 10 11 12\n", y);
+  } else {
+    for (int level = 0; level < kLevels; ++level)
+      mtl += fmt::format("newmtl lamp_{0}\nKd 0 0 0\nKe {1} {1} {1}\n", level, LevelRadiance(level));
+    uint64_t vertex = 9;
+    for (int level = 0; level < kLevels; ++level) {  // grouped by material, as exporters write them
+      obj += fmt::format("usemtl lamp_{}\n", level);
+      for (uint64_t lamp = 0; lamp < lamps; ++lamp) {
+        if (LampLevel(lamp) != level) continue;
+        const double x = (double(lamp % side) - 0.5 * double(side - 1)) * pitch;
+        const double z = (double(lamp / side) - 0.5 * double(side - 1)) * pitch;
+        // Counter-clockwise seen from below: facing down.
+        obj += fmt::format("v {} {} {}\nv {} {} {}\nv {} {} {}\nf {} {} {}\n", x, y, z, x + kLeg, y, z, x, y,
+                           z + kLeg, vertex, vertex + 1, vertex + 2);
+        vertex += 3;
+      }
+    }
+  }
+  Write(out + "/room.mtl", mtl);
+  Write(out + "/room.obj", obj);
+  fmt::print("{}/room.obj: {} (total Ke A {:.4g} W/sr, flux {:.4g} W)\n", out,
+             kind == "one-light" ? std::string("one light") : fmt::format("{} lamps", lamps), flux, M_PI * flux);
+}
