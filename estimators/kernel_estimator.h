@@ -14,6 +14,19 @@
 // Inside the surface m1 = 0 and it is the plain estimate. Where the fit is ill-conditioned (m0 - c . m1 below
 // 1% of m0, a needle-sharp corner) renormalisation is used instead. Negative channels (possible with weights
 // 1 - c . d_j < 0 on steep light) are clamped to 0.
+//
+// Dense photons are binned (Binning::kAuto): where a surface holds at least kBinnedPhotonsPerNode photons per
+// node of a grid of spacing h / kNodesPerH, each photon's flux is shared among the four nodes around it by
+// bilinear weights (linear binning; Wand and Jones 1995, "Kernel Smoothing", ch. 3 appendix), and the sums run
+// over the nodes within h instead of the photons: sum_n W_n k(n - x). That is the exact sum with each photon's
+// kernel value replaced by its bilinear interpolation from the nodes, so the error is second order in the
+// spacing and the cost per point is about pi kNodesPerH^2 nodes, whatever the photon density. The boundary
+// correction's mass and moments then come from the surface's coverage mask binned onto the same nodes (its exact
+// area per half-spacing cell, SurfaceRegion::GridOverlapAreas), not from the boundary integral: numerator and
+// denominator share the binning's error, which then cancels, and no boundary edge is visited per point. The noise
+// sums use each node's share of the photons' squared luminance. The photon arrays are not kept. Kernels that step
+// at their rim (uniform, the truncated Gaussian) are not binned: their error would be first order; nor are
+// surfaces narrower than 2 h, too few nodes across for the fit at their edges.
 #pragma once
 
 #include <cmath>
@@ -32,11 +45,17 @@ namespace pb {
 
 class KernelEstimator final : public DensityEstimator {
  public:
+  enum class Binning { kAuto, kExact, kBinned };
+  static constexpr int kNodesPerH = 8;
+  static constexpr double kBinnedPhotonsPerNode = 2.0;
+
   // h: bandwidth [m], > 0. The photon arrays are copied, reordered by cell. `correction`: the surface's region
   // for boundary correction (must outlive this), or null for none.
   // `localLinear`: at the boundary, fit locally linear (above) rather than only renormalise.
+  // `binning`: kAuto bins dense photons (above), kExact never, kBinned always.
   KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> flux, float h, Kernel kernel,
-                  const SurfaceRegion* correction, bool localLinear = false);
+                  const SurfaceRegion* correction, bool localLinear = false, Binning binning = Binning::kAuto);
+  bool Binned() const { return !nodeFlux_.empty(); }
 
   // H at chart point x [W/m^2]. Sums in a fixed order, so the result is reproducible bit for bit.
   Rgb Estimate(Point2 x) const override;
@@ -64,6 +83,11 @@ class KernelEstimator final : public DensityEstimator {
   // kNoise, also the noise sums of those weights.
   template <bool kNoise, bool kLinear, typename Profile>
   Rgb ProfileSum(Point2 x, Profile profile, NoiseSums& noise, LinearFit fit) const;
+  // Binned: the grid of nodes, the coverage mask, and H with its noise from them.
+  void Bin(std::span<const Point2> uv, std::span<const Rgb> flux, Bounds2 bounds);
+  void BinCoverage();
+  template <bool kNoise, typename Profile>
+  WithNoise EvaluateBinned(Point2 x, Profile profile) const;
   // H and its noise at x (the noise sums only with kNoise).
   template <bool kNoise>
   WithNoise Evaluate(Point2 x) const;
@@ -82,6 +106,13 @@ class KernelEstimator final : public DensityEstimator {
   std::vector<uint32_t> cellStart_;  // CSR: photons of cell c are [cellStart_[c], cellStart_[c+1])
   std::vector<Point2> uv_;
   std::vector<Rgb> photonFlux_;
+  // Binned: nodes lo_ + (i, j) spacing_, i in [0, nodesU_), j in [0, nodesV_), row by row.
+  bool empty_ = true;
+  float spacing_ = 0;
+  int nodesU_ = 0, nodesV_ = 0;
+  std::vector<Rgb> nodeFlux_;        // [W]
+  std::vector<float> nodeSquares_;   // sum of the bilinear share times luminance(phi_j)^2 [W^2]
+  std::vector<float> nodeArea_;      // A_n [m^2]: the surface's area binned to node n (with a correction)
 };
 
 }  // namespace pb
