@@ -39,6 +39,8 @@ LightSampler::LightSampler(const Scene& scene, const std::vector<Light>& lights,
           if (b1 + b2 <= 1) shape.corners.push_back(scene.PointAt(t, b1, b2));
     }
     shape.centroid = {weighted.x, weighted.y, weighted.z};
+    for (const Point3& corner : shape.corners) shape.radius = std::max(shape.radius, Length(corner - shape.centroid));
+    shape.radius *= 1.0001f;  // rounding must not shrink it
     shape.power = Luminance(light.radiance) * light.area;
     shapes_.push_back(std::move(shape));
   }
@@ -102,35 +104,44 @@ std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
   return cdf;
 }
 
-Rgb LightSampler::SampleOne(const Light& light, Point3 p, Normal3 n, Point2 u) const {
-  const auto seen = SubtendedAt(light, p);
-  return seen ? SampleBySolidAngle(light, *seen, p, n, u) : SampleByArea(light, p, n, u);
+Rgb LightSampler::SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const {
+  const Light& light = lights_[areas_[area]];
+  if (cache.lights.empty()) {
+    const auto seen = SubtendedAt(area, p, cache.triangles);
+    return seen ? SampleBySolidAngle(light, *seen, p, n, u) : SampleByArea(light, p, n, u);
+  }
+  auto& seen = cache.lights[area];
+  if (!seen) seen = SubtendedAt(area, p, cache.triangles);
+  return *seen ? SampleBySolidAngle(light, **seen, p, n, u) : SampleByArea(light, p, n, u);
 }
 
-std::optional<LightSampler::Subtended> LightSampler::SubtendedAt(const Light& light, Point3 p) const {
-  if (light.triangles.size() > kSolidAngleTriangles) return std::nullopt;
+std::optional<LightSampler::Subtended> LightSampler::SubtendedAt(size_t area, Point3 p, size_t triangles) const {
+  const Light& light = lights_[areas_[area]];
+  const LightShape& shape = shapes_[area];
+  if (light.triangles.size() > triangles) return std::nullopt;
+  // The sphere that holds the light subtends 2 pi (1 - cos) with sin = r / d, at least the light's solid angle.
+  const double d2 = LengthSquared(p - shape.centroid), r2 = double(shape.radius) * shape.radius;
+  if (d2 > r2 && 2 * kPi * (1 - std::sqrt(1 - r2 / d2)) < solidAngleFrom_) return std::nullopt;
   Subtended seen;
   for (uint32_t t : light.triangles) {
     if (!(Dot(p - scene_.Corner(t, 0), scene_.FrontNormal(t)) > 0)) continue;
     const auto part = SphericalTriangle::From(p, scene_.Corner(t, 0), scene_.Corner(t, 1), scene_.Corner(t, 2));
     if (!part) continue;
-    seen.parts[seen.count] = *part, seen.triangles[seen.count++] = t;
-    seen.total += part->SolidAngle();
+    seen.parts.push_back(*part), seen.triangles.push_back(t);
+    seen.cdf.push_back(seen.total += part->SolidAngle());
   }
   if (!(seen.total >= solidAngleFrom_)) return std::nullopt;
+  for (double& c : seen.cdf) c /= seen.total;
+  seen.cdf.back() = 1;
   return seen;
 }
 
 // Ke V cos(theta_x) Omega: a direction uniform over the light's solid angle at p (the triangle in proportion to
 // its part of it), its ray continued to the triangle's plane for the shadow ray.
 Rgb LightSampler::SampleBySolidAngle(const Light& light, const Subtended& seen, Point3 p, Normal3 n, Point2 u) const {
-  double lo = 0;
-  size_t k = 0;
-  const double target = double(u.u) * seen.total;
-  while (k + 1 < seen.count && lo + seen.parts[k].SolidAngle() <= target) lo += seen.parts[k++].SolidAngle();
-  const double within = std::clamp((target - lo) / seen.parts[k].SolidAngle(), 0.0, 1.0);
-  const Vector3 w = seen.parts[k].Sample({std::min(float(within), 0x1.fffffep-1f), u.v});
-  const uint32_t triangle = seen.triangles[k];
+  const auto pick = SampleDiscreteCdf(seen.cdf, u.u);
+  const Vector3 w = seen.parts[pick->index].Sample({pick->uRemapped, u.v});
+  const uint32_t triangle = seen.triangles[pick->index];
   const Normal3 front = scene_.FrontNormal(triangle);
   const float along = Dot(scene_.Corner(triangle, 0) - p, front) / Dot(w, front);
   if (!(along > 0) || !(Dot(w, n) > 0)) return {};
@@ -183,12 +194,14 @@ DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples,
   const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
   const std::vector<uint32_t> cells = Shuffled(side * side, rng);
   StratifiedMean mean(side);
+  SubtendedCache cache{std::max<size_t>(kSolidAngleTriangles, samples / 4), {}};
+  if (!tree_) cache.lights.resize(areas_.size());
   for (uint32_t j = 0; j < samples; ++j) {
     const auto pick = PickLight(cdf, p, n, std::min((float(j) + rng.Uniform()) / float(samples), 0x1.fffffep-1f));
     const uint32_t cell = cells[j];
     const Point2 jitter = rng.Uniform2();
     const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
-    mean.Add(cell, pick ? SampleOne(lights_[areas_[pick->area]], p, n, u) * float(1.0 / pick->pmf) : Rgb{});
+    mean.Add(cell, pick ? SampleOne(pick->area, p, n, u, cache) * float(1.0 / pick->pmf) : Rgb{});
   }
   return mean.Result();
 }

@@ -9,8 +9,12 @@
 // Each of S samples picks light i with probability p_i, a point y uniform over its area (pdf 1 / A_i), and weighs
 // Ke V cos cos / d^2 by A_i / p_i. Where the light is large and near (it subtends kSolidAngleFrom or more at x
 // and has at most kSolidAngleTriangles triangles), the sample is a direction w uniform over the solid angle
-// Omega_i that it subtends instead (estimators/warps.h, Arvo 1995), weighed Ke V cos(theta_x) Omega_i / p_i: the
-// 1 / d^2 and cos(theta_y) factors, which vary most over a near light, leave the estimate. p_i is 90% in proportion to an unoccluded guess of the light's share at x
+// Omega_i that it subtends instead (estimators/warps.h, Arvo 1995: a triangle in proportion to its solid angle,
+// then a direction in it), weighed Ke V cos(theta_x) Omega_i / p_i: the 1 / d^2 and cos(theta_y) factors, which
+// vary most over a near light, leave the estimate. A point computes a light's spherical triangles once, the first
+// time a sample picks it (below kTreeLights lights; with the tree, per sample), and only for a light of at most
+// S / 4 triangles (S samples; at least 4), so that this stays a small part of the point's cost: a path tracer's
+// one sample per vertex would otherwise pay for every triangle of a gridded light (7x its time on the 25 mm box). p_i is 90% in proportion to an unoccluded guess of the light's share at x
 // (its power over the squared distance to its centroid, floored at its area), 10% uniform over the lights that
 // can reach x, so that no light is starved by a poor guess. With kTreeLights area lights or more, p_i comes from a
 // light tree instead (estimators/light_tree.h: power, distance and orientation bounds, O(log lights) per sample),
@@ -91,8 +95,8 @@ class LightSampler {
   // From this many area lights on, the light tree chooses them (below it, the exact guess over every light):
   // where the two cost about the same per point at 64 samples (build/bench_direct).
   static constexpr size_t kTreeLights = 1024;
-  // Lights of at most this many triangles that subtend at least this solid angle [sr] at a point are sampled by
-  // solid angle there (see the top).
+  // Lights of at most max(this, samples / 4) triangles that subtend at least kSolidAngleFrom [sr] at a point are
+  // sampled by solid angle there (see the top).
   static constexpr size_t kSolidAngleTriangles = 4;
   static constexpr double kSolidAngleFrom = 0.01;
 
@@ -124,21 +128,30 @@ class LightSampler {
   struct LightShape {
     Point3 centroid;
     double power = 0;  // luminance of Ke times the area [W/sr]
+    float radius = 0;  // of the sphere about the centroid that holds every corner [m]
     std::vector<Point3> corners;
   };
   // Light selection probabilities at p (summing to 1), as a CDF; empty when no light can reach p.
   std::vector<double> SelectionCdf(Point3 p, Normal3 n) const;
   bool CanReach(const LightShape& light, const Light& area, Point3 p, Normal3 n) const;
-  Rgb SampleOne(const Light& light, Point3 p, Normal3 n, Point2 u) const;
-  Rgb SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u) const;
-  // The solid angle that a light's triangles subtend at p, each triangle whose front faces p.
+  // The solid angle that a light's triangles subtend at p, each triangle whose front faces p, with the CDF that
+  // picks one in proportion to its part.
   struct Subtended {
-    std::array<SphericalTriangle, kSolidAngleTriangles> parts;
-    std::array<uint32_t, kSolidAngleTriangles> triangles;  // Scene::triangles indices
-    size_t count = 0;
+    std::vector<SphericalTriangle> parts;
+    std::vector<uint32_t> triangles;  // Scene::triangles indices
+    std::vector<double> cdf;
     double total = 0;  // [sr]
   };
-  std::optional<Subtended> SubtendedAt(const Light& light, Point3 p) const;
+  // None where the light is sampled by area at p: more than `triangles` triangles, or too small a solid angle.
+  std::optional<Subtended> SubtendedAt(size_t area, Point3 p, size_t triangles) const;
+  // Area light `area` (an index into areas_) seen from p, computed at most once per point in `lights` (one entry
+  // per area light, or none with the tree).
+  struct SubtendedCache {
+    size_t triangles = kSolidAngleTriangles;  // the most a light sampled by solid angle may have
+    std::vector<std::optional<std::optional<Subtended>>> lights;
+  };
+  Rgb SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const;
+  Rgb SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u) const;
   Rgb SampleBySolidAngle(const Light& light, const Subtended& seen, Point3 p, Normal3 n, Point2 u) const;
   // Ke V cos(theta_x) for the point y of a light: the shadow ray, which both samplers share.
   Rgb Unoccluded(const Light& light, Point3 p, Normal3 n, Point3 y) const;

@@ -1,6 +1,8 @@
 // bench_estimate: cost of each density estimator, per photon (building) and per vertex (querying), on a
 // 1 x 1 m surface holding 1M or 10M uniformly spread photons, with 10^4 query vertices on a grid that
 // includes the edges. Settings are the defaults (h = 0.05 m, k = 50), edge correction on.
+// BM_KernelQuery/photons:N/binned:B: the kernel estimator's query with exact (B = 0) and binned sums (B = 1), up
+// to 10^8 photons on the square.
 // BM_KernelMass: the edge correction's boundary mass M(x) alone, at 1,000 points h/2 inside the boundary of a
 // disc of radius 0.5 m cut as a fan of N triangles (N boundary edges), h = 0.05 m.
 // Run: build/bench_estimate --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
@@ -9,6 +11,7 @@
 #include <cmath>
 
 #include "estimators/density_estimator.h"
+#include "estimators/kernel_estimator.h"
 #include "estimators/rng.h"
 
 namespace {
@@ -28,7 +31,10 @@ struct Photons {
 
 const Photons& PhotonsOf(size_t n) {
   static const Photons million(1'000'000), tenMillion(10'000'000);
-  return n == 1'000'000 ? million : tenMillion;
+  if (n == 1'000'000) return million;
+  if (n == 10'000'000) return tenMillion;
+  static const Photons hundredMillion(100'000'000);  // 2 GB: built only when asked for
+  return hundredMillion;
 }
 
 void BM_Build(benchmark::State& state, pb::EstimatorKind kind) {
@@ -48,6 +54,23 @@ void BM_Query(benchmark::State& state, pb::EstimatorKind kind) {
     for (int j = 0; j < kGrid; ++j)
       for (int i = 0; i < kGrid; ++i)
         benchmark::DoNotOptimize(estimator->Estimate({float(i) / (kGrid - 1), float(j) / (kGrid - 1)}));
+  state.counters["ns_per_vertex"] =
+      benchmark::Counter(double(kGrid * kGrid), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+// The kernel estimator's sums over the photons (binned 0) or over the binned nodes (1), at 32 x 32 points that
+// include the edges and corners, local linear correction on.
+void BM_KernelQuery(benchmark::State& state) {
+  const Photons& p = PhotonsOf(size_t(state.range(0)));
+  const pb::SurfaceRegion region(p.square);
+  const pb::KernelEstimator estimator(p.uv, p.power, 0.05f, pb::Kernel::kEpanechnikov, &region, true,
+                                      state.range(1) ? pb::KernelEstimator::Binning::kBinned
+                                                     : pb::KernelEstimator::Binning::kExact);
+  constexpr int kGrid = 32;
+  for (auto _ : state)
+    for (int j = 0; j < kGrid; ++j)
+      for (int i = 0; i < kGrid; ++i)
+        benchmark::DoNotOptimize(estimator.Estimate({float(i) / (kGrid - 1), float(j) / (kGrid - 1)}));
   state.counters["ns_per_vertex"] =
       benchmark::Counter(double(kGrid * kGrid), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
@@ -85,5 +108,9 @@ BENCHMARK_CAPTURE(BM_Build, knn, pb::EstimatorKind::kNearest)->Arg(1'000'000)->A
 BENCHMARK_CAPTURE(BM_Query, kernel, pb::EstimatorKind::kKernel)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Query, histogram, pb::EstimatorKind::kHistogram)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Query, knn, pb::EstimatorKind::kNearest)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KernelQuery)
+    ->ArgNames({"photons", "binned"})
+    ->Args({1'000'000, 0})->Args({1'000'000, 1})->Args({10'000'000, 0})->Args({10'000'000, 1})->Args({100'000'000, 1})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_KernelMass)->Arg(64)->Arg(1000)->Arg(40000)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();
