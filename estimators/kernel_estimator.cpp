@@ -124,65 +124,99 @@ void KernelEstimator::BinCoverage() {
         if (i >= 0 && j >= 0 && i < nodesU_ && j < nodesV_) shares[size_t(j) * nodesU_ + i] += w * area;
     }
   nodeArea_.assign(shares.begin(), shares.end());
+  const float whole = 0.999f * spacing_ * spacing_;
+  const size_t row = size_t(nodesU_) + 1;
+  partialTable_.assign(row * (size_t(nodesV_) + 1), 0);
+  for (int j = 0; j < nodesV_; ++j)
+    for (int i = 0; i < nodesU_; ++i) {
+      const uint32_t partial = nodeArea_[size_t(j) * nodesU_ + i] < whole ? 1 : 0;
+      partialTable_[size_t(j + 1) * row + i + 1] = partial + partialTable_[size_t(j) * row + i + 1] +
+                                                   partialTable_[size_t(j + 1) * row + i] - partialTable_[size_t(j) * row + i];
+    }
 }
 
 namespace {
 
-// The binned sums at x, offsets (a, b) = (n - x) / h: of the flux W_n k_n times 1, a and b; of the coverage
-// A_n k_n times 1, a, b, aa, ab, bb (the kernel's moments on the surface, times h^2); and of the photons'
-// squared luminance Q_n k_n^2 times the same six, for the noise of the linear fit's weights.
-struct NodeSums {
-  RgbSum flux, fluxA, fluxB;
-  std::array<double, 6> mass{}, squares{};
-};
-
-template <typename T>
-void AddMoments(std::array<T, 6>& into, double w, double a, double b) {
-  into[0] += T(w), into[1] += T(w * a), into[2] += T(w * b);
-  into[3] += T(w * a * a), into[4] += T(w * a * b), into[5] += T(w * b * b);
+// Adds w times 1, a, b, aa, ab, bb.
+void AddMoments(std::array<float, 6>& into, float w, float a, float b) {
+  into[0] += w, into[1] += w * a, into[2] += w * b;
+  into[3] += w * a * a, into[4] += w * a * b, into[5] += w * b * b;
 }
 
 }  // namespace
 
-// Binned: the renormalised or local linear estimate from the node sums, with the kernel's moments taken over the
-// binned coverage mask rather than the exact boundary integral, so that numerator and denominator share the
-// binning's error and it cancels (an exact denominator left the fit 4% off at corners).
-template <bool kNoise, typename Profile>
-DensityEstimator::WithNoise KernelEstimator::EvaluateBinned(Point2 x, Profile profile) const {
+// The node sums over the nodes within h of x (kEdge: every moment; else the flux, the mass and the noise's first
+// terms only), in float within a row and in double across rows. `partial` is set when some node within h is not
+// wholly on the surface.
+template <bool kNoise, bool kEdge, typename Profile>
+KernelEstimator::NodeSums KernelEstimator::SumNodes(Point2 x, Profile profile, bool& partial) const {
   const float inverseH2 = 1.0f / (h_ * h_), inverseH = 1.0f / h_;
   const int u0 = std::max(0, int(std::ceil((x.u - h_ - lo_.u) / spacing_)));
   const int u1 = std::min(nodesU_ - 1, int(std::floor((x.u + h_ - lo_.u) / spacing_)));
   const int v0 = std::max(0, int(std::ceil((x.v - h_ - lo_.v) / spacing_)));
   const int v1 = std::min(nodesV_ - 1, int(std::floor((x.v + h_ - lo_.v) / spacing_)));
-  const bool corrected = correction_ != nullptr;
+  const bool corrected = !nodeArea_.empty();
   const float whole = 0.999f * spacing_ * spacing_;  // a node's area when the surface covers its whole tent
-  bool partial = false;                               // some node within h is not wholly on the surface
   NodeSums s;
-  for (int j = v0; j <= v1; ++j) {  // in float within a row, in double across rows
+  for (int j = v0; j <= v1; ++j) {
     const float dv = lo_.v + float(j) * spacing_ - x.v, b = dv * inverseH;
     Rgb flux, fluxA, fluxB;
     std::array<float, 6> mass{}, squares{};
     for (int i = u0; i <= u1; ++i) {
-      const float du = lo_.u + float(i) * spacing_ - x.u, a = du * inverseH;
+      const float du = lo_.u + float(i) * spacing_ - x.u;
       const float t2 = (du * du + dv * dv) * inverseH2;
       if (t2 >= 1.0f) continue;
       const float k = profile(t2);
       const size_t n = size_t(j) * nodesU_ + i;
       const Rgb w = nodeFlux_[n] * k;
-      flux += w, fluxA += w * a, fluxB += w * b;
-      if (corrected) AddMoments(mass, double(nodeArea_[n] * k), a, b), partial |= nodeArea_[n] < whole;
-      if constexpr (kNoise) AddMoments(squares, double(nodeSquares_[n] * k * k), a, b);
+      flux += w;
+      if constexpr (kEdge) {
+        const float a = du * inverseH;
+        fluxA += w * a, fluxB += w * b;
+        if (corrected) AddMoments(mass, nodeArea_[n] * k, a, b), partial |= nodeArea_[n] < whole;
+        if constexpr (kNoise) AddMoments(squares, nodeSquares_[n] * k * k, a, b);
+      } else {
+        if (corrected) mass[0] += nodeArea_[n] * k;
+        if constexpr (kNoise) squares[0] += nodeSquares_[n] * k * k;
+      }
     }
     s.flux.Add(flux), s.fluxA.Add(fluxA), s.fluxB.Add(fluxB);
     for (int m = 0; m < 6; ++m) s.mass[m] += mass[m], s.squares[m] += squares[m];
   }
+  return s;
+}
+
+// Whether a node of the square of nodes about x, h on each side, is not wholly on the surface: O(1), from the
+// summed-area table of such nodes.
+bool KernelEstimator::NearEdge(Point2 x) const {
+  const int u0 = std::max(0, int(std::ceil((x.u - h_ - lo_.u) / spacing_)));
+  const int u1 = std::min(nodesU_ - 1, int(std::floor((x.u + h_ - lo_.u) / spacing_)));
+  const int v0 = std::max(0, int(std::ceil((x.v - h_ - lo_.v) / spacing_)));
+  const int v1 = std::min(nodesV_ - 1, int(std::floor((x.v + h_ - lo_.v) / spacing_)));
+  if (u0 > u1 || v0 > v1) return false;
+  const size_t row = size_t(nodesU_) + 1;
+  const auto at = [&](int i, int j) { return partialTable_[size_t(j) * row + size_t(i)]; };
+  return at(u1 + 1, v1 + 1) - at(u0, v1 + 1) - at(u1 + 1, v0) + at(u0, v0) > 0;
+}
+
+// Binned: the renormalised or local linear estimate from the node sums, with the kernel's moments taken over the
+// binned coverage mask rather than the exact boundary integral, so that numerator and denominator share the
+// binning's error and it cancels (an exact denominator left the fit 4% off at corners). Far from the edges only
+// the flux and the mass are summed.
+template <bool kNoise, typename Profile>
+DensityEstimator::WithNoise KernelEstimator::EvaluateBinned(Point2 x, Profile profile) const {
+  const double inverseH2 = 1.0 / (double(h_) * h_);
+  const bool corrected = correction_ != nullptr;
+  bool partial = false;
+  const bool edge = corrected && localLinear_ && NearEdge(x);
+  const NodeSums s = edge ? SumNodes<kNoise, true>(x, profile, partial) : SumNodes<kNoise, false>(x, profile, partial);
   const Rgb flux = s.flux.ToRgb();
   const auto noiseOf = [&](double sum, double squares) { return kNoise && sum > 0 ? std::sqrt(std::max(squares, 0.0)) / sum : 0.0; };
-  if (!corrected) return {flux * inverseH2, noiseOf(Luminance(flux), s.squares[0])};
+  if (!corrected) return {flux * float(inverseH2), noiseOf(Luminance(flux), s.squares[0])};
   const std::array<double, 6>& m = s.mass;  // times h^2
   const double det = m[3] * m[5] - m[4] * m[4];
   const double minimum = minimumMass_ / inverseH2;
-  if (localLinear_ && partial && det > 0 && m[0] >= minimum) {  // inside, the fit is the plain estimate
+  if (partial && det > 0 && m[0] >= minimum) {  // inside, the fit is the plain estimate
     const double cu = (m[5] * m[1] - m[4] * m[2]) / det, cv = (m[3] * m[2] - m[4] * m[1]) / det;
     const double denominator = m[0] - (cu * m[1] + cv * m[2]);
     if (denominator > 0.01 * m[0]) {

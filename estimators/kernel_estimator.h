@@ -29,6 +29,7 @@
 // surfaces narrower than 2 h, too few nodes across for the fit at their edges.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -88,6 +89,16 @@ class KernelEstimator final : public DensityEstimator {
   void BinCoverage();
   template <bool kNoise, typename Profile>
   WithNoise EvaluateBinned(Point2 x, Profile profile) const;
+  // The binned sums at x, offsets (a, b) = (n - x) / h: of the flux W_n k_n times 1, a and b; of the coverage
+  // A_n k_n times 1, a, b, aa, ab, bb (the kernel's moments on the surface, times h^2); and of the photons'
+  // squared luminance Q_n k_n^2 times the same six, for the noise of the linear fit's weights.
+  struct NodeSums {
+    RgbSum flux, fluxA, fluxB;
+    std::array<double, 6> mass{}, squares{};
+  };
+  template <bool kNoise, bool kEdge, typename Profile>
+  NodeSums SumNodes(Point2 x, Profile profile, bool& partial) const;
+  bool NearEdge(Point2 x) const;
   // H and its noise at x (the noise sums only with kNoise).
   template <bool kNoise>
   WithNoise Evaluate(Point2 x) const;
@@ -113,6 +124,7 @@ class KernelEstimator final : public DensityEstimator {
   std::vector<Rgb> nodeFlux_;        // [W]
   std::vector<float> nodeSquares_;   // sum of the bilinear share times luminance(phi_j)^2 [W^2]
   std::vector<float> nodeArea_;      // A_n [m^2]: the surface's area binned to node n (with a correction)
+  std::vector<uint32_t> partialTable_;  // summed-area table of the nodes not wholly on the surface, (nu+1) x (nv+1)
 };
 
 }  // namespace pb
