@@ -343,13 +343,26 @@ KernelMomentsAt SurfaceRegion::Moments(Point2 x, Kernel kernel, double h) const 
 std::vector<double> SurfaceRegion::GridOverlapAreas(Point2 lo, float side, int nu, int nv) const {
   std::vector<double> area(size_t(nu) * nv, 0.0);
   const auto cell = [&](float c, float origin, int n) { return std::clamp(int(std::floor((c - origin) / side)), 0, n - 1); };
+  // Only cells that a triangle's edge crosses are clipped: one wholly inside it adds its own area, one wholly
+  // outside an edge nothing (the triangles are counter-clockwise). A fine grid under large triangles (the binned
+  // kernel's coverage mask) is mostly the first kind.
   const auto add = [&](const Triangle2& t, double sign) {
     Bounds2 tb;
     for (const Point2& p : t) tb.Extend(p);
     for (int iv = cell(tb.lo.v, lo.v, nv); iv <= cell(tb.hi.v, lo.v, nv); ++iv)
       for (int iu = cell(tb.lo.u, lo.u, nu); iu <= cell(tb.hi.u, lo.u, nu); ++iu) {
         const Bounds2 box{{lo.u + iu * side, lo.v + iv * side}, {lo.u + (iu + 1) * side, lo.v + (iv + 1) * side}};
-        area[size_t(iv) * nu + iu] += sign * TriangleBoxOverlapArea(t, box);
+        const std::array<Point2, 4> corners = {box.lo, Point2{box.hi.u, box.lo.v}, box.hi, Point2{box.lo.u, box.hi.v}};
+        bool inside = true, outside = false;
+        for (int e = 0; e < 3 && !outside; ++e) {
+          int in = 0;
+          for (const Point2& q : corners) in += SignedArea(t[e], t[(e + 1) % 3], q) >= 0;
+          inside &= in == 4, outside |= in == 0;
+        }
+        if (outside) continue;
+        const double overlap = inside ? (double(box.hi.u) - box.lo.u) * (double(box.hi.v) - box.lo.v)
+                                      : TriangleBoxOverlapArea(t, box);
+        area[size_t(iv) * nu + iu] += sign * overlap;
       }
   };
   for (const Triangle2& t : triangles_) add(t, 1);

@@ -4,10 +4,13 @@
 //              grid, their radiance over three decades (20 levels, log-uniform, 10^(3 k / 19) W/(m^2 sr)).
 //   one-light: the same room under one 1 x 1 m light of the LED ceiling's total flux, at the same height: the
 //              baseline that the ceiling's bake time is measured against.
-// Usage: make-scene led-room|one-light --lamps N --out DIR; prints the OBJ's path.
+//   grid-room: the one-light room with its six faces cut into a grid of about --triangles triangles in all
+//              (squares of side sqrt(2 A / N) over the faces' area A), for the front end's scaling.
+// Usage: make-scene led-room|one-light|grid-room [--lamps N] [--triangles N] --out DIR; prints the OBJ's path.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -23,6 +26,43 @@ double LevelRadiance(int level) { return std::pow(10.0, 3.0 * level / (kLevels -
 
 // The lamp's level: a fixed scramble of its index, so that neighbouring lamps differ.
 int LampLevel(uint64_t lamp) { return int((lamp * 2654435761u >> 7) % kLevels); }
+
+// One face of the room as a grid of cells of about `cell` [m]: corner + s a + t b for s, t in [0, 1], counter-
+// clockwise about a x b (its front).
+void GridFace(std::string& obj, uint64_t& vertex, const double corner[3], const double a[3], const double b[3],
+              double cell) {
+  const auto steps = [&](const double e[3]) {
+    return std::max<uint64_t>(1, uint64_t(std::ceil(std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / cell)));
+  };
+  const uint64_t ns = steps(a), nt = steps(b), first = vertex;
+  for (uint64_t j = 0; j <= nt; ++j)
+    for (uint64_t i = 0; i <= ns; ++i) {
+      const double s = double(i) / double(ns), t = double(j) / double(nt);
+      obj += fmt::format("v {:.6f} {:.6f} {:.6f}\n", corner[0] + s * a[0] + t * b[0], corner[1] + s * a[1] + t * b[1],
+                         corner[2] + s * a[2] + t * b[2]);
+      ++vertex;
+    }
+  for (uint64_t j = 0; j < nt; ++j)
+    for (uint64_t i = 0; i < ns; ++i) {
+      const uint64_t v00 = first + j * (ns + 1) + i, v10 = v00 + 1, v01 = v00 + ns + 1, v11 = v01 + 1;
+      obj += fmt::format("f {} {} {}\nf {} {} {}\n", v00, v10, v11, v00, v11, v01);
+    }
+}
+
+// The room's six faces gridded into about `triangles` triangles, each facing in.
+std::string GridRoom(uint64_t triangles, uint64_t& vertex) {
+  const double r = kRoom / 2, h = kHeight, area = 2 * kRoom * kRoom + 4 * kRoom * kHeight;
+  const double cell = std::sqrt(2 * area / double(triangles));
+  struct Face {
+    double corner[3], a[3], b[3];
+  };
+  const Face faces[] = {{{-r, 0, -r}, {0, 0, 2 * r}, {2 * r, 0, 0}},  {{-r, h, -r}, {2 * r, 0, 0}, {0, 0, 2 * r}},
+                        {{-r, 0, -r}, {2 * r, 0, 0}, {0, h, 0}},      {{r, 0, -r}, {0, 0, 2 * r}, {0, h, 0}},
+                        {{r, 0, r}, {-2 * r, 0, 0}, {0, h, 0}},       {{-r, 0, r}, {0, 0, -2 * r}, {0, h, 0}}};
+  std::string obj = "mtllib room.mtl\nusemtl grey\n";
+  for (const Face& f : faces) GridFace(obj, vertex, f.corner, f.a, f.b, cell);
+  return obj;
+}
 
 // Floor, ceiling and four walls, each facing into the room.
 std::string Room() {
@@ -47,22 +87,26 @@ int main(int argc, char** argv) {
   CLI::App app{"make-scene: the large scenes of the scaling measurements (photonbake)"};
   std::string kind = "led-room", out = "out/scene";
   uint64_t lamps = 100000;
-  app.add_option("kind", kind, "led-room or one-light")->check(CLI::IsMember({"led-room", "one-light"}));
+  uint64_t triangles = 2'000'000;
+  app.add_option("kind", kind, "led-room, one-light or grid-room")
+      ->check(CLI::IsMember({"led-room", "one-light", "grid-room"}));
+  app.add_option("--triangles", triangles, "grid-room: triangles of the room's faces")->capture_default_str();
   app.add_option("--lamps", lamps, "lamps of the LED ceiling (one-light: whose flux it carries)")->capture_default_str();
   app.add_option("--out", out, "folder for room.obj and room.mtl")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   std::filesystem::create_directories(out);
 
   std::string mtl = "newmtl grey\nKd 0.5 0.5 0.5\n";
-  std::string obj = Room();
+  uint64_t first = 9;  // the light's first vertex
+  std::string obj = kind == "grid-room" ? GridRoom(triangles, first) : Room();
   const auto side = uint64_t(std::ceil(std::sqrt(double(lamps))));
   const double pitch = 0.9 * kRoom / double(side), y = kHeight - kBelowCeiling;
   double flux = 0;  // sum of Ke A over the lamps [W/sr]
   for (uint64_t lamp = 0; lamp < lamps; ++lamp) flux += LevelRadiance(LampLevel(lamp)) * kLeg * kLeg / 2;
-  if (kind == "one-light") {
+  if (kind != "led-room") {
     mtl += fmt::format("newmtl light\nKd 0 0 0\nKe {0} {0} {0}\n", flux);  // 1 m^2
     obj += fmt::format("usemtl light\nv -0.5 {0} -0.5\nv 0.5 {0} -0.5\nv 0.5 {0} 0.5\nv -0.5 {0} 0.5\n"
-                       "f 9 10 11 12\n", y);
+                       "f {1} {2} {3} {4}\n", y, first, first + 1, first + 2, first + 3);
   } else {
     for (int level = 0; level < kLevels; ++level)
       mtl += fmt::format("newmtl lamp_{0}\nKd 0 0 0\nKe {1} {1} {1}\n", level, LevelRadiance(level));
@@ -83,5 +127,5 @@ int main(int argc, char** argv) {
   Write(out + "/room.mtl", mtl);
   Write(out + "/room.obj", obj);
   fmt::print("{}/room.obj: {} (total Ke A {:.4g} W/sr, flux {:.4g} W)\n", out,
-             kind == "one-light" ? std::string("one light") : fmt::format("{} lamps", lamps), flux, M_PI * flux);
+             kind == "led-room" ? fmt::format("{} lamps", lamps) : std::string("one light"), flux, M_PI * flux);
 }
