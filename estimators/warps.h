@@ -59,8 +59,10 @@ class SphericalTriangle {
   Vector3 Sample(Point2 u) const;              // unit, world frame
 
  private:
-  std::array<double, 3> a_{}, b_{}, c_{};  // unit directions to the corners
-  double area_ = 0, alpha_ = 0;             // Omega, and the angle at a between the arcs to b and c
+  std::array<double, 3> a_{}, b_{};       // unit directions to two corners
+  std::array<double, 3> towardC_{};       // the unit tangent at a of the arc from a to the third corner, c
+  double area_ = 0, alpha_ = 0;           // Omega, and the angle at a between the arcs to b and c
+  double cosAlpha_ = 1, sinAlpha_ = 0, cosC_ = 1;  // cos c = a . b, the side opposite c
 };
 
 // Picks index i with probability (cdf[i] - cdf[i-1]) from a non-decreasing CDF whose last entry is 1.
