@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(out);
 
   std::string mtl = "newmtl grey\nKd 0.5 0.5 0.5\n";
-  uint64_t first = 9;  // the light's first vertex
+  uint64_t first = kind == "grid-room" ? 1 : 9;  // the next vertex's index: the light's first
   std::string obj = kind == "grid-room" ? GridRoom(triangles, first) : Room();
   const auto side = uint64_t(std::ceil(std::sqrt(double(lamps))));
   const double pitch = 0.9 * kRoom / double(side), y = kHeight - kBelowCeiling;
