@@ -67,6 +67,7 @@ struct BakeOptions {
   double luminousEfficacy = 683;  // --luminous-efficacy [lm/W]: glTF's candela and lux to watts; [1, 683]
   std::string outputPath;  // PLY file, written atomically (temporary file, then rename).
   std::string reportPath;  // JSON report; empty for none.
+  bool reportAll = false;  // --report-all: every surface and light in the JSON, not only the largest (report.h)
   // Estimator, kernel, h [m] (kernel support radius or bucket side; range (0, inf), typical 0.02-0.1 for a
   // room), k (knn) and edge correction. estimators/density_estimator.h.
   EstimatorSettings estimator;

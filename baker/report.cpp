@@ -1,5 +1,7 @@
 #include "baker/report.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
@@ -192,10 +194,14 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   s += fmt::format("  scene     {} triangles ({} zero-area and {} duplicates skipped), {} surfaces, {} lights\n",
                    r.triangles, r.degenerateTrianglesSkipped, r.duplicateTrianglesSkipped, r.surfaces.size(),
                    r.lights.size());
-  for (const LightReport& l : r.lights)
+  constexpr size_t kLightRows = 40;
+  for (size_t i = 0; i < r.lights.size() && i < kLightRows; ++i) {
+    const LightReport& l = r.lights[i];
     s += fmt::format("  light     {:<20} {}  Phi {} W  {} photons{}\n", l.material,
                      l.kind == "area" ? fmt::format("area {:.4g} m^2", l.area) : l.kind, Text(l.power), l.photons,
                      l.note.empty() ? "" : "  (" + l.note + ")");
+  }
+  if (r.lights.size() > kLightRows) s += fmt::format("  ... {} more lights in --report\n", r.lights.size() - kLightRows);
   s += fmt::format("  photons   {} emitted, {} hits stored, {} absorbed, {} escaped, {} forbidden, {} truncated\n",
                    t.emitted, t.hits, t.absorbed, t.escaped, t.forbidden, t.truncated);
   s += fmt::format("  events    {} diffuse, {} mirror, {} Fresnel reflections, {} refractions; {} caustic hits\n",
@@ -223,6 +229,43 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   log.Info(s);
 }
 
+namespace {
+
+// The indices of the `listed` entries of `items` that `larger` ranks first (ties by index), in index order; all
+// of them when `all` or when there are no more.
+template <typename T, typename Larger>
+std::vector<size_t> Listed(const std::vector<T>& items, bool all, Larger larger) {
+  std::vector<size_t> order(items.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  if (all || items.size() <= kListed) return order;
+  std::partial_sort(order.begin(), order.begin() + kListed, order.end(), [&](size_t a, size_t b) {
+    return larger(items[a], items[b]) || (!larger(items[b], items[a]) && a < b);
+  });
+  order.resize(kListed);
+  std::sort(order.begin(), order.end());
+  return order;
+}
+
+nlohmann::json SurfacesSummary(const std::vector<SurfaceReport>& surfaces, size_t listed) {
+  double area = 0;
+  uint64_t front = 0, back = 0;
+  for (const SurfaceReport& s : surfaces) area += s.area, front += s.frontHits, back += s.backHits;
+  return {{"count", surfaces.size()}, {"listed", listed}, {"area_m2", area}, {"front_hits", front}, {"back_hits", back}};
+}
+
+nlohmann::json LightsSummary(const std::vector<LightReport>& lights, size_t listed) {
+  RgbSum power, dark;
+  uint64_t photons = 0, without = 0;
+  for (const LightReport& l : lights) {
+    power.Add(l.power), photons += l.photons;
+    if (l.photons == 0) dark.Add(l.power), ++without;
+  }
+  return {{"count", lights.size()}, {"listed", listed}, {"power_W", Json(power.ToRgb())}, {"photons", photons},
+          {"without_photons", without}, {"without_photons_power_W", Json(dark.ToRgb())}};
+}
+
+}  // namespace
+
 void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeReport& r) {
   nlohmann::json j;
   j["options"] = OptionsJson(r.options);
@@ -233,18 +276,30 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
                 {"surfaces", r.surfaces.size()},
                 {"curved_charts", r.curvedCharts},
                 {"worst_area_distortion", r.worstAreaDistortion}};
-  for (const LightReport& l : r.lights)
-    j["lights"].push_back({{"kind", l.kind}, {"surface", l.surface == kNoSurface ? nlohmann::json() : nlohmann::json(l.surface)},
+  const std::vector<size_t> lights =
+      Listed(r.lights, r.options.reportAll, [](const LightReport& a, const LightReport& b) { return a.power.Mean() > b.power.Mean(); });
+  j["lights"] = nlohmann::json::array();
+  for (size_t i : lights) {
+    const LightReport& l = r.lights[i];
+    j["lights"].push_back({{"light", i}, {"kind", l.kind}, {"surface", l.surface == kNoSurface ? nlohmann::json() : nlohmann::json(l.surface)},
                            {"material", l.material}, {"area_m2", l.area},
                            {"power_W", Json(l.power)}, {"photons", l.photons}, {"note", l.note}});
+  }
+  j["lights_summary"] = LightsSummary(r.lights, lights.size());
   j["photons"] = TraceJson(r.trace);
   j["progressive"] = ProgressiveJson(r.progressive);
   j["noise"] = r.noise;
-  for (const SurfaceReport& s : r.surfaces)
-    j["surfaces"].push_back({{"object", s.object}, {"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
+  const std::vector<size_t> surfaces =
+      Listed(r.surfaces, r.options.reportAll, [](const SurfaceReport& a, const SurfaceReport& b) { return a.area > b.area; });
+  j["surfaces"] = nlohmann::json::array();
+  j["surfaces_summary"] = SurfacesSummary(r.surfaces, surfaces.size());
+  for (size_t i : surfaces) {
+    const SurfaceReport& s = r.surfaces[i];
+    j["surfaces"].push_back({{"surface", i}, {"object", s.object}, {"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
                              {"back_hits", s.backHits}, {"mean_irradiance_W_m2", Json(s.meanIrradiance)},
                              {"chart", s.planar ? "planar" : "conformal"}, {"area_distortion", s.areaDistortion},
                              {"h_m", s.bandwidth}, {"covered_area_m2", s.coveredArea}});
+  }
   for (const auto& [name, seconds] : r.stageSeconds) j["seconds"][name] = seconds;
   j["seconds"]["total"] = r.TotalSeconds();
   for (Effect e : kAllEffects) {

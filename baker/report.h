@@ -1,5 +1,9 @@
 // What a bake did, in figures: photon counts, flux balance [W], hits per surface, seconds per stage, the
 // transport effects simulated, and the output. Printed as a summary on stderr and written as JSON (--report).
+// A scene of millions of surfaces or lights keeps a report of bounded size: the summary prints at most 40 rows of
+// each, and the JSON lists the kListed largest surfaces (by area) and brightest lights (by power), each with its
+// index, in index order, with totals over all of them ("surfaces_summary", "lights_summary"); --report-all
+// lists every one.
 // The report is described at the end from what the stages returned (DescribeBake; meshoptimizer's analyse
 // functions are the model): no stage reads it, so it never becomes a channel between stages.
 #pragma once
@@ -85,6 +89,7 @@ struct BakeResults {
 BakeReport DescribeBake(const BakeResults& results);
 
 void PrintSummary(const BakeReport& report, const Log& log);
+inline constexpr size_t kListed = 1000;
 void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeReport& report);
 
 }  // namespace pb

@@ -138,6 +138,9 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
                  "(luminance- and area-weighted) is at most this; range (0, 1), typical 0.01-0.05");
   app.add_option("--max-photons", o.maxPhotons, "--target-noise's photon budget over all lights")->capture_default_str();
   app.add_option("--report", o.reportPath, "write the summary figures as JSON to this file");
+  app.add_flag("--report-all", o.reportAll,
+               "list every surface and light in --report's JSON; by default the 1,000 largest surfaces and 1,000 "
+               "brightest lights, with a summary of all");
   app.add_option("--exposure", o.exposure, "display exposure on radiance for the PLY's uchar colours; range > 0; "
                                            "default automatic (log-average luminance to 0.18)");
   app.add_flag("--ascii", o.asciiPly, "write ASCII PLY instead of binary");

@@ -1,6 +1,5 @@
 // The bake command as a user runs it: exit status, messages that name file:line, no output left behind on
 // error, --help that documents units, and byte-identical output for 1 and 2 threads.
-#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -20,6 +19,7 @@
 
 #include "baker/atomic_file.h"
 #include "baker/memory_budget.h"
+#include "baker/report.h"
 #include "tests/ply_reader.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
@@ -592,6 +592,44 @@ TEST(BakeCli, ManyLightsWithoutPhotonsAreSummarisedInOneLine) {
             std::string::npos) << run.output;
   EXPECT_NE(run.output.find(fmt::format("({:.2g}% of the flux)", 100 * dark / total)), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("; the brightest: the light of material"), std::string::npos) << run.output;
+}
+
+// Millions of surfaces or lights keep the report small: 1,089 lamps (1,090 surfaces with the floor) list the
+// 1,000 largest surfaces and the 1,000 brightest lights, each with its index, in index order, and totals over
+// all; --report-all lists every one; the summary prints at most 40 lights.
+TEST(BakeCli, TheReportListsTheLargestSurfacesAndBrightestLightsAndSummarisesAll) {
+  const std::string dir = test::TempDirectory("cli-report-many");
+  constexpr int kSide = 33;
+  const std::string scene = test::WriteLampGrid(dir, kSide, 0.1f, 0.05f, 1.0f, 4.0f);
+  const auto report = [&](const std::string& extra) {
+    const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply --photons 20000 --direct-samples 1 --report " + dir +
+                                "/r.json" + extra);
+    EXPECT_EQ(run.status, 0) << run.output;
+    return std::pair{run.output, nlohmann::json::parse(test::ReadBytes(dir + "/r.json"))};
+  };
+  const auto [output, listed] = report("");
+  const auto [allOutput, all] = report(" --report-all");
+  EXPECT_NE(output.find("... 1049 more lights in --report"), std::string::npos) << output;
+  ASSERT_EQ(all.at("lights").size(), size_t(kSide * kSide));
+  ASSERT_EQ(all.at("surfaces").size(), size_t(kSide * kSide + 1));
+  ASSERT_EQ(listed.at("lights").size(), kListed);
+  ASSERT_EQ(listed.at("surfaces").size(), kListed);
+  EXPECT_EQ(listed.at("lights_summary").at("count"), kSide * kSide);
+  EXPECT_EQ(listed.at("surfaces_summary").at("count"), kSide * kSide + 1);
+  nlohmann::json totals = all.at("surfaces_summary");
+  totals["listed"] = kListed;
+  EXPECT_EQ(listed.at("surfaces_summary"), totals) << "the same totals over all surfaces";
+  // The brightest 1,000 by power, ties by index, from the full list; and the floor among the largest surfaces.
+  std::vector<std::pair<double, size_t>> powers;
+  for (const auto& l : all.at("lights")) powers.push_back({-l.at("power_W")[1].get<double>(), l.at("light").get<size_t>()});
+  std::sort(powers.begin(), powers.end());
+  std::vector<size_t> brightest;
+  for (size_t i = 0; i < kListed; ++i) brightest.push_back(powers[i].second);
+  std::sort(brightest.begin(), brightest.end());
+  std::vector<size_t> got;
+  for (const auto& l : listed.at("lights")) got.push_back(l.at("light").get<size_t>());
+  EXPECT_EQ(got, brightest);
+  EXPECT_EQ(listed.at("surfaces")[0].at("surface"), 0) << "the floor, the largest, first";
 }
 
 TEST(BakeCli, ResumeAndTargetNoiseAreReported) {
