@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstring>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "estimators/quadrature.h"
 
@@ -46,17 +45,38 @@ struct HalfEdgeHash {
 
 // The half-edges of counter-clockwise `triangles` whose reverse none of them has: the boundary of their union,
 // with the union on the left, in triangle order. Interior edges cancel exactly; T-junctions leave collinear
-// pieces that cancel numerically.
+// pieces that cancel numerically. By sorting the half-edges on their undirected key, not by a hash set: on a
+// surface of 10^6 triangles the set's cache misses were a third of a bake's time, and grew faster than the
+// triangles.
 std::vector<std::array<Point2, 2>> Boundary(const std::vector<Triangle2>& triangles) {
-  std::unordered_set<HalfEdgeKey, HalfEdgeHash> halfEdges;
-  for (const Triangle2& t : triangles)
-    for (int k = 0; k < 3; ++k) halfEdges.insert({Bits(t[k]), Bits(t[(k + 1) % 3])});
-  std::vector<std::array<Point2, 2>> boundary;
-  for (const Triangle2& t : triangles)
-    for (int k = 0; k < 3; ++k) {
-      const Point2 a = t[k], b = t[(k + 1) % 3];
-      if (!halfEdges.contains({Bits(b), Bits(a)})) boundary.push_back({a, b});
+  struct Half {
+    uint64_t lo, hi;  // the corners' bits, smaller first
+    uint32_t index;   // 3 t + k: the half-edge from corner k of triangle t
+    bool forward;     // it runs from lo to hi
+  };
+  std::vector<Half> halves;
+  halves.reserve(3 * triangles.size());
+  for (uint32_t t = 0; t < triangles.size(); ++t)
+    for (uint32_t k = 0; k < 3; ++k) {
+      const uint64_t a = Bits(triangles[t][k]), b = Bits(triangles[t][(k + 1) % 3]);
+      halves.push_back({std::min(a, b), std::max(a, b), 3 * t + k, a < b});
     }
+  std::sort(halves.begin(), halves.end(),
+            [](const Half& x, const Half& y) { return x.lo != y.lo ? x.lo < y.lo : x.hi < y.hi; });
+  // A group of half-edges on one undirected edge is boundary where all of them run the same way.
+  std::vector<bool> onBoundary(halves.size(), false);
+  for (size_t first = 0; first < halves.size();) {
+    size_t end = first;
+    bool forward = false, backward = false;
+    for (; end < halves.size() && halves[end].lo == halves[first].lo && halves[end].hi == halves[first].hi; ++end)
+      (halves[end].forward ? forward : backward) = true;
+    if (forward != backward && halves[first].lo != halves[first].hi)  // a zero-length edge is its own reverse
+      for (size_t i = first; i < end; ++i) onBoundary[halves[i].index] = true;
+    first = end;
+  }
+  std::vector<std::array<Point2, 2>> boundary;
+  for (uint32_t i = 0; i < onBoundary.size(); ++i)
+    if (onBoundary[i]) boundary.push_back({triangles[i / 3][i % 3], triangles[i / 3][(i % 3 + 1) % 3]});
   return boundary;
 }
 
