@@ -42,16 +42,22 @@ std::vector<uint32_t> WeldedPositionIds(const Scene& scene) {
 uint64_t EdgeKey(uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
 
 // For each triangle, the triangles that share one of its edges (after welding), ascending.
+// The (edge, triangle) pairs are sorted rather than hashed into a map of vectors, whose allocations and cache
+// misses grew faster than the triangles.
 std::vector<std::vector<uint32_t>> EdgeNeighbours(const Scene& scene, const std::vector<uint32_t>& weld) {
-  std::unordered_map<uint64_t, std::vector<uint32_t>> trianglesOfEdge;
+  std::vector<std::pair<uint64_t, uint32_t>> edges;
+  edges.reserve(3 * scene.triangles.size());
   for (uint32_t t = 0; t < scene.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
-      trianglesOfEdge[EdgeKey(weld[scene.triangles[t].v[k]], weld[scene.triangles[t].v[(k + 1) % 3]])].push_back(t);
+      edges.push_back({EdgeKey(weld[scene.triangles[t].v[k]], weld[scene.triangles[t].v[(k + 1) % 3]]), t});
+  std::sort(edges.begin(), edges.end());
   std::vector<std::vector<uint32_t>> neighbours(scene.triangles.size());
-  for (const auto& [edge, tris] : trianglesOfEdge)
-    for (uint32_t a : tris)
-      for (uint32_t b : tris)
-        if (a != b) neighbours[a].push_back(b);
+  for (size_t first = 0, end; first < edges.size(); first = end) {
+    for (end = first; end < edges.size() && edges[end].first == edges[first].first;) ++end;
+    for (size_t a = first; a < end; ++a)
+      for (size_t b = first; b < end; ++b)
+        if (edges[a].second != edges[b].second) neighbours[edges[a].second].push_back(edges[b].second);
+  }
   for (auto& n : neighbours) std::sort(n.begin(), n.end());  // deterministic flood order.
   return neighbours;
 }
