@@ -144,7 +144,7 @@ Rgb LightSampler::SampleBySolidAngle(const Light& light, const Subtended& seen, 
   const uint32_t triangle = seen.triangles[pick->index];
   const Normal3 front = scene_.FrontNormal(triangle);
   const float along = Dot(scene_.Corner(triangle, 0) - p, front) / Dot(w, front);
-  if (!(along > 0) || !(Dot(w, n) > 0)) return {};
+  if (!(along > 0) || !std::isfinite(along) || !(Dot(w, n) > 0)) return {};
   return Unoccluded(light, p, n, p + w * along) * float(seen.total);
 }
 
@@ -195,7 +195,7 @@ DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples,
   const std::vector<uint32_t> cells = Shuffled(side * side, rng);
   StratifiedMean mean(side);
   SubtendedCache cache{std::max<size_t>(kSolidAngleTriangles, samples / 4), {}};
-  if (!tree_) cache.lights.resize(areas_.size());
+  if (areas_.size() <= kCachedLights) cache.lights.resize(areas_.size());
   for (uint32_t j = 0; j < samples; ++j) {
     const auto pick = PickLight(cdf, p, n, std::min((float(j) + rng.Uniform()) / float(samples), 0x1.fffffep-1f));
     const uint32_t cell = cells[j];

@@ -12,7 +12,7 @@
 // Omega_i that it subtends instead (estimators/warps.h, Arvo 1995: a triangle in proportion to its solid angle,
 // then a direction in it), weighed Ke V cos(theta_x) Omega_i / p_i: the 1 / d^2 and cos(theta_y) factors, which
 // vary most over a near light, leave the estimate. A point computes a light's spherical triangles once, the first
-// time a sample picks it (below kTreeLights lights; with the tree, per sample), and only for a light of at most
+// time a sample picks it (with up to kCachedLights area lights; with more, per sample), and only for a light of at most
 // S / 4 triangles (S samples; at least 4), so that this stays a small part of the point's cost: a path tracer's
 // one sample per vertex would otherwise pay for every triangle of a gridded light (7x its time on the 25 mm box). p_i is 90% in proportion to an unoccluded guess of the light's share at x
 // (its power over the squared distance to its centroid, floored at its area), 10% uniform over the lights that
@@ -99,6 +99,8 @@ class LightSampler {
   // sampled by solid angle there (see the top).
   static constexpr size_t kSolidAngleTriangles = 4;
   static constexpr double kSolidAngleFrom = 0.01;
+  // Up to this many area lights, a point keeps each light's spherical triangles for its later samples.
+  static constexpr size_t kCachedLights = 64;
 
   // All three must outlive the sampler. treeFrom: the number of area lights from which the tree chooses them;
   // solidAngleFrom: the solid angle [sr] from which a light is sampled by it (infinity: always by area).
@@ -145,7 +147,7 @@ class LightSampler {
   // None where the light is sampled by area at p: more than `triangles` triangles, or too small a solid angle.
   std::optional<Subtended> SubtendedAt(size_t area, Point3 p, size_t triangles) const;
   // Area light `area` (an index into areas_) seen from p, computed at most once per point in `lights` (one entry
-  // per area light, or none with the tree).
+  // per area light, or none above kCachedLights lights).
   struct SubtendedCache {
     size_t triangles = kSolidAngleTriangles;  // the most a light sampled by solid angle may have
     std::vector<std::optional<std::optional<Subtended>>> lights;
