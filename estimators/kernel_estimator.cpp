@@ -145,16 +145,20 @@ void AddMoments(std::array<float, 6>& into, float w, float a, float b) {
 
 }  // namespace
 
+std::array<int, 4> KernelEstimator::NodesNear(Point2 x) const {
+  return {std::max(0, int(std::ceil((x.u - h_ - lo_.u) / spacing_))),
+          std::min(nodesU_ - 1, int(std::floor((x.u + h_ - lo_.u) / spacing_))),
+          std::max(0, int(std::ceil((x.v - h_ - lo_.v) / spacing_))),
+          std::min(nodesV_ - 1, int(std::floor((x.v + h_ - lo_.v) / spacing_)))};
+}
+
 // The node sums over the nodes within h of x (kEdge: every moment; else the flux, the mass and the noise's first
 // terms only), in float within a row and in double across rows. `partial` is set when some node within h is not
 // wholly on the surface.
 template <bool kNoise, bool kEdge, typename Profile>
 KernelEstimator::NodeSums KernelEstimator::SumNodes(Point2 x, Profile profile, bool& partial) const {
   const float inverseH2 = 1.0f / (h_ * h_), inverseH = 1.0f / h_;
-  const int u0 = std::max(0, int(std::ceil((x.u - h_ - lo_.u) / spacing_)));
-  const int u1 = std::min(nodesU_ - 1, int(std::floor((x.u + h_ - lo_.u) / spacing_)));
-  const int v0 = std::max(0, int(std::ceil((x.v - h_ - lo_.v) / spacing_)));
-  const int v1 = std::min(nodesV_ - 1, int(std::floor((x.v + h_ - lo_.v) / spacing_)));
+  const auto [u0, u1, v0, v1] = NodesNear(x);
   const bool corrected = !nodeArea_.empty();
   const float whole = 0.999f * spacing_ * spacing_;  // a node's area when the surface covers its whole tent
   NodeSums s;
@@ -189,10 +193,7 @@ KernelEstimator::NodeSums KernelEstimator::SumNodes(Point2 x, Profile profile, b
 // Whether a node of the square of nodes about x, h on each side, is not wholly on the surface: O(1), from the
 // summed-area table of such nodes.
 bool KernelEstimator::NearEdge(Point2 x) const {
-  const int u0 = std::max(0, int(std::ceil((x.u - h_ - lo_.u) / spacing_)));
-  const int u1 = std::min(nodesU_ - 1, int(std::floor((x.u + h_ - lo_.u) / spacing_)));
-  const int v0 = std::max(0, int(std::ceil((x.v - h_ - lo_.v) / spacing_)));
-  const int v1 = std::min(nodesV_ - 1, int(std::floor((x.v + h_ - lo_.v) / spacing_)));
+  const auto [u0, u1, v0, v1] = NodesNear(x);
   if (u0 > u1 || v0 > v1) return false;
   const size_t row = size_t(nodesU_) + 1;
   const auto at = [&](int i, int j) { return partialTable_[size_t(j) * row + size_t(i)]; };

@@ -99,6 +99,8 @@ class KernelEstimator final : public DensityEstimator {
   template <bool kNoise, bool kEdge, typename Profile>
   NodeSums SumNodes(Point2 x, Profile profile, bool& partial) const;
   bool NearEdge(Point2 x) const;
+  // The nodes of the square about x, h on each side: {u0, u1, v0, v1}, inclusive (empty when u0 > u1 or v0 > v1).
+  std::array<int, 4> NodesNear(Point2 x) const;
   // H and its noise at x (the noise sums only with kNoise).
   template <bool kNoise>
   WithNoise Evaluate(Point2 x) const;
