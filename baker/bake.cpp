@@ -126,7 +126,8 @@ std::vector<std::string> UnlitLightWarnings(const PreparedScene& scene, const Ph
     return scene.lights[a].Power().Mean() > scene.lights[b].Power().Mean();
   });
   std::string brightest;
-  for (size_t i = 0; i < kNamedUnlit; ++i) brightest += (i ? ", " : "") + UnlitLightName(scene, scene.lights[unlit[i]]);
+  for (size_t i = 0; i < kNamedUnlit; ++i)  // with its index: many lights share a material's name
+    brightest += (i ? ", " : "") + UnlitLightName(scene, scene.lights[unlit[i]], fmt::format(", light {}", unlit[i]));
   warnings.push_back(fmt::format("{}: warning: {} of {} lights got no photon: {:.3g} W of {:.3g} W ({:.2g}% of the "
                                  "flux), so their {}; the brightest: {}; raise --photons to at least {:.0f} for every "
                                  "light to get one", scene.scene.path, unlit.size(), scene.lights.size(), unlitFlux,

@@ -591,7 +591,9 @@ TEST(BakeCli, ManyLightsWithoutPhotonsAreSummarisedInOneLine) {
   EXPECT_NE(run.output.find(fmt::format("warning: {} of {} lights got no photon", unlit, kSide * kSide)),
             std::string::npos) << run.output;
   EXPECT_NE(run.output.find(fmt::format("({:.2g}% of the flux)", 100 * dark / total)), std::string::npos) << run.output;
-  EXPECT_NE(run.output.find("; the brightest: the light of material"), std::string::npos) << run.output;
+  EXPECT_TRUE(std::regex_search(run.output, std::regex("; the brightest: the light of material 'lamp_[0-9]+' "
+                                                      "\\([0-9.e+-]+ W, light [0-9]+\\)")))
+      << run.output;
 }
 
 // Millions of surfaces or lights keep the report small: 1,089 lamps (1,090 surfaces with the floor) list the
