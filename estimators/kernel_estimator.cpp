@@ -69,6 +69,16 @@ KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb
   }
 }
 
+template <typename Share>
+void KernelEstimator::ShareBilinear(double fu, double fv, Share share) const {
+  const int iu = int(std::floor(fu)), iv = int(std::floor(fv));
+  const double su = fu - iu, sv = fv - iv;
+  const std::array<std::tuple<int, int, double>, 4> corners = {
+      {{iu, iv, (1 - su) * (1 - sv)}, {iu + 1, iv, su * (1 - sv)}, {iu, iv + 1, (1 - su) * sv}, {iu + 1, iv + 1, su * sv}}};
+  for (const auto& [i, j, w] : corners)
+    if (i >= 0 && j >= 0 && i < nodesU_ && j < nodesV_) share(size_t(j) * nodesU_ + i, w);
+}
+
 void KernelEstimator::Bin(std::span<const Point2> uv, std::span<const Rgb> flux, Bounds2 bounds) {
   spacing_ = h_ / float(kNodesPerH);
   lo_ = bounds.lo;
@@ -77,23 +87,12 @@ void KernelEstimator::Bin(std::span<const Point2> uv, std::span<const Rgb> flux,
   const size_t count = size_t(nodesU_) * size_t(nodesV_);
   std::vector<std::array<double, 3>> sums(count, {0, 0, 0});
   std::vector<double> squares(count, 0);
-  // The lower node of the pair about coordinate `c`, and the weight of the upper one.
-  const auto split = [&](float c, float lo, int nodes) {
-    const double f = (double(c) - lo) / spacing_;
-    const int i = std::clamp(int(std::floor(f)), 0, nodes - 2);
-    return std::pair{i, std::clamp(f - i, 0.0, 1.0)};
-  };
   for (size_t j = 0; j < uv.size(); ++j) {
-    const auto [iu, su] = split(uv[j].u, lo_.u, nodesU_);
-    const auto [iv, sv] = split(uv[j].v, lo_.v, nodesV_);
     const double y = Luminance(flux[j]), y2 = y * y;
-    const size_t n00 = size_t(iv) * nodesU_ + iu;
-    const std::array<std::pair<size_t, double>, 4> shares = {
-        {{n00, (1 - su) * (1 - sv)}, {n00 + 1, su * (1 - sv)}, {n00 + nodesU_, (1 - su) * sv}, {n00 + nodesU_ + 1, su * sv}}};
-    for (const auto& [n, w] : shares) {
+    ShareBilinear((double(uv[j].u) - lo_.u) / spacing_, (double(uv[j].v) - lo_.v) / spacing_, [&](size_t n, double w) {
       sums[n][0] += w * flux[j].r, sums[n][1] += w * flux[j].g, sums[n][2] += w * flux[j].b;
       squares[n] += w * y2;
-    }
+    });
   }
   nodeFlux_.resize(count);
   nodeSquares_.resize(count);
@@ -115,16 +114,11 @@ void KernelEstimator::BinCoverage() {
     for (int a = 0; a < cu; ++a) {
       const double area = areas[size_t(b) * cu + a];
       if (area <= 0) continue;
-      const double fu = (a + 0.5) * 0.5 - 1, fv = (b + 0.5) * 0.5 - 1;  // the centre, in node units from lo_
-      const int iu = int(std::floor(fu)), iv = int(std::floor(fv));
-      const double su = fu - iu, sv = fv - iv;
-      const std::array<std::tuple<int, int, double>, 4> corners = {
-          {{iu, iv, (1 - su) * (1 - sv)}, {iu + 1, iv, su * (1 - sv)}, {iu, iv + 1, (1 - su) * sv}, {iu + 1, iv + 1, su * sv}}};
-      for (const auto& [i, j, w] : corners)
-        if (i >= 0 && j >= 0 && i < nodesU_ && j < nodesV_) shares[size_t(j) * nodesU_ + i] += w * area;
+      // The centre, in node units from lo_.
+      ShareBilinear((a + 0.5) * 0.5 - 1, (b + 0.5) * 0.5 - 1, [&](size_t n, double w) { shares[n] += w * area; });
     }
   nodeArea_.assign(shares.begin(), shares.end());
-  const float whole = 0.999f * spacing_ * spacing_;
+  const float whole = WholeNodeArea();
   const size_t row = size_t(nodesU_) + 1;
   partialTable_.assign(row * (size_t(nodesV_) + 1), 0);
   for (int j = 0; j < nodesV_; ++j)
@@ -160,7 +154,7 @@ KernelEstimator::NodeSums KernelEstimator::SumNodes(Point2 x, Profile profile, b
   const float inverseH2 = 1.0f / (h_ * h_), inverseH = 1.0f / h_;
   const auto [u0, u1, v0, v1] = NodesNear(x);
   const bool corrected = !nodeArea_.empty();
-  const float whole = 0.999f * spacing_ * spacing_;  // a node's area when the surface covers its whole tent
+  const float whole = WholeNodeArea();
   NodeSums s;
   for (int j = v0; j <= v1; ++j) {
     const float dv = lo_.v + float(j) * spacing_ - x.v, b = dv * inverseH;

@@ -87,6 +87,12 @@ class KernelEstimator final : public DensityEstimator {
   // Binned: the grid of nodes, the coverage mask, and H with its noise from them.
   void Bin(std::span<const Point2> uv, std::span<const Rgb> flux, Bounds2 bounds);
   void BinCoverage();
+  // Calls share(node, weight) for the four nodes about fractional node coordinates (fu, fv) with their bilinear
+  // weights, leaving out nodes beyond the grid.
+  template <typename Share>
+  void ShareBilinear(double fu, double fv, Share share) const;
+  // A node's coverage when the surface covers its whole tent (less rounding).
+  float WholeNodeArea() const { return 0.999f * spacing_ * spacing_; }
   template <bool kNoise, typename Profile>
   WithNoise EvaluateBinned(Point2 x, Profile profile) const;
   // The binned sums at x, offsets (a, b) = (n - x) / h: of the flux W_n k_n times 1, a and b; of the coverage

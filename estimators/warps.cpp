@@ -101,8 +101,6 @@ D3 UnitD(D3 a) {
 }
 // The unit component of `to` orthogonal to the unit `from`: the direction in which the arc from `from` leaves it.
 D3 Tangent(D3 from, D3 to) { return UnitD(Minus(to, Times(from, DotD(to, from)))); }
-// The angle at corner a of the spherical triangle (a, b, c): between the arcs to b and to c.
-double CornerAngle(D3 a, D3 b, D3 c) { return std::acos(std::clamp(DotD(Tangent(a, b), Tangent(a, c)), -1.0, 1.0)); }
 
 }  // namespace
 
@@ -114,7 +112,7 @@ std::optional<SphericalTriangle> SphericalTriangle::From(Point3 p, Point3 v0, Po
   SphericalTriangle t;
   t.a_ = a, t.b_ = b, t.towardC_ = Tangent(a, c);
   t.area_ = area;
-  t.alpha_ = CornerAngle(a, b, c);
+  t.alpha_ = std::acos(std::clamp(DotD(Tangent(a, b), t.towardC_), -1.0, 1.0));  // between the arcs to b and to c
   t.cosAlpha_ = std::cos(t.alpha_), t.sinAlpha_ = std::sin(t.alpha_), t.cosC_ = DotD(a, b);
   if (!(t.sinAlpha_ > 0)) return std::nullopt;
   return t;
