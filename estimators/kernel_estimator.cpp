@@ -16,8 +16,28 @@ constexpr double kMaxCellsPerPhoton = 4.0;
 constexpr double kMinCellBudget = 1 << 12;
 }  // namespace
 
+namespace {
+// A kernel with a step at its rim (uniform, the truncated Gaussian) is binned only on request: its binning error is
+// first order in the spacing (1.4% for the Gaussian), not second.
+bool SmoothRim(Kernel kernel) { return kernel != Kernel::kUniform && kernel != Kernel::kGaussian; }
+// Nor is a surface narrower than 2 h: its nodes would be too few across it for the fit at its edges.
+bool Wide(Bounds2 b, float h) { return std::min(b.hi.u - b.lo.u, b.hi.v - b.lo.v) >= 2 * h; }
+
+// The brightest photon's largest channel [W] (1 when there is none).
+double BrightestChannel(std::span<const Rgb> flux) {
+  float brightest = 0;
+  for (const Rgb& f : flux) brightest = std::max(brightest, f.Max());
+  return brightest > 0 ? brightest : 1.0;
+}
+}  // namespace
+
+std::optional<NodeLattice> KernelEstimator::WideLattice(Kernel kernel, const SurfaceRegion& region, float h) {
+  if (!SmoothRim(kernel) || !Wide(region.Bounds(), h)) return std::nullopt;
+  return NodeLattice::Over(region.Bounds(), h, kNodesPerH);
+}
+
 KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> flux, float h, Kernel kernel,
-                                 const SurfaceRegion* correction, bool localLinear, Binning binning)
+                                 const SurfaceRegion* correction, bool localLinear, Binning binning, double fluxUnit)
     : h_(h), kernel_(kernel), correction_(correction), localLinear_(localLinear),
       minimumMass_(correction ? MinimumKernelMass(correction->Area(), kernel, h) : kMinEdgeMass) {
   PB_CHECK(h > 0 && std::isfinite(h), "bandwidth is positive and finite");
@@ -26,23 +46,17 @@ KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb
   empty_ = false;
   Bounds2 bounds;
   for (const Point2& p : uv) bounds.Extend(p);
-  const double su = double(bounds.hi.u) - bounds.lo.u, sv = double(bounds.hi.v) - bounds.lo.v;
-  Bounds2 grid = bounds;  // the nodes span the surface too, so that its coverage mask is whole
-  if (correction != nullptr) grid.Extend(correction->Bounds().lo), grid.Extend(correction->Bounds().hi);
-  const double spacing = double(h) / kNodesPerH;
-  const double nodes = (std::floor((double(grid.hi.u) - grid.lo.u) / spacing) + 2) *
-                       (std::floor((double(grid.hi.v) - grid.lo.v) / spacing) + 2);
-  // A kernel with a step at its rim (uniform, the truncated Gaussian) is binned only on request: its binning
-  // error is first order in the spacing (1.4% for the Gaussian), not second.
-  // Nor is a surface narrower than 2 h: its nodes would be too few across it for the fit at its edges.
-  const bool smoothRim = kernel != Kernel::kUniform && kernel != Kernel::kGaussian;
-  const bool wide = std::min(grid.hi.u - grid.lo.u, grid.hi.v - grid.lo.v) >= 2 * h;
-  if (binning == Binning::kBinned ||
-      (binning == Binning::kAuto && smoothRim && wide && double(uv.size()) >= kBinnedPhotonsPerNode * nodes)) {
-    Bin(uv, flux, grid);
+  // The nodes span the surface, so that its coverage mask is whole (its photons lie on it).
+  const Bounds2 grid = correction != nullptr ? correction->Bounds() : bounds;
+  const NodeLattice lattice = NodeLattice::Over(grid, h, kNodesPerH);
+  const bool binnable = SmoothRim(kernel) && Wide(grid, h);
+  const bool dense = double(uv.size()) >= kBinnedPhotonsPerNode * double(lattice.Count());
+  if (binning == Binning::kBinned || (binnable && (binning == Binning::kWide || (binning == Binning::kAuto && dense)))) {
+    Bin(uv, flux, lattice, fluxUnit > 0 ? fluxUnit : BrightestChannel(flux));
     if (correction_ != nullptr) BinCoverage();
     return;
   }
+  const double su = double(bounds.hi.u) - bounds.lo.u, sv = double(bounds.hi.v) - bounds.lo.v;
   double cell = h;
   const double budget = std::max(kMinCellBudget, kMaxCellsPerPhoton * double(uv.size()));
   while ((su / cell + 1) * (sv / cell + 1) > budget) cell *= 2;
@@ -69,37 +83,29 @@ KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb
   }
 }
 
-template <typename Share>
-void KernelEstimator::ShareBilinear(double fu, double fv, Share share) const {
-  const int iu = int(std::floor(fu)), iv = int(std::floor(fv));
-  const double su = fu - iu, sv = fv - iv;
-  const std::array<std::tuple<int, int, double>, 4> corners = {
-      {{iu, iv, (1 - su) * (1 - sv)}, {iu + 1, iv, su * (1 - sv)}, {iu, iv + 1, (1 - su) * sv}, {iu + 1, iv + 1, su * sv}}};
-  for (const auto& [i, j, w] : corners)
-    if (i >= 0 && j >= 0 && i < nodesU_ && j < nodesV_) share(size_t(j) * nodesU_ + i, w);
+KernelEstimator::KernelEstimator(const BinnedPhotons& binned, float h, Kernel kernel, const SurfaceRegion& correction,
+                                 bool localLinear)
+    : h_(h), kernel_(kernel), correction_(&correction), localLinear_(localLinear),
+      minimumMass_(MinimumKernelMass(correction.Area(), kernel, h)) {
+  PB_CHECK(h > 0 && std::isfinite(h), "bandwidth is positive and finite");
+  if (binned.Photons() == 0) return;
+  empty_ = false;
+  TakeNodes(binned);
+  BinCoverage();
 }
 
-void KernelEstimator::Bin(std::span<const Point2> uv, std::span<const Rgb> flux, Bounds2 bounds) {
-  spacing_ = h_ / float(kNodesPerH);
-  lo_ = bounds.lo;
-  nodesU_ = int(std::floor((double(bounds.hi.u) - lo_.u) / spacing_)) + 2;
-  nodesV_ = int(std::floor((double(bounds.hi.v) - lo_.v) / spacing_)) + 2;
-  const size_t count = size_t(nodesU_) * size_t(nodesV_);
-  std::vector<std::array<double, 3>> sums(count, {0, 0, 0});
-  std::vector<double> squares(count, 0);
-  for (size_t j = 0; j < uv.size(); ++j) {
-    const double y = Luminance(flux[j]), y2 = y * y;
-    ShareBilinear((double(uv[j].u) - lo_.u) / spacing_, (double(uv[j].v) - lo_.v) / spacing_, [&](size_t n, double w) {
-      sums[n][0] += w * flux[j].r, sums[n][1] += w * flux[j].g, sums[n][2] += w * flux[j].b;
-      squares[n] += w * y2;
-    });
-  }
-  nodeFlux_.resize(count);
-  nodeSquares_.resize(count);
-  for (size_t n = 0; n < count; ++n) {
-    nodeFlux_[n] = {float(sums[n][0]), float(sums[n][1]), float(sums[n][2])};
-    nodeSquares_[n] = float(squares[n]);
-  }
+void KernelEstimator::Bin(std::span<const Point2> uv, std::span<const Rgb> flux, const NodeLattice& lattice, double fluxUnit) {
+  BinnedPhotons binned(lattice, fluxUnit);
+  for (size_t j = 0; j < uv.size(); ++j) binned.Add(uv[j], flux[j]);
+  TakeNodes(binned);
+}
+
+void KernelEstimator::TakeNodes(const BinnedPhotons& binned) {
+  const NodeLattice& lattice = binned.Lattice();
+  lo_ = lattice.lo, spacing_ = lattice.spacing, nodesU_ = lattice.nodesU, nodesV_ = lattice.nodesV;
+  nodeFlux_.resize(lattice.Count());
+  nodeSquares_.resize(lattice.Count());
+  for (size_t n = 0; n < lattice.Count(); ++n) nodeFlux_[n] = binned.Flux(n), nodeSquares_[n] = binned.Squares(n);
 }
 
 // The coverage mask, binned like the photons: the surface's area in each cell of a grid of side spacing / 2 (exact,
@@ -109,13 +115,14 @@ void KernelEstimator::BinCoverage() {
   const Point2 origin{lo_.u - spacing_, lo_.v - spacing_};
   const int cu = 2 * nodesU_ + 2, cv = 2 * nodesV_ + 2;
   const std::vector<double> areas = correction_->GridOverlapAreas(origin, side, cu, cv);
-  std::vector<double> shares(size_t(nodesU_) * nodesV_, 0.0);
+  const NodeLattice nodes = Nodes();
+  std::vector<double> shares(nodes.Count(), 0.0);
   for (int b = 0; b < cv; ++b)
     for (int a = 0; a < cu; ++a) {
       const double area = areas[size_t(b) * cu + a];
       if (area <= 0) continue;
       // The centre, in node units from lo_.
-      ShareBilinear((a + 0.5) * 0.5 - 1, (b + 0.5) * 0.5 - 1, [&](size_t n, double w) { shares[n] += w * area; });
+      nodes.ShareBilinear((a + 0.5) * 0.5 - 1, (b + 0.5) * 0.5 - 1, [&](size_t n, double w) { shares[n] += w * area; });
     }
   nodeArea_.assign(shares.begin(), shares.end());
   const float whole = WholeNodeArea();

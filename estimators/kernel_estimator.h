@@ -26,7 +26,10 @@
 // denominator share the binning's error, which then cancels, and no boundary edge is visited per point. The noise
 // sums use each node's share of the photons' squared luminance. The photon arrays are not kept. Kernels that step
 // at their rim (uniform, the truncated Gaussian) are not binned: their error would be first order; nor are
-// surfaces narrower than 2 h, too few nodes across for the fit at their edges.
+// surfaces narrower than 2 h, too few nodes across for the fit at their edges. The node sums are fixed point
+// (estimators/binned_photons.h), so photons binned as they were traced (the second constructor) give the same
+// estimator, bit for bit, as the same photons listed; Binning::kWide bins every surface that can be, whatever its
+// density, as a bake that bins while tracing does.
 #pragma once
 
 #include <array>
@@ -36,6 +39,7 @@
 #include <span>
 #include <vector>
 
+#include "estimators/binned_photons.h"
 #include "estimators/density_estimator.h"
 #include "estimators/kernels.h"
 #include "estimators/surface_region.h"
@@ -46,17 +50,26 @@ namespace pb {
 
 class KernelEstimator final : public DensityEstimator {
  public:
-  enum class Binning { kAuto, kExact, kBinned };
+  // kAuto: dense photons on a wide surface; kWide: every wide surface; kExact: none; kBinned: every surface.
+  enum class Binning { kAuto, kWide, kExact, kBinned };
   static constexpr int kNodesPerH = 8;
   static constexpr double kBinnedPhotonsPerNode = 2.0;
 
   // h: bandwidth [m], > 0. The photon arrays are copied, reordered by cell. `correction`: the surface's region
   // for boundary correction (must outlive this), or null for none.
   // `localLinear`: at the boundary, fit locally linear (above) rather than only renormalise.
-  // `binning`: kAuto bins dense photons (above), kExact never, kBinned always.
+  // `binning`: as above. `fluxUnit`: of the node sums (estimators/binned_photons.h), or 0 for the brightest
+  // photon's largest channel.
   KernelEstimator(std::span<const Point2> uv, std::span<const Rgb> flux, float h, Kernel kernel,
-                  const SurfaceRegion* correction, bool localLinear = false, Binning binning = Binning::kAuto);
+                  const SurfaceRegion* correction, bool localLinear = false, Binning binning = Binning::kAuto,
+                  double fluxUnit = 0);
+  // From photons binned as they were traced, on WideLattice(kernel, *correction, h).
+  KernelEstimator(const BinnedPhotons& binned, float h, Kernel kernel, const SurfaceRegion& correction, bool localLinear);
   bool Binned() const { return !nodeFlux_.empty(); }
+
+  // The lattice a surface of region `region` is binned on whatever its photons' density (Binning::kWide), or none
+  // when its kernel or its width rules binning out.
+  static std::optional<NodeLattice> WideLattice(Kernel kernel, const SurfaceRegion& region, float h);
 
   // H at chart point x [W/m^2]. Sums in a fixed order, so the result is reproducible bit for bit.
   Rgb Estimate(Point2 x) const override;
@@ -85,12 +98,10 @@ class KernelEstimator final : public DensityEstimator {
   template <bool kNoise, bool kLinear, typename Profile>
   Rgb ProfileSum(Point2 x, Profile profile, NoiseSums& noise, LinearFit fit) const;
   // Binned: the grid of nodes, the coverage mask, and H with its noise from them.
-  void Bin(std::span<const Point2> uv, std::span<const Rgb> flux, Bounds2 bounds);
+  void Bin(std::span<const Point2> uv, std::span<const Rgb> flux, const NodeLattice& lattice, double fluxUnit);
+  void TakeNodes(const BinnedPhotons& binned);
   void BinCoverage();
-  // Calls share(node, weight) for the four nodes about fractional node coordinates (fu, fv) with their bilinear
-  // weights, leaving out nodes beyond the grid.
-  template <typename Share>
-  void ShareBilinear(double fu, double fv, Share share) const;
+  NodeLattice Nodes() const { return {lo_, spacing_, nodesU_, nodesV_}; }
   // A node's coverage when the surface covers its whole tent (less rounding).
   float WholeNodeArea() const { return 0.999f * spacing_ * spacing_; }
   template <bool kNoise, typename Profile>
