@@ -155,7 +155,7 @@ std::vector<WorkItem> PlanWork(const PhotonStore& store, const std::vector<uint6
 // whether item i was traced.
 template <typename Tracer>
 std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<Light>& lights, const std::vector<WorkItem>& work,
-                            std::vector<Block>& blocks, uint64_t seed, const Log& log) {
+                            std::vector<Block>& blocks, uint64_t seed, const HitSink* sink, const Log& log) {
   uint64_t total = 0;
   for (const WorkItem& w : work) total += w.range.end - w.from;
   Progress progress(log, "trace photons", total);
@@ -168,12 +168,14 @@ std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<Light>& ligh
       Block& block = blocks[w.block];
       // ~2.5 hits per photon in a box: growth copies are rare. In proportion to the block's photons, so that a
       // light of a few photons (one of 100,000 LEDs) costs a few hits' memory, not a full block's.
-      block.hits.reserve(block.hits.size() + (w.range.end - w.from) * 3);
+      const size_t before = block.hits.size();
+      block.hits.reserve(before + (w.range.end - w.from) * 3);
       for (uint64_t j = w.from; j < w.range.end; ++j) {
         Rng rng(seed, PhotonStream(w.range.light, j));
         tracer.Trace(lights[w.range.light], rng, block);
       }
-      block.stats.hits = block.hits.size();
+      block.stats.hits += block.hits.size() - before;  // every hit, those a sink takes too
+      if (sink != nullptr) sink->Take(w.range.light, block.hits, before), block.hits.shrink_to_fit();
       done[i] = 1;
       progress.Advance(w.range.end - w.from);
     }
@@ -234,7 +236,7 @@ bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<Lig
   std::vector<Block> blocks = TakeBlocks(store, total);
   const auto run = [&]<bool kInterreflect, bool kSpecular>() {
     const PhotonTracer<kInterreflect, kSpecular> tracer(scene, rays, plan, settings.maxBounces, settings.storeDirect);
-    return TraceWork(tracer, lights, work, blocks, settings.seed, log);
+    return TraceWork(tracer, lights, work, blocks, settings.seed, settings.sink, log);
   };
   const bool bounce = plan.On(Effect::kInterreflection), specular = plan.NeedsSpecularKernel();
   const std::vector<bool> done = specular ? (bounce ? run.template operator()<true, true>()

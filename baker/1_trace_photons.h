@@ -34,6 +34,15 @@
 
 namespace pb {
 
+// Receives each block's new hits, hits[from, end), on the thread that traced them, as soon as the block is done
+// (the bake's PhotonBinner bins them while tracing goes on). It may remove the hits it takes, keeping the others in
+// their order; the block's stats still count every hit. Called from many threads at once.
+class HitSink {
+ public:
+  virtual ~HitSink() = default;
+  virtual void Take(uint32_t light, HitBlock& hits, size_t from) const = 0;
+};
+
 struct TraceSettings {
   uint64_t photons = 0;  // n, over all lights
   uint64_t seed = 1;
@@ -43,6 +52,7 @@ struct TraceSettings {
   // Whether a photon's first hit, straight from its light, is stored: false when the direct light is sampled at
   // the points instead (--direct sampled, estimators/light_sampler.h). Later hits are stored either way.
   bool storeDirect = true;
+  const HitSink* sink = nullptr;  // none: every hit is stored
 };
 
 // A store of no photons for these lights.

@@ -5,39 +5,102 @@
 // Words for a photon's light, used alike in every file: its "attenuation" is the dimensionless fraction of its
 // emitted flux that it still carries (1 at emission); its "flux" [W] is Phi_l / N_l times that; a light's
 // "power" Phi [W] is what all its photons share (Light::Power).
+//
+// Binning while tracing. Where every surface the kernel can bin is binned whatever its photons' density
+// (PlanBinning: a kernel estimate with a fixed h and edge correction, whose node lattices together cost less than
+// a hit per photon), the photons of those surfaces can be binned onto their nodes as they are traced
+// (PhotonBinner, a HitSink of stage 1) and dropped: the bake's memory then stops growing with its photon count.
+// The node sums are exact integers (estimators/binned_photons.h), so the estimate is the same, bit for bit, as
+// that of the same photons stored and binned here afterwards, on any number of threads. The photons of the other
+// surfaces (narrower than 2 h) stay in the store.
 #pragma once
 
 #include "baker/progress.h"
 
+#include <array>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "baker/1_trace_photons.h"
+#include "estimators/binned_photons.h"
+#include "estimators/density_estimator.h"
 
 namespace pb {
 
-struct SurfaceBins {
-  std::vector<uint32_t> start;  // surface s owns entries [start[s], start[s+1])
-  std::vector<Point2> uv;       // chart position [m]
-  std::vector<Rgb> flux;        // [W]
-  std::vector<uint64_t> backHits;  // per surface: hits on its back side, not estimated
+// The flux unit of a bake's node sums [W]: the largest channel of the brightest photon at emission, Phi_l / N_l
+// over lights with N_l > 0 photons (1 when none has).
+double FluxUnit(const std::vector<Rgb>& lightPower, const std::vector<uint64_t>& photonsPerLight);
 
-  size_t SurfaceCount() const { return start.size() - 1; }
-  uint64_t FrontHits(size_t s) const { return start[s + 1] - start[s]; }
-  std::span<const Point2> Uv(size_t s) const { return {uv.data() + start[s], start[s + 1] - start[s]}; }
-  std::span<const Rgb> Flux(size_t s) const { return {flux.data() + start[s], start[s + 1] - start[s]}; }
-  // The flux [W] that reached surface s's front side, summed in hit order.
-  Rgb FrontFlux(size_t s) const {
-    RgbSum sum;
-    for (const Rgb& p : Flux(s)) sum.Add(p);
-    return sum.ToRgb();
-  }
+// Which surfaces are binned on which lattice: per surface, its open domain (0) and its covered one (1,
+// estimators/surface_cover.h).
+struct BinningPlan {
+  bool wide = false;  // every surface that can be is binned (KernelEstimator::Binning::kWide), else by density
+  double fluxUnit = 1;  // [W]
+  std::vector<uint64_t> photonsPerLight;  // N_l of the bake (estimators/emission.h, AllocatePhotons)
+  std::vector<std::array<std::optional<NodeLattice>, 2>> lattices;  // with `wide`: the lattices of binned domains
 };
 
-// Stable: within a surface, hits keep their trace order, so sums over them are reproducible.
+// The plan for a bake of `photons` photons with these estimator settings; fluxUnit from the photons each light
+// will emit.
+BinningPlan PlanBinning(const PreparedScene& scene, const EstimatorSettings& settings, bool automaticBandwidth,
+                        uint64_t photons);
+
+// What reached surface s, binned or stored: hits on its front and back sides and the front side's flux.
+struct SurfaceTally {
+  uint64_t frontHits = 0, backHits = 0;
+  FluxTally frontFlux;
+};
+
+struct SurfaceBins {
+  std::vector<uint32_t> start;  // surface s owns entries [start[s], start[s+1]) of the stored hits
+  std::vector<Point2> uv;       // chart position [m]
+  std::vector<Rgb> flux;        // [W]
+  std::vector<SurfaceTally> tally;  // per surface, every hit (stored or binned while traced)
+  double fluxUnit = 1;              // of the tallies and node sums [W]
+  bool wide = false;                // BinningPlan::wide
+  // Per surface and domain: the photons binned while they were traced (none when they were stored).
+  std::vector<std::array<std::unique_ptr<BinnedPhotons>, 2>> traced;
+
+  size_t SurfaceCount() const { return start.size() - 1; }
+  uint64_t FrontHits(size_t s) const { return tally[s].frontHits; }
+  uint64_t BackHits(size_t s) const { return tally[s].backHits; }
+  std::span<const Point2> Uv(size_t s) const { return {uv.data() + start[s], start[s + 1] - start[s]}; }
+  std::span<const Rgb> Flux(size_t s) const { return {flux.data() + start[s], start[s + 1] - start[s]}; }
+  // The flux [W] that reached surface s's front side.
+  Rgb FrontFlux(size_t s) const { return tally[s].frontFlux.ToRgb(fluxUnit); }
+  // How surface s's domain d is estimated by a kernel (density_estimator.h).
+  KernelBinning BinningOf(size_t s, int d) const { return {wide, fluxUnit, traced.empty() ? nullptr : traced[s][d].get()}; }
+};
+
+// Bins the photons of the planned surfaces as they are traced (stage 1 calls Take on its threads) and takes them
+// out of their blocks; tallies what it takes.
+class PhotonBinner final : public HitSink {
+ public:
+  // `scene` must outlive the binner; plan.wide must be set.
+  PhotonBinner(const PreparedScene& scene, const BinningPlan& plan);
+  void Take(uint32_t light, HitBlock& hits, size_t from) const override;
+  // The node sums and tallies, handed to BinPhotons.
+  std::vector<std::array<std::unique_ptr<BinnedPhotons>, 2>> TakeSums() { return std::move(sums_); }
+  std::vector<SurfaceTally> TakeTallies() { return std::move(tallies_); }
+
+ private:
+  bool Binned(uint32_t s) const { return sums_[s][0] || sums_[s][1]; }
+  const PreparedScene& scene_;
+  std::vector<Rgb> photonFlux_;  // Phi_l / N_l [W] per light
+  double fluxUnit_;
+  std::vector<std::array<std::unique_ptr<BinnedPhotons>, 2>> sums_;
+  mutable std::vector<SurfaceTally> tallies_;  // of the hits taken; added to atomically
+};
+
+// Groups the store's hits per surface. Stable: within a surface, hits keep their trace order, so sums over them
+// are reproducible. The flux unit is FluxUnit of the store's photons.
 SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits);
-// The same, with its progress on `log` (two passes over the hits; 10^8 hits take seconds).
-SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, const Log& log);
+// The same, with its progress on `log` (two passes over the hits; 10^8 hits take seconds), and with the binner's
+// sums and tallies when the photons were binned while traced (then `plan` is the binner's).
+SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, const Log& log, const BinningPlan& plan,
+                       PhotonBinner* binner = nullptr);
 
 }  // namespace pb

@@ -27,9 +27,9 @@ PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins
     EstimatorSettings own = settings;
     own.bandwidth = bandwidths_[s];
     estimators_[s] = scene.covers[s].Empty()
-                         ? MakeDensityEstimator(own, *scene.regions[s], bins.Uv(s), bins.Flux(s))
+                         ? MakeDensityEstimator(own, *scene.regions[s], bins.Uv(s), bins.Flux(s), bins.BinningOf(s, 0))
                          : MakeCoveredDensityEstimator(own, *scene.regions[s], *scene.coveredRegions[s], scene.covers[s],
-                                                       bins.Uv(s), bins.Flux(s));
+                                                       bins.Uv(s), bins.Flux(s), bins.BinningOf(s, 0), bins.BinningOf(s, 1));
   });
 }
 

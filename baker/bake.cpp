@@ -149,9 +149,11 @@ FieldSettings FieldSettingsOf(const BakeOptions& o) {
   return {o.estimator, o.autoBandwidth, o.direct, o.referencePaths, o.seed};
 }
 
-// Stages 2 and 3 from the photons in `lit`, with each vertex's noise and the bake's.
-void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, StageClock& clock, const Log& log) {
-  lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons, log); });
+// Stages 2 and 3 from the photons in `lit` (and those `binner` binned while they were traced), with each vertex's
+// noise and the bake's.
+void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, const BinningPlan& plan,
+                   PhotonBinner* binner, StageClock& clock, const Log& log) {
+  lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons, log, plan, binner); });
   lit.field.emplace(BuildIrradianceField(scene, lit.bins, FieldSettingsOf(o), clock));
   lit.baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true);
@@ -195,6 +197,12 @@ std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& l
                       reference ? "" : fmt::format(" (or --target-noise {} finds the photons itself)", kVisibleNoise))};
 }
 
+// Whether the photons are binned as they are traced (baker/2_bin_photons.h): where the plan bins every wide surface
+// and nothing needs the photons themselves afterwards (a photon file written or extended, rounds).
+bool BinsWhileTracing(const BakeOptions& o, const BinningPlan& plan) {
+  return plan.wide && o.savePhotonsPath.empty() && o.resumePath.empty() && !o.targetNoise;
+}
+
 // Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/progressive.h); then --save-photons.
 Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs, StageClock& clock,
                      const Log& log) {
@@ -203,8 +211,11 @@ Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFil
   lit.photons = clock.Time("trace", [&] { return OpenPhotonStore(o, scene, lit.progress); });
   // --reference traces none: the field gathers all of H at the points.
   for (uint64_t photons = o.referencePaths > 0 ? 0 : std::max(o.photons, lit.progress.resumedPhotons);;) {
-    clock.Time("trace", [&] { GrowPhotonStore(lit.photons, photons, o, scene, lit.progress, log); });
-    EstimateLight(lit, scene, o, clock, log);
+    const BinningPlan plan = PlanBinning(scene, o.estimator, o.autoBandwidth, photons);
+    std::optional<PhotonBinner> binner;
+    if (BinsWhileTracing(o, plan)) binner.emplace(scene, plan);
+    clock.Time("trace", [&] { GrowPhotonStore(lit.photons, photons, o, scene, lit.progress, log, binner ? &*binner : nullptr); });
+    EstimateLight(lit, scene, o, plan, binner ? &*binner : nullptr, clock, log);
     if (!o.targetNoise) break;
     const double noise = lit.noise;
     lit.progress.rounds.push_back({photons, lit.photons.stats.emitted, noise});

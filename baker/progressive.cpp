@@ -9,6 +9,7 @@
 #include "baker/interrupt.h"
 #include "baker/options.h"
 #include "mesh/color.h"
+#include "mesh/errors.h"
 
 namespace pb {
 namespace {
@@ -57,8 +58,13 @@ PhotonStore OpenPhotonStore(const BakeOptions& o, const PreparedScene& scene, Pr
 }
 
 void GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& o, const PreparedScene& scene,
-                     ProgressiveReport& report, const Log& log) {
-  if (!ExtendPhotons(store, scene, {photons, o.seed, o.maxBounces, o.direct.mode == DirectLight::kPhotons}, log)) {
+                     ProgressiveReport& report, const Log& log, const HitSink* sink) {
+  if (!ExtendPhotons(store, scene, {photons, o.seed, o.maxBounces, o.direct.mode == DirectLight::kPhotons, sink}, log)) {
+    if (sink != nullptr)  // the photons' flux Phi_l / N_l was binned for the N_l planned
+      throw InputError(o.scenePath, 0, fmt::format("interrupted after {} photons: nothing was written, since photons binned "
+                                                   "while they are traced cannot be cut short (with --save-photons they "
+                                                   "are stored, and an interrupted bake writes what it has)",
+                                                   store.stats.emitted));
     report.interrupted = true;
     log.Warning(fmt::format("interrupted: tracing stopped after {} photons; the bake goes on with them and writes "
                             "valid outputs (Ctrl-C again to quit at once)", store.stats.emitted));

@@ -46,8 +46,9 @@ struct ProgressiveReport {
 // An empty store for the scene's lights, or --resume's (every check of baker/photon_file.h passed).
 PhotonStore OpenPhotonStore(const BakeOptions& options, const PreparedScene& scene, ProgressiveReport& report);
 // Grows the store to `photons` over all lights (counts never shrink); notes an interruption in the report.
+// Hits go to `sink` when given (TraceSettings::sink).
 void GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& options, const PreparedScene& scene,
-                     ProgressiveReport& report, const Log& log);
+                     ProgressiveReport& report, const Log& log, const HitSink* sink = nullptr);
 // Writes --save-photons, when given.
 void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeOptions& options, const PreparedScene& scene,
                      ProgressiveReport& report);

@@ -154,7 +154,7 @@ std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
     const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
-    out.push_back({object, scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.backHits[s],
+    out.push_back({object, scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.BackHits(s),
                    bins.FrontFlux(s) / float(surface.area), surface.planar, surface.areaDistortion,
                    field.Bandwidth(s), field.Prepared().covers[s].Area()});
   }

@@ -12,11 +12,16 @@
 
 namespace pb {
 std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& region,
-                                                       std::span<const Point2> uv, std::span<const Rgb> flux) {
+                                                       std::span<const Point2> uv, std::span<const Rgb> flux,
+                                                       const KernelBinning& binning) {
   const SurfaceRegion* correction = settings.edgeCorrection ? &region : nullptr;
+  using Binning = KernelEstimator::Binning;
   switch (settings.kind) {
     case EstimatorKind::kKernel:
-      return std::make_unique<KernelEstimator>(uv, flux, settings.bandwidth, settings.kernel, correction, settings.localLinear);
+      if (binning.traced != nullptr)
+        return std::make_unique<KernelEstimator>(*binning.traced, settings.bandwidth, settings.kernel, region, settings.localLinear);
+      return std::make_unique<KernelEstimator>(uv, flux, settings.bandwidth, settings.kernel, correction, settings.localLinear,
+                                               binning.wide ? Binning::kWide : Binning::kAuto, binning.fluxUnit);
     case EstimatorKind::kHistogram:
       return std::make_unique<HistogramEstimator>(uv, flux, settings.bandwidth, region, settings.edgeCorrection);
     case EstimatorKind::kNearest:
@@ -45,7 +50,8 @@ class CoveredEstimator final : public DensityEstimator {
 
 std::unique_ptr<DensityEstimator> MakeCoveredDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& open,
                                                               const SurfaceRegion& covered, const SurfaceCover& cover,
-                                                              std::span<const Point2> uv, std::span<const Rgb> flux) {
+                                                              std::span<const Point2> uv, std::span<const Rgb> flux,
+                                                              const KernelBinning& openBinning, const KernelBinning& coveredBinning) {
   std::vector<Point2> openUv, coveredUv;
   std::vector<Rgb> openFlux, coveredFlux;
   for (size_t i = 0; i < uv.size(); ++i) {
@@ -53,8 +59,8 @@ std::unique_ptr<DensityEstimator> MakeCoveredDensityEstimator(const EstimatorSet
     (inside ? coveredUv : openUv).push_back(uv[i]);
     (inside ? coveredFlux : openFlux).push_back(flux[i]);
   }
-  return std::make_unique<CoveredEstimator>(cover, MakeDensityEstimator(settings, open, openUv, openFlux),
-                                            MakeDensityEstimator(settings, covered, coveredUv, coveredFlux));
+  return std::make_unique<CoveredEstimator>(cover, MakeDensityEstimator(settings, open, openUv, openFlux, openBinning),
+                                            MakeDensityEstimator(settings, covered, coveredUv, coveredFlux, coveredBinning));
 }
 
 double UniformRelativeNoise(const EstimatorSettings& settings, double photonsPerArea) {

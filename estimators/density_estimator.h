@@ -76,9 +76,22 @@ class DensityEstimator {
 // Infinite for a kernel or histogram with n = 0; 0 for them as n grows without bound. Dimensionless.
 double UniformRelativeNoise(const EstimatorSettings& settings, double photonsPerArea);
 
+class BinnedPhotons;
+
+// How a kernel estimate's photons are binned (estimators/kernel_estimator.h): on every surface wide enough
+// (`wide`), else where they are dense, in node sums of flux unit `fluxUnit` [W] (0: from the photons); or
+// already binned as they were traced (`traced`, which then replaces the photon arrays). Other estimators
+// ignore it.
+struct KernelBinning {
+  bool wide = false;
+  double fluxUnit = 0;
+  const BinnedPhotons* traced = nullptr;
+};
+
 // `region` must outlive the estimator; the photon arrays are copied.
 std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& region,
-                                                       std::span<const Point2> uv, std::span<const Rgb> flux);
+                                                       std::span<const Point2> uv, std::span<const Rgb> flux,
+                                                       const KernelBinning& binning = {});
 
 // The same on a surface part of which other geometry covers (estimators/surface_cover.h): two domains, the open region
 // (the surface less the cover's pieces) and the covered one (the pieces), each estimated from the photons that
@@ -86,7 +99,8 @@ std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& 
 // crosses the contact line. `open`, `covered` and `cover` must outlive the estimator.
 std::unique_ptr<DensityEstimator> MakeCoveredDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& open,
                                                               const SurfaceRegion& covered, const SurfaceCover& cover,
-                                                              std::span<const Point2> uv, std::span<const Rgb> flux);
+                                                              std::span<const Point2> uv, std::span<const Rgb> flux,
+                                                              const KernelBinning& openBinning = {}, const KernelBinning& coveredBinning = {});
 
 std::optional<EstimatorKind> ParseEstimator(std::string_view name);
 std::string EstimatorName(EstimatorKind kind);
