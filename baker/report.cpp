@@ -63,9 +63,10 @@ std::string ProgressiveLines(const ProgressiveReport& p, uint64_t emitted) {
   return s;
 }
 
-nlohmann::json TraceJson(const TraceStats& t) {
+nlohmann::json TraceJson(const TraceStats& t, uint64_t storedHits) {
   return {{"emitted", t.emitted},
           {"hits_stored", t.hits},
+          {"hits_binned_while_traced", t.hits - storedHits},
           {"absorbed", t.absorbed},
           {"escaped", t.escaped},
           {"forbidden", t.forbidden},
@@ -74,7 +75,7 @@ nlohmann::json TraceJson(const TraceStats& t) {
                       {"fresnel_reflection", t.fresnelReflections}, {"refraction", t.refractions},
                       {"caustic_hits", t.causticHits}}},
           {"record_bytes", sizeof(PhotonHit)},
-          {"store_bytes", t.hits * sizeof(PhotonHit)},
+          {"store_bytes", storedHits * sizeof(PhotonHit)},
           {"power_emitted_W", Json(t.fluxEmitted)},
           {"power_absorbed_W", Json(t.fluxAbsorbed)},
           {"power_escaped_W", Json(t.fluxEscaped)},
@@ -176,6 +177,7 @@ BakeReport DescribeBake(const BakeResults& r) {
   report.lights = DescribeLights(p.scene, p.lights, r.photons.emitted, p.plan);
   report.surfaces = DescribeSurfaces(p.scene, p.surfaces, r.bins, r.field);
   report.trace = r.photons.stats;
+  for (const HitBlock& block : r.photons.blocks) report.storedHits += block.size();
   report.stageSeconds = r.stageSeconds;
   report.plan = p.plan;
   report.warnings = r.warnings;
@@ -206,7 +208,8 @@ void PrintSummary(const BakeReport& r, const Log& log) {
                    t.emitted, t.hits, t.absorbed, t.escaped, t.forbidden, t.truncated);
   s += fmt::format("  events    {} diffuse, {} mirror, {} Fresnel reflections, {} refractions; {} caustic hits\n",
                    t.diffuseBounces, t.mirrorReflections, t.fresnelReflections, t.refractions, t.causticHits);
-  s += fmt::format("  store     {} B per hit, {:.1f} MiB\n", sizeof(PhotonHit), t.hits * sizeof(PhotonHit) / 1048576.0);
+  s += fmt::format("  store     {} B per hit, {:.1f} MiB{}\n", sizeof(PhotonHit), r.storedHits * sizeof(PhotonHit) / 1048576.0,
+                   r.storedHits < t.hits ? fmt::format("; {} hits binned while traced, not stored", t.hits - r.storedHits) : "");
   const double out = t.fluxAbsorbed.Mean() + t.fluxEscaped.Mean() + t.fluxForbidden.Mean();
   const double balance = t.fluxEmitted.Mean() > 0 ? out / t.fluxEmitted.Mean() - 1.0 : 0.0;
   s += fmt::format("  flux      emitted {:.5g} W = absorbed {:.5g} W + escaped {:.5g} W + forbidden {:.5g} W"
@@ -286,7 +289,7 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
                            {"power_W", Json(l.power)}, {"photons", l.photons}, {"note", l.note}});
   }
   j["lights_summary"] = LightsSummary(r.lights, lights.size());
-  j["photons"] = TraceJson(r.trace);
+  j["photons"] = TraceJson(r.trace, r.storedHits);
   j["progressive"] = ProgressiveJson(r.progressive);
   j["noise"] = r.noise;
   const std::vector<size_t> surfaces =

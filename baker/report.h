@@ -57,6 +57,7 @@ struct BakeReport {
   std::vector<LightReport> lights;
   std::vector<SurfaceReport> surfaces;
   TraceStats trace;
+  uint64_t storedHits = 0;   // of trace.hits, those kept in the photon store; the others were binned while traced
   std::vector<std::pair<std::string, double>> stageSeconds;  // in pipeline order
   TransportPlan plan;  // the effects simulated and skipped, with reasons
   std::vector<std::string> warnings;
