@@ -10,6 +10,7 @@
 #include "estimators/scatter.h"
 #include "estimators/rng.h"
 #include "baker/interrupt.h"
+#include "mesh/errors.h"
 
 namespace pb {
 namespace {
@@ -155,15 +156,19 @@ std::vector<WorkItem> PlanWork(const PhotonStore& store, const std::vector<uint6
 // whether item i was traced.
 template <typename Tracer>
 std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<Light>& lights, const std::vector<WorkItem>& work,
-                            std::vector<Block>& blocks, uint64_t seed, const HitSink* sink, const Log& log) {
+                            std::vector<Block>& blocks, uint64_t seed, const HitSink* sink, const TraceShare* share,
+                            const Log& log) {
+  const auto takes = [&](size_t i) { return share == nullptr || share->Takes(i); };
   uint64_t total = 0;
-  for (const WorkItem& w : work) total += w.range.end - w.from;
+  for (size_t i = 0; i < work.size(); ++i)
+    if (takes(i)) total += work[i].range.end - work[i].from;
   Progress progress(log, "trace photons", total);
   std::atomic<size_t> next{0};
   std::vector<char> done(work.size(), 0);
   const size_t workers = std::min<size_t>(work.size(), size_t(tbb::this_task_arena::max_concurrency()));
   tbb::parallel_for(size_t(0), workers, [&](size_t) {
     for (size_t i; !InterruptRequested() && (i = next++) < work.size();) {
+      if (!takes(i)) continue;
       const WorkItem& w = work[i];
       Block& block = blocks[w.block];
       // ~2.5 hits per photon in a box: growth copies are rare. In proportion to the block's photons, so that a
@@ -181,6 +186,24 @@ std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<Light>& ligh
     }
   });
   return {done.begin(), done.end()};
+}
+
+// With a shared trace: hands this process's traced blocks to the share, and takes back every process's (none on a
+// process that does not go on), so that `done` and `blocks` describe the whole trace.
+void GatherShares(const TraceShare& share, const std::vector<WorkItem>& work, std::vector<Block>& blocks,
+                  std::vector<bool>& done) {
+  std::vector<TracedBlock> mine;
+  for (size_t i = 0; i < work.size(); ++i) {
+    if (!done[i]) continue;
+    Block& b = blocks[work[i].block];
+    mine.push_back({i, work[i].range, b.stats, std::move(b.hits)});
+  }
+  std::fill(done.begin(), done.end(), false);
+  for (TracedBlock& t : share.Gather(std::move(mine))) {
+    PB_CHECK_LT(t.item, work.size());
+    blocks[work[t.item].block] = {std::move(t.hits), t.stats};
+    done[t.item] = true;
+  }
 }
 
 // Moves the store's blocks out, for tracing to continue in them.
@@ -236,13 +259,15 @@ bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<Lig
   std::vector<Block> blocks = TakeBlocks(store, total);
   const auto run = [&]<bool kInterreflect, bool kSpecular>() {
     const PhotonTracer<kInterreflect, kSpecular> tracer(scene, rays, plan, settings.maxBounces, settings.storeDirect);
-    return TraceWork(tracer, lights, work, blocks, settings.seed, settings.sink, log);
+    return TraceWork(tracer, lights, work, blocks, settings.seed, settings.sink, settings.share, log);
   };
   const bool bounce = plan.On(Effect::kInterreflection), specular = plan.NeedsSpecularKernel();
-  const std::vector<bool> done = specular ? (bounce ? run.template operator()<true, true>()
+  PB_CHECK(settings.share == nullptr || store.blocks.empty(), "only a new store is shared among processes");
+  std::vector<bool> done = specular ? (bounce ? run.template operator()<true, true>()
                                                     : run.template operator()<false, true>())
                                           : (bounce ? run.template operator()<true, false>()
                                                     : run.template operator()<false, false>());
+  if (settings.share != nullptr) GatherShares(*settings.share, work, blocks, done);
   StoreBlocks(store, blocks, work, done);
   store.Summarise();
   return std::find(done.begin(), done.end(), false) == done.end();

@@ -43,6 +43,26 @@ class HitSink {
   virtual void Take(uint32_t light, HitBlock& hits, size_t from) const = 0;
 };
 
+// A block as one process traced it, for a trace shared among processes: the index of its work item, its range,
+// stats (in attenuation units) and the hits it kept.
+struct TracedBlock {
+  uint64_t item = 0;
+  BlockRange range;
+  TraceStats stats;
+  HitBlock hits;
+};
+
+// A trace shared among processes (bake-mpi, tools/bake_mpi.cpp): each process traces the work items it Takes,
+// then every process calls Gather once with its blocks, which returns every process's blocks on the process that
+// goes on with the bake and none on the others. The store then holds the same bytes as one traced by one process.
+// Only a new store is shared.
+class TraceShare {
+ public:
+  virtual ~TraceShare() = default;
+  virtual bool Takes(size_t item) const = 0;
+  virtual std::vector<TracedBlock> Gather(std::vector<TracedBlock> mine) const = 0;
+};
+
 struct TraceSettings {
   uint64_t photons = 0;  // n, over all lights
   uint64_t seed = 1;
@@ -53,6 +73,7 @@ struct TraceSettings {
   // the points instead (--direct sampled, estimators/light_sampler.h). Later hits are stored either way.
   bool storeDirect = true;
   const HitSink* sink = nullptr;  // none: every hit is stored
+  const TraceShare* share = nullptr;  // none: this process traces every photon
 };
 
 // A store of no photons for these lights.

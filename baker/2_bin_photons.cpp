@@ -70,6 +70,12 @@ double StoreFluxUnit(const PhotonStore& store) { return FluxUnit(store.lightPowe
 
 // Bytes per node while photons are binned (four 64-bit sums), and of a stored hit (the store's record).
 constexpr double kBytesPerNode = 32, kBytesPerHit = sizeof(PhotonHit);
+// Every wide surface is binned when its lattices take at most this share of a store of one hit per photon. Binning
+// while tracing misses the cache on every hit once the lattices outgrow it: in a 10 x 3 x 10 m room (213 MB of
+// lattices at h = 0.05 m) the trace took 1.6x as long as storing the hits, which at 10M photons (lattices about the
+// store's size) saved only 25% of the memory; at 100M the whole bake took 0.55x the stored one's time and 0.1x its
+// memory (README, "Scale").
+constexpr double kLatticeShareOfStore = 0.25;
 
 }  // namespace
 
@@ -97,7 +103,7 @@ BinningPlan PlanBinning(const PreparedScene& scene, const EstimatorSettings& set
     for (const auto& lattice : plan.lattices[s])
       if (lattice) nodes += double(lattice->Count());
   }
-  plan.wide = nodes * kBytesPerNode <= double(photons) * kBytesPerHit;
+  plan.wide = nodes * kBytesPerNode <= kLatticeShareOfStore * double(photons) * kBytesPerHit;
   if (!plan.wide) plan.lattices.clear();
   return plan;
 }
@@ -112,32 +118,74 @@ PhotonBinner::PhotonBinner(const PreparedScene& scene, const BinningPlan& plan)
       if (plan.lattices[s][d]) sums_[s][d] = std::make_unique<BinnedPhotons>(*plan.lattices[s][d], fluxUnit_);
 }
 
+namespace {
+// A front hit bound for a lattice, waiting while its nodes are fetched.
+struct PendingAdd {
+  BinnedPhotons* sums;
+  SurfaceTally* tally;
+  Point2 uv;
+  Rgb flux;
+};
+// Photons ahead whose nodes are prefetched: enough to overlap a few misses, few enough to stay in L1.
+constexpr size_t kPrefetchAhead = 8;
+
+void Apply(const PendingAdd& a, double fluxUnit) {
+  a.sums->Add(a.uv, a.flux);
+  std::atomic_ref<uint64_t>(a.tally->frontHits).fetch_add(1, std::memory_order_relaxed);
+  FluxTally one;
+  one.Add(a.flux, fluxUnit);
+  for (int c = 0; c < 3; ++c)
+    std::atomic_ref<int64_t>(a.tally->frontFlux.units[c]).fetch_add(one.units[c], std::memory_order_relaxed);
+}
+}  // namespace
+
 void PhotonBinner::Take(uint32_t light, HitBlock& hits, size_t from) const {
   const SurfaceSet& surfaces = scene_.surfaces;
   const Rgb photon = photonFlux_[light];
-  size_t kept = from;
+  std::array<PendingAdd, kPrefetchAhead> pending;
+  size_t kept = from, queued = 0;
   for (size_t i = from; i < hits.size(); ++i) {
     const PhotonHit& hit = hits[i];
     const uint32_t s = surfaces.surfaceOfTriangle[hit.Triangle()];
-    const Point2 uv = surfaces.UvAt(hit.Triangle(), hit.b1, hit.b2);
-    const int domain = scene_.covers[s].Empty() || !scene_.covers[s].Covered(uv) ? 0 : 1;
     SurfaceTally& tally = tallies_[s];
-    if (!hit.OnFront() && Binned(s)) {
-      std::atomic_ref<uint64_t>(tally.backHits).fetch_add(1, std::memory_order_relaxed);
+    if (!hit.OnFront()) {
+      if (Binned(s)) std::atomic_ref<uint64_t>(tally.backHits).fetch_add(1, std::memory_order_relaxed);
+      else hits[kept++] = hit;
       continue;
     }
-    if (!hit.OnFront() || !sums_[s][domain]) {
+    const Point2 uv = surfaces.UvAt(hit.Triangle(), hit.b1, hit.b2);
+    BinnedPhotons* sums = sums_[s][scene_.covers[s].Empty() || !scene_.covers[s].Covered(uv) ? 0 : 1].get();
+    if (sums == nullptr) {
       hits[kept++] = hit;
       continue;
     }
-    const Rgb flux = hit.attenuation * photon;
-    sums_[s][domain]->Add(uv, flux);
-    std::atomic_ref<uint64_t>(tally.frontHits).fetch_add(1, std::memory_order_relaxed);
-    FluxTally one;
-    one.Add(flux, fluxUnit_);
-    for (int c = 0; c < 3; ++c) std::atomic_ref<int64_t>(tally.frontFlux.units[c]).fetch_add(one.units[c], std::memory_order_relaxed);
+    sums->Prefetch(uv);
+    PendingAdd& slot = pending[queued++ % kPrefetchAhead];
+    if (queued > kPrefetchAhead) Apply(slot, fluxUnit_);
+    slot = {sums, &tally, uv, hit.attenuation * photon};
   }
+  for (size_t q = queued > kPrefetchAhead ? queued - kPrefetchAhead : 0; q < queued; ++q) Apply(pending[q % kPrefetchAhead], fluxUnit_);
   hits.resize(kept);
+}
+
+void PhotonBinner::SumWith(const std::function<void(std::span<int64_t>)>& sum) {
+  std::vector<int64_t> counts;  // per lattice its photons, then per surface its tally
+  for (const auto& domains : sums_)
+    for (const auto& sums : domains)
+      if (sums) sum(sums->Units()), counts.push_back(int64_t(sums->Photons()));
+  for (const SurfaceTally& t : tallies_) {
+    counts.insert(counts.end(), {int64_t(t.frontHits), int64_t(t.backHits)});
+    counts.insert(counts.end(), t.frontFlux.units.begin(), t.frontFlux.units.end());
+  }
+  sum(counts);
+  auto next = counts.begin();
+  for (auto& domains : sums_)
+    for (auto& sums : domains)
+      if (sums) sums->SetPhotons(uint64_t(*next++));
+  for (SurfaceTally& t : tallies_) {
+    t.frontHits = uint64_t(*next++), t.backHits = uint64_t(*next++);
+    for (int64_t& u : t.frontFlux.units) u = *next++;
+  }
 }
 
 SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits) {

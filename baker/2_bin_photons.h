@@ -7,8 +7,8 @@
 // "power" Phi [W] is what all its photons share (Light::Power).
 //
 // Binning while tracing. Where every surface the kernel can bin is binned whatever its photons' density
-// (PlanBinning: a kernel estimate with a fixed h and edge correction, whose node lattices together cost less than
-// a hit per photon), the photons of those surfaces can be binned onto their nodes as they are traced
+// (PlanBinning: a kernel estimate with a fixed h and edge correction, whose node lattices together cost at most a
+// quarter of a store of one hit per photon), the photons of those surfaces can be binned onto their nodes as they are traced
 // (PhotonBinner, a HitSink of stage 1) and dropped: the bake's memory then stops growing with its photon count.
 // The node sums are exact integers (estimators/binned_photons.h), so the estimate is the same, bit for bit, as
 // that of the same photons stored and binned here afterwards, on any number of threads. The photons of the other
@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -82,6 +83,8 @@ class PhotonBinner final : public HitSink {
   // `scene` must outlive the binner; plan.wide must be set.
   PhotonBinner(const PreparedScene& scene, const BinningPlan& plan);
   void Take(uint32_t light, HitBlock& hits, size_t from) const override;
+  // Replaces every integer sum and count by sum(span) over the processes (baker/distribution.h), after tracing.
+  void SumWith(const std::function<void(std::span<int64_t>)>& sum);
   // The node sums and tallies, handed to BinPhotons.
   std::vector<std::array<std::unique_ptr<BinnedPhotons>, 2>> TakeSums() { return std::move(sums_); }
   std::vector<SurfaceTally> TakeTallies() { return std::move(tallies_); }

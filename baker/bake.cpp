@@ -16,6 +16,7 @@
 #include "baker/5_write_ply.h"
 #include "mesh/gltf_loader.h"
 #include "baker/atomic_file.h"
+#include "baker/distribution.h"
 #include "baker/interrupt.h"
 #include "baker/progressive.h"
 #include "baker/stage_clock.h"
@@ -203,19 +204,53 @@ bool BinsWhileTracing(const BakeOptions& o, const BinningPlan& plan) {
   return plan.wide && o.savePhotonsPath.empty() && o.resumePath.empty() && !o.targetNoise;
 }
 
+// A distributed bake brings its processes' photons together as node sums, so it bins them while tracing.
+void RequireBinningWhileTracing(const BakeOptions& o, const BinningPlan& plan) {
+  if (BinsWhileTracing(o, plan)) return;
+  throw InputError(o.scenePath, 0, "a bake shared among processes bins its photons while they are traced, which needs "
+                                   "the kernel estimator with a fixed --h, a kernel other than uniform or gaussian, "
+                                   "no --save-photons, --resume or --target-noise, and photons enough for the surfaces' "
+                                   "node lattices (README, 'Baking on many processes'); run bake for this one");
+}
+
+// Every process is ready, or this one stops (rank 0 names those that are not).
+void RequireAllReady(const Distribution& d) {
+  const std::vector<bool> ready = d.Agree(true);
+  std::string missing;
+  for (size_t r = 0; r < ready.size(); ++r)
+    if (!ready[r]) missing += (missing.empty() ? "" : ", ") + std::to_string(r);
+  if (!missing.empty()) throw InputError("bake-mpi", 0, "rank " + missing + " could not start the bake (its message is above)");
+}
+
+// One round's photons: traced here or shared among processes, binned while traced where the plan allows.
+struct RoundTrace {
+  BinningPlan plan;
+  std::optional<PhotonBinner> binner;
+  bool complete = true;
+};
+
+void TraceRound(RoundTrace& round, Lit& lit, uint64_t photons, const PreparedScene& scene, const BakeOptions& o,
+                const Distribution* d, StageClock& clock, const Log& log) {
+  round.plan = PlanBinning(scene, o.estimator, o.autoBandwidth, photons);
+  if (d != nullptr) RequireBinningWhileTracing(o, round.plan), RequireAllReady(*d);
+  if (BinsWhileTracing(o, round.plan)) round.binner.emplace(scene, round.plan);
+  PhotonBinner* binner = round.binner ? &*round.binner : nullptr;
+  clock.Time("trace", [&] { round.complete = GrowPhotonStore(lit.photons, photons, o, scene, lit.progress, log, binner, d); });
+  if (d != nullptr) clock.Time("trace", [&] { binner->SumWith([&](std::span<int64_t> v) { d->SumOnRoot(v); }); });
+  if (binner != nullptr && !round.complete) RefuseInterruptedBinning(o, lit.photons);
+}
+
 // Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/progressive.h); then --save-photons.
 Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs, StageClock& clock,
-                     const Log& log) {
+                     const Log& log, const Distribution* distribution) {
   const InterruptScope interrupt;
   Lit lit;
   lit.photons = clock.Time("trace", [&] { return OpenPhotonStore(o, scene, lit.progress); });
   // --reference traces none: the field gathers all of H at the points.
   for (uint64_t photons = o.referencePaths > 0 ? 0 : std::max(o.photons, lit.progress.resumedPhotons);;) {
-    const BinningPlan plan = PlanBinning(scene, o.estimator, o.autoBandwidth, photons);
-    std::optional<PhotonBinner> binner;
-    if (BinsWhileTracing(o, plan)) binner.emplace(scene, plan);
-    clock.Time("trace", [&] { GrowPhotonStore(lit.photons, photons, o, scene, lit.progress, log, binner ? &*binner : nullptr); });
-    EstimateLight(lit, scene, o, plan, binner ? &*binner : nullptr, clock, log);
+    RoundTrace round;
+    TraceRound(round, lit, photons, scene, o, distribution, clock, log);
+    EstimateLight(lit, scene, o, round.plan, round.binner ? &*round.binner : nullptr, clock, log);
     if (!o.targetNoise) break;
     const double noise = lit.noise;
     lit.progress.rounds.push_back({photons, lit.photons.stats.emitted, noise});
@@ -244,7 +279,7 @@ SceneSettings SceneOf(const BakeOptions& o) {
 
 }  // namespace
 
-BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs) {
+BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, const Distribution* distribution) {
   o.Validate();
   const ThreadScope threads(o.threads);
   Journal journal;
@@ -255,7 +290,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs) 
   journal.Warn(scene.warnings, log);
   if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions, threads.Count());
   if (o.refine.subdivide > 0) CheckSubdivisionMemory(scene.scene.triangles.size(), o.refine.subdivide);
-  Lit lit = TraceAndEstimate(scene, o, outputs, clock, log);
+  Lit lit = TraceAndEstimate(scene, o, outputs, clock, log, distribution);
   const IrradianceField& field = *lit.field;
   if (o.referencePaths == 0) {  // warnings about the photons
     journal.Warn(UnlitLightWarnings(scene, lit.photons, o.direct.mode == DirectLight::kSampled), log);
@@ -288,12 +323,12 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
   return result;
 }
 
-BakeReport Bake(const BakeOptions& o, const Log& log) {
+BakeReport Bake(const BakeOptions& o, const Log& log, const Distribution* distribution) {
   o.Validate();
   OutputFiles outputs;
   ValidateOutputs(o, outputs);
   const std::optional<Camera> camera = PreviewCamera(o);
-  BakeResult result = BakeMesh(o, log, outputs);
+  BakeResult result = BakeMesh(o, log, outputs, distribution);
   BakeReport& report = result.report;
   StageClock clock(report.stageSeconds);
   if (camera)
@@ -309,6 +344,19 @@ BakeReport Bake(const BakeOptions& o, const Log& log) {
     outputs.Commit();
   });
   return report;
+}
+
+void TraceShareOfBake(const BakeOptions& o, const Log& log, const Distribution& distribution) {
+  o.Validate();
+  const ThreadScope threads(o.threads);
+  std::vector<std::pair<std::string, double>> seconds;
+  StageClock clock(seconds);
+  const PreparedScene scene = PrepareScene(SceneOf(o), clock);
+  const InterruptScope interrupt;
+  Lit lit;
+  lit.photons = EmptyPhotonStore(scene.lights);
+  RoundTrace round;
+  TraceRound(round, lit, o.photons, scene, o, &distribution, clock, log);
 }
 
 }  // namespace pb

@@ -12,7 +12,12 @@ namespace pb {
 
 // The whole bake: BakeMesh, then the PLY and the JSON report. Every output is one transaction
 // (baker/atomic_file.h): none is renamed into place until all are written.
-BakeReport Bake(const BakeOptions& options, const Log& log);
+class Distribution;
+
+// With a distribution (baker/distribution.h), on its rank 0: the photons are traced by every process.
+BakeReport Bake(const BakeOptions& options, const Log& log, const Distribution* distribution = nullptr);
+// On a distribution's other ranks: prepares the scene and traces this process's share of the photons for rank 0.
+void TraceShareOfBake(const BakeOptions& options, const Log& log, const Distribution& distribution);
 
 // Everything before writing the PLY: the report (all but the write time) and the baked
 // mesh. options.outputPath and reportPath are not used; irradiance maps are written when
@@ -24,7 +29,8 @@ struct BakeResult {
 };
 // Irradiance maps and the photon file (--maps, --save-photons) are staged in `outputs`; the overload without it
 // commits them itself.
-BakeResult BakeMesh(const BakeOptions& options, const Log& log, OutputFiles& outputs);
+BakeResult BakeMesh(const BakeOptions& options, const Log& log, OutputFiles& outputs,
+                    const Distribution* distribution = nullptr);
 BakeResult BakeMesh(const BakeOptions& options, const Log& log);
 
 }  // namespace pb

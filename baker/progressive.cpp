@@ -57,18 +57,23 @@ PhotonStore OpenPhotonStore(const BakeOptions& o, const PreparedScene& scene, Pr
   return store;
 }
 
-void GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& o, const PreparedScene& scene,
-                     ProgressiveReport& report, const Log& log, const HitSink* sink) {
-  if (!ExtendPhotons(store, scene, {photons, o.seed, o.maxBounces, o.direct.mode == DirectLight::kPhotons, sink}, log)) {
-    if (sink != nullptr)  // the photons' flux Phi_l / N_l was binned for the N_l planned
-      throw InputError(o.scenePath, 0, fmt::format("interrupted after {} photons: nothing was written, since photons binned "
-                                                   "while they are traced cannot be cut short (with --save-photons they "
-                                                   "are stored, and an interrupted bake writes what it has)",
-                                                   store.stats.emitted));
-    report.interrupted = true;
-    log.Warning(fmt::format("interrupted: tracing stopped after {} photons; the bake goes on with them and writes "
-                            "valid outputs (Ctrl-C again to quit at once)", store.stats.emitted));
-  }
+bool GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& o, const PreparedScene& scene,
+                     ProgressiveReport& report, const Log& log, const HitSink* sink, const TraceShare* share) {
+  const TraceSettings settings{photons, o.seed, o.maxBounces, o.direct.mode == DirectLight::kPhotons, sink, share};
+  if (ExtendPhotons(store, scene, settings, log)) return true;
+  if (sink != nullptr) return false;
+  report.interrupted = true;
+  log.Warning(fmt::format("interrupted: tracing stopped after {} photons; the bake goes on with them and writes "
+                          "valid outputs (Ctrl-C again to quit at once)", store.stats.emitted));
+  return false;
+}
+
+void RefuseInterruptedBinning(const BakeOptions& o, const PhotonStore& store) {
+  // The photons' flux Phi_l / N_l was binned for the N_l planned.
+  throw InputError(o.scenePath, 0, fmt::format("interrupted after {} photons: nothing was written, since photons binned "
+                                               "while they are traced cannot be cut short (with --save-photons they "
+                                               "are stored, and an interrupted bake writes what it has)",
+                                               store.stats.emitted));
 }
 
 void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeOptions& o, const PreparedScene& scene,

@@ -46,9 +46,14 @@ struct ProgressiveReport {
 // An empty store for the scene's lights, or --resume's (every check of baker/photon_file.h passed).
 PhotonStore OpenPhotonStore(const BakeOptions& options, const PreparedScene& scene, ProgressiveReport& report);
 // Grows the store to `photons` over all lights (counts never shrink); notes an interruption in the report.
-// Hits go to `sink` when given (TraceSettings::sink).
-void GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& options, const PreparedScene& scene,
-                     ProgressiveReport& report, const Log& log, const HitSink* sink = nullptr);
+// Hits go to `sink` when given, and the work is shared when `share` is (TraceSettings). Returns whether tracing
+// completed. Without a sink an interruption is noted in the report and warned about; with one the caller must
+// refuse it (RefuseInterruptedBinning), after whatever its processes still do together.
+bool GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& options, const PreparedScene& scene,
+                     ProgressiveReport& report, const Log& log, const HitSink* sink = nullptr,
+                     const TraceShare* share = nullptr);
+// Throws the InputError that ends a bake whose photons were binned while traced and whose tracing was interrupted.
+[[noreturn]] void RefuseInterruptedBinning(const BakeOptions& options, const PhotonStore& store);
 // Writes --save-photons, when given.
 void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeOptions& options, const PreparedScene& scene,
                      ProgressiveReport& report);

@@ -1,5 +1,7 @@
 #include "estimators/binned_photons.h"
 
+#include <algorithm>
+
 #include "mesh/errors.h"
 
 namespace pb {
@@ -33,6 +35,15 @@ void BinnedPhotons::Add(Point2 uv, Rgb flux) {
     AtomicAdd(s[0], w * r), AtomicAdd(s[1], w * g), AtomicAdd(s[2], w * b), AtomicAdd(s[3], w * q);
   });
   photons_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void BinnedPhotons::Prefetch(Point2 uv) const {
+  const double fu = (double(uv.u) - lattice_.lo.u) / lattice_.spacing, fv = (double(uv.v) - lattice_.lo.v) / lattice_.spacing;
+  const int iu = std::clamp(int(std::floor(fu)), 0, lattice_.nodesU - 2), iv = std::clamp(int(std::floor(fv)), 0, lattice_.nodesV - 2);
+  for (int j = iv; j <= iv + 1; ++j) {
+    const std::array<int64_t, 4>* row = &sums_[size_t(j) * lattice_.nodesU + iu];
+    __builtin_prefetch(row, 1), __builtin_prefetch(row + 1, 1);
+  }
 }
 
 Rgb BinnedPhotons::Flux(size_t n) const {

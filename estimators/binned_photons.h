@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -57,6 +58,9 @@ class BinnedPhotons {
   BinnedPhotons& operator=(const BinnedPhotons&) = delete;
 
   void Add(Point2 uv, Rgb flux);
+  // Asks the memory for the nodes Add(uv, ...) will touch. Adds are atomic, and an atomic add that misses the cache
+  // stalls the thread until its line arrives: prefetched a few photons ahead, the misses overlap instead.
+  void Prefetch(Point2 uv) const;
   const NodeLattice& Lattice() const { return lattice_; }
   uint64_t Photons() const { return photons_.load(std::memory_order_relaxed); }
   // Node n's flux [W] and the sum of its shares of the photons' squared luminance [W^2].
@@ -64,6 +68,11 @@ class BinnedPhotons {
   float Squares(size_t n) const;
 
   static constexpr double kUnitsPerFlux = 67108864.0;  // 2^26
+
+  // The integer sums, four per node (r, g, b, squares), and the photon count, for adding other processes' sums
+  // (baker/distribution.h). Not while photons are being added.
+  std::span<int64_t> Units() { return {sums_.front().data(), 4 * sums_.size()}; }
+  void SetPhotons(uint64_t photons) { photons_.store(photons, std::memory_order_relaxed); }
 
  private:
   NodeLattice lattice_;

@@ -1,0 +1,36 @@
+// A bake shared among processes (`mpirun -np N bake-mpi ...`; tools/bake_mpi.cpp is the only file that includes
+// MPI). Every process prepares the scene; each traces the work items of the photon trace whose index modulo N is
+// its rank (TraceShare), bins its hits while it traces them (baker/2_bin_photons.h), and hands rank 0 its blocks'
+// stats and the few hits it kept; the node sums, exact integers, are summed onto rank 0, which estimates and writes
+// alone. The photons are exactly those of a single-process bake, so its bytes are too, for any N and --threads.
+//
+// Before any photon is traced, every process says whether it is ready (Agree): a process that failed to read the
+// scene or refused the options says so instead of leaving the others waiting, and every process then stops.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "baker/1_trace_photons.h"
+
+namespace pb {
+
+class Distribution : public TraceShare {
+ public:
+  virtual unsigned Rank() const = 0;
+  virtual unsigned Size() const = 0;
+  bool Root() const { return Rank() == 0; }
+  bool Takes(size_t item) const final { return item % Size() == Rank(); }
+
+  // Called once by every process before tracing, with whether it is ready: every process's answer, by rank.
+  virtual std::vector<bool> Agree(bool ready) const = 0;
+  bool Agreed() const { return agreed_; }
+  // Sums `values` over the processes into rank 0's (others' are left as they were). Exact: integers.
+  virtual void SumOnRoot(std::span<int64_t> values) const = 0;
+
+ protected:
+  mutable bool agreed_ = false;
+};
+
+}  // namespace pb
