@@ -60,6 +60,7 @@ class TraceShare {
  public:
   virtual ~TraceShare() = default;
   virtual bool Takes(size_t item) const = 0;
+  virtual bool GoesOn() const = 0;  // whether this process gets every process's blocks
   virtual std::vector<TracedBlock> Gather(std::vector<TracedBlock> mine) const = 0;
 };
 

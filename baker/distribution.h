@@ -1,6 +1,6 @@
 // A bake shared among processes (`mpirun -np N bake-mpi ...`; tools/bake_mpi.cpp is the only file that includes
-// MPI). Every process prepares the scene; each traces the work items of the photon trace whose index modulo N is
-// its rank (TraceShare), bins its hits while it traces them (baker/2_bin_photons.h), and hands rank 0 its blocks'
+// MPI). Every process prepares the scene; each traces the work items of the photon trace that a hash of their index
+// gives its rank (TraceShare), bins its hits while it traces them (baker/2_bin_photons.h), and hands rank 0 its blocks'
 // stats and the few hits it kept; the node sums, exact integers, are summed onto rank 0, which estimates and writes
 // alone. The photons are exactly those of a single-process bake, so its bytes are too, for any N and --threads.
 //
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "baker/1_trace_photons.h"
+#include "estimators/rng.h"
 
 namespace pb {
 
@@ -21,7 +22,10 @@ class Distribution : public TraceShare {
   virtual unsigned Rank() const = 0;
   virtual unsigned Size() const = 0;
   bool Root() const { return Rank() == 0; }
-  bool Takes(size_t item) const final { return item % Size() == Rank(); }
+  // Items by a hash of their index: the work list interleaves the lights, so that item i modulo N would give one
+  // rank every block of one light (measured with two ranks on the box: 1.63x for 2 ranks where threads give 1.9x).
+  bool Takes(size_t item) const final { return SplitMix64(item) % Size() == Rank(); }
+  bool GoesOn() const final { return Root(); }
 
   // Called once by every process before tracing, with whether it is ready: every process's answer, by rank.
   virtual std::vector<bool> Agree(bool ready) const = 0;

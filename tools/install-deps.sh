@@ -14,6 +14,8 @@ packages=(
   libnanoflann-dev libeigen3-dev libcli11-dev
   nlohmann-json3-dev libfmt-dev libgtest-dev libbenchmark-dev
   libpng-dev zlib1g-dev libstb-dev libtinygltf-dev
+  # bake-mpi (tools/bake_mpi.cpp): Open MPI and its mpirun
+  openmpi-bin libopenmpi-dev
 )
 
 missing=()

@@ -1,0 +1,95 @@
+// bake-mpi (tools/bake_mpi.cpp, baker/distribution.h) as a user runs it, under `mpirun --oversubscribe -np 3`:
+// - the PLY is byte-identical to a single-process bake's, with one and two threads per rank, and the report's
+//   photon figures and per-surface tallies are the same;
+// - bad input is reported once (by rank 0), an option it cannot share (--save-photons) is refused once with the
+//   reason, and both exit non-zero;
+// - a rank killed part-way makes mpirun exit non-zero naming a rank, and the earlier output is left as it was, with
+//   no temporary file beside it.
+// Skipped where bake-mpi is not built (no MPI found), unless PB_REQUIRE_MPI is set (CI).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "tests/ply_reader.h"
+#include "tests/run_tool.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+#define REQUIRE_BAKE_MPI()                                                                     \
+  do {                                                                                         \
+    if (kBakeMpi.empty()) {                                                                    \
+      if (std::getenv("PB_REQUIRE_MPI")) FAIL() << "bake-mpi is not built: install libopenmpi-dev"; \
+      GTEST_SKIP() << "bake-mpi is not built (no MPI found)";                                   \
+    }                                                                                          \
+  } while (0)
+
+#ifdef PB_BAKE_MPI_EXE
+const std::string kBakeMpi = PB_BAKE_MPI_EXE;
+const std::string kMpirun = "mpirun --allow-run-as-root --oversubscribe -np 3 " PB_BAKE_MPI_EXE;
+#else
+const std::string kBakeMpi;
+const std::string kMpirun;
+#endif
+
+const std::string kBox = PB_SOURCE_DIR "/data/box/box_25mm.obj";
+
+size_t Count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(BakeMpi, ThreeRanksWriteTheBytesOfOneProcess) {
+  REQUIRE_BAKE_MPI();
+  const std::string dir = test::TempDirectory("bake-mpi");
+  const std::string common = kBox + " -q --photons 600000 --direct-samples 4";
+  const test::ToolRun single = test::RunTool(PB_BAKE_EXE, common + " -o " + dir + "/one.ply --report " + dir + "/one.json");
+  ASSERT_EQ(single.status, 0) << single.output;
+  for (const char* threads : {"1", "2"}) {
+    const std::string out = dir + "/mpi" + threads;
+    const test::ToolRun run = test::RunTool(kMpirun, common + " --threads " + threads + " -o " + out + ".ply --report " + out + ".json");
+    ASSERT_EQ(run.status, 0) << run.output;
+    EXPECT_TRUE(test::ReadBytes(out + ".ply") == test::ReadBytes(dir + "/one.ply")) << "--threads " << threads;
+    const nlohmann::json a = nlohmann::json::parse(test::ReadBytes(dir + "/one.json"));
+    const nlohmann::json b = nlohmann::json::parse(test::ReadBytes(out + ".json"));
+    EXPECT_EQ(a.at("photons"), b.at("photons"));
+    EXPECT_EQ(a.at("surfaces"), b.at("surfaces"));
+    EXPECT_GT(b.at("photons").at("hits_binned_while_traced").get<uint64_t>(), 0u);
+  }
+}
+
+TEST(BakeMpi, BadInputAndUnsharedOptionsAreReportedOnce) {
+  REQUIRE_BAKE_MPI();
+  const std::string dir = test::TempDirectory("bake-mpi-errors");
+  const test::ToolRun missing = test::RunTool(kMpirun, dir + "/missing.obj -o " + dir + "/x.ply");
+  EXPECT_NE(missing.status, 0);
+  EXPECT_EQ(Count(missing.output, "missing.obj: error: cannot open scene file"), 1u) << missing.output;
+  const test::ToolRun saving = test::RunTool(kMpirun, kBox + " -q -o " + dir + "/x.ply --save-photons " + dir + "/x.photons");
+  EXPECT_NE(saving.status, 0);
+  EXPECT_EQ(Count(saving.output, "bins its photons while they are traced"), 1u) << saving.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.ply"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.photons"));
+}
+
+TEST(BakeMpi, AKilledRankFailsTheJobAndLeavesTheEarlierOutput) {
+  REQUIRE_BAKE_MPI();
+  const std::string dir = test::TempDirectory("bake-mpi-kill");
+  std::ofstream(dir + "/out.ply") << "earlier output";
+  // 400M photons take minutes; rank 1 (the second bake-mpi process) is killed after two seconds.
+  const std::string job = kMpirun + " " + kBox + " -q --photons 400000000 -o " + dir + "/out.ply";
+  const test::ToolRun run = test::RunTool("sh", "-c '" + job + " & sleep 2; kill -9 $(pgrep -x bake-mpi | sed -n 2p); wait $!'");
+  EXPECT_NE(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("rank"), std::string::npos) << run.output;
+  EXPECT_EQ(test::ReadBytes(dir + "/out.ply"), "earlier output");
+  size_t files = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 1u) << "a temporary file was left beside the output";
+}
+
+}  // namespace
+}  // namespace pb

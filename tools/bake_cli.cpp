@@ -1,0 +1,174 @@
+#include "tools/bake_cli.h"
+
+#include <fmt/core.h>
+
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "baker/0_plan_transport.h"
+#include "estimators/enum_names.h"
+#include "mesh/errors.h"
+#include "tools/cli_options.h"
+
+namespace pb::tools {
+namespace {
+
+
+void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& automatic) {
+  pb::tools::AddNamedOption(app, "--estimator", e.kind, pb::ParseEstimator, pb::EstimatorName, pb::EstimatorNames(), "estimator",
+                 "density estimator (the paper's three classes)");
+  pb::tools::AddNamedOption(app, "--kernel", e.kernel, pb::ParseKernel, pb::KernelName, pb::KernelNames(), "kernel",
+                 "kernel of --estimator kernel");
+  app.add_option_function<std::string>(
+         "--h",
+         [&e, &automatic](const std::string& text) {
+           automatic = text == "auto";
+           if (!automatic) e.bandwidth = float(pb::tools::ParseNumber(text));
+         },
+         "bandwidth h [m]: kernel support radius, or histogram bucket side, in the surface; range 1e-6 to 1e4, typical "
+         "0.02-0.1 for a room-sized scene; or 'auto': chosen per surface from its photons (README, 'Automatic h')")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            float value = 0;
+            return text == "auto" || CLI::detail::lexical_cast(text, value) ? std::string()
+                                                                            : "expects a length in metres or 'auto'";
+          },
+          "FLOAT|auto", "length"))
+      ->default_str(fmt::format("{}", e.bandwidth));
+  app.add_option("--k", e.neighbours, "photons per estimate of --estimator knn; range 2-1e6, typical 20-200")
+      ->capture_default_str();
+  app.add_flag("!--renormalise-edges", e.localLinear,
+               "kernel estimator: at surface edges and contact lines, only renormalise by the kernel's mass there, "
+               "instead of fitting the light locally linear (Walter et al. 1997); less noise at edges, but the "
+               "gradient bias stays");
+  app.add_flag("!--no-edge-correction", e.edgeCorrection, "do not renormalise estimates by the part of the kernel, "
+                                                         "bucket or disc that lies on the surface (edges darken)");
+}
+
+CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
+  app.add_option("scene", o.scenePath, "OBJ scene (with MTL) or glTF 2.0 (.gltf, .glb). Kd = diffuse albedo in [0,1]; Ke = emitted radiance "
+                                       "[W/(m^2 sr)], one-sided along the counter-clockwise normal")
+      ->required();
+  app.add_option("-o,--output", o.outputPath, "PLY to write (binary little-endian unless --ascii), or glTF 2.0 when it ends in .glb or .gltf; written to a "
+                                              "temporary file and renamed into place")
+      ->required();
+  app.add_option("--lights", o.lightsPath, "lights file: point, spot, sun and sky lights (JSON; README, \"Lights\"); "
+                                          "default SCENE.lights.json where it exists");
+  app.add_option("--luminous-efficacy", o.luminousEfficacy, "lm/W that turn glTF's candela and lux into watts; "
+                                                          "range [1, 683], default 683");
+  DefineEstimatorOptions(app, o.estimator, o.autoBandwidth);
+  app.add_option("--photons", o.photons, "photons emitted over all lights, split by power (N_i = n Phi_i / Phi); "
+                                         "range 1 to 2^40, typical 1e6-1e7")
+      ->capture_default_str();
+  app.add_flag("!--no-cover", o.findCovers, "do not find where other geometry covers a surface (a block on a floor); "
+                                           "light then bleeds under objects and is lost beside them");
+  app.add_option("--seed", o.seed, "random seed; any integer. Same seed, same bytes, for any --threads")
+      ->capture_default_str();
+  app.add_option("--threads", o.threads, "worker threads; 0 = all cores; range 0-1024")->capture_default_str();
+  app.add_option("--scale", o.scale, "metres per scene unit; range 1e-6 to 1e6, typical 1, or 0.001 for millimetres")
+      ->capture_default_str();
+  app.add_option("--effects", o.effectsText,
+                 "light transport to simulate: 'auto' (what the scene's materials call for), 'all', or a list such as "
+                 "'+caustics,-refraction' (NAME or +NAME forces on, -NAME forbids); names: " +
+                     pb::JoinNames(pb::kAllEffects, pb::EffectName))
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            try {
+              pb::ParseEffectOverrides(text);
+              return std::string();
+            } catch (const pb::InputError& e) {
+              return e.message();
+            }
+          },
+          "EFFECTS", "effects"))
+      ->capture_default_str();
+  pb::tools::AddNamedOption(app, "--direct", o.direct.mode, pb::ParseDirectLight, pb::DirectLightName,
+                            pb::DirectLightNames(), "direct-light mode",
+                            "the light straight from the lights: 'sampled' computes it at every vertex and texel by "
+                            "shadow rays, and the photons carry only the rest; 'photons' takes it from the photons "
+                            "like every bounce (the paper's method; README, 'Direct light')");
+  app.add_option("--direct-samples", o.direct.samples,
+                 "shadow rays per point with --direct sampled (with --direct-noise, the most a point may take); "
+                 "range 1-1e6, typical 16-256")
+      ->capture_default_str();
+  app.add_option("--direct-noise", o.direct.noise,
+                 "with --direct sampled: each point takes the shadow rays that bring its direct light's relative "
+                 "standard error to this, up to --direct-samples (a pilot of 16 chooses; README, 'Direct light'); "
+                 "0 = off; range 0 or 1e-4 to 1, typical 0.005-0.02")
+      ->capture_default_str();
+  app.add_option("--reference", o.referencePaths,
+                 "trace no photons: gather this many paths at every vertex and texel instead, an unbiased path-traced "
+                 "vertex bake to measure against (README, 'A reference'); range 1-1e7, typical 1024-16384");
+  app.add_option("--max-bounces", o.maxBounces,
+                 "scattering events a photon may undergo after its first hit; 0 = direct light only; range 0-10000; "
+                 "the default is unlimited in practice (Russian roulette ends paths)")
+      ->capture_default_str();
+  app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
+                                            "this folder, created if missing (surface_N.exr; README, 'Irradiance maps')");
+  app.add_option("--preview", o.previewPath, "also write a PNG of the baked mesh as a viewer shows it (vertex colours, "
+                                            "no lighting), from the scene's camera SCENE.camera.json or --camera");
+  app.add_option("--camera", o.cameraPath, "--preview's camera JSON (position_m, look_at_m, up, vertical_fov_deg)");
+  pb::tools::AddPairOption(app, "--preview-size", o.previewWidth, o.previewHeight,
+                           "--preview's size in pixels, WIDTHxHEIGHT, each 1-8192");
+  app.add_option("--texel", o.texel, "texel side of --maps [m]; range 1e-6 to 1e4, typical 0.005-0.05")->capture_default_str();
+  app.add_flag("--refine", o.refine.adaptive,
+               "adapt the mesh to the light: remove vertices where it is flat, add them where it changes (README, "
+               "'Meshes that follow the light'); the geometry is unchanged");
+  app.add_option("--tolerance", o.refine.tolerance,
+                 "--refine's largest interpolation error in displayed luminance, as a fraction of the display range; "
+                 "range (0, 1), typical 0.01-0.05")
+      ->capture_default_str();
+  app.add_option("--max-vertices", o.refine.maxVertices, "--refine's budget of output vertices; range 3 to 1e9, typical 1e4-1e6")
+      ->capture_default_str();
+  app.add_option("--subdivide", o.refine.subdivide,
+                 "split every triangle into 4^N first (uniform, OpenSubdiv); range 0-8, 0 = off")
+      ->capture_default_str();
+  app.add_option("--save-photons", o.savePhotonsPath,
+                 "also write the photon store to this file (docs/photon-file.md), to add photons later with --resume; "
+                 "may be the --resume file");
+  app.add_option("--resume", o.resumePath,
+                 "continue the photon store in this file: each light's stream goes on where it stopped, up to "
+                 "--photons in all; the result equals one bake with that many photons. Same scene, --seed, --scale, "
+                 "--effects and --max-bounces, or it is refused");
+  app.add_option("--target-noise", o.targetNoise,
+                 "trace in rounds, the first of --photons, until the 95th percentile of the vertices' relative noise "
+                 "(luminance- and area-weighted) is at most this; range (0, 1), typical 0.01-0.05");
+  app.add_option("--max-photons", o.maxPhotons, "--target-noise's photon budget over all lights")->capture_default_str();
+  app.add_option("--report", o.reportPath, "write the summary figures as JSON to this file");
+  app.add_flag("--report-all", o.reportAll,
+               "list every surface and light in --report's JSON; by default the 1,000 largest surfaces and 1,000 "
+               "brightest lights, with a summary of all");
+  app.add_option("--exposure", o.exposure, "display exposure on radiance for the PLY's uchar colours; range > 0; "
+                                           "default automatic (log-average luminance to 0.18)");
+  app.add_flag("--ascii", o.asciiPly, "write ASCII PLY instead of binary");
+  app.add_flag("-q,--quiet", o.quiet, "no progress or summary (errors and warnings still print)");
+  return app;
+}
+
+// --quality sets --photons, --h and --direct-samples, except those given on the command line.
+void ApplyQuality(const CLI::App& app, const std::string& quality, pb::BakeOptions& o) {
+  if (quality.empty()) return;
+  const std::optional<pb::QualityPreset> preset = pb::ParseQuality(quality);
+  if (!preset) throw pb::InputError("--quality", 0, "unknown preset '" + quality + "'; choose one of: " + pb::QualityNames());
+  if (app.count("--photons") == 0) o.photons = preset->photons;
+  if (app.count("--h") == 0) o.estimator.bandwidth = preset->bandwidth;
+  if (app.count("--direct-samples") == 0) o.direct.samples = preset->directSamples;
+}
+
+}  // namespace
+
+void DefineBakeCommandLine(CLI::App& app, BakeCommandLine& c) {
+  DefineOptions(app, c.options);
+  app.add_option("--quality", c.quality, "photons, h and shadow rays together, from the box's measured error against "
+                                         "time: " + pb::QualityNames() + " (README, 'Quality presets'); options given "
+                                         "explicitly win");
+}
+
+void ApplyBakeCommandLine(const CLI::App& app, BakeCommandLine& c) {
+  ApplyQuality(app, c.quality, c.options);
+  c.options.Validate();
+}
+
+}  // namespace pb::tools

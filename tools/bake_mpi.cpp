@@ -1,0 +1,156 @@
+// bake-mpi: bake shared among the processes of `mpirun -np N bake-mpi SCENE ...` (baker/distribution.h), with bake's
+// options. Rank 0 writes what bake would write, the same bytes; the other ranks trace their share of the photons.
+// The only file that includes MPI.
+// Exit status as bake's: 0, 1 for bad input (reported once, by rank 0), 2 for a bad command line. A rank that dies
+// ends the job: mpirun kills the others, names the rank and exits non-zero; rank 0 writes its outputs only after
+// every photon is traced, so an earlier output survives.
+#include <mpi.h>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <climits>
+#include <cstring>
+#include <type_traits>
+
+#include "baker/bake.h"
+#include "baker/distribution.h"
+#include "mesh/errors.h"
+#include "tools/bake_cli.h"
+#include "tools/cli_options.h"
+
+namespace pb {
+namespace {
+
+static_assert(std::is_trivially_copyable_v<TraceStats> && std::is_trivially_copyable_v<BlockRange> &&
+              std::is_trivially_copyable_v<PhotonHit>, "blocks travel as bytes");
+
+// Appends the bytes of `value`, or reads them at `at`.
+template <typename T>
+void Put(std::vector<char>& bytes, const T* value, size_t count = 1) {
+  const char* p = reinterpret_cast<const char*>(value);
+  bytes.insert(bytes.end(), p, p + sizeof(T) * count);
+}
+template <typename T>
+void Get(const std::vector<char>& bytes, size_t& at, T* value, size_t count = 1) {
+  PB_CHECK(at + sizeof(T) * count <= bytes.size(), "a rank's blocks arrive whole");
+  std::memcpy(value, bytes.data() + at, sizeof(T) * count);
+  at += sizeof(T) * count;
+}
+
+std::vector<char> Pack(const std::vector<TracedBlock>& blocks) {
+  std::vector<char> bytes;
+  for (const TracedBlock& b : blocks) {
+    const uint64_t hits = b.hits.size();
+    Put(bytes, &b.item), Put(bytes, &b.range), Put(bytes, &b.stats), Put(bytes, &hits);
+    Put(bytes, b.hits.data(), b.hits.size());
+  }
+  return bytes;
+}
+
+void Unpack(const std::vector<char>& bytes, std::vector<TracedBlock>& into) {
+  for (size_t at = 0; at < bytes.size();) {
+    TracedBlock& b = into.emplace_back();
+    uint64_t hits = 0;
+    Get(bytes, at, &b.item), Get(bytes, at, &b.range), Get(bytes, at, &b.stats), Get(bytes, at, &hits);
+    b.hits.resize(hits);
+    Get(bytes, at, b.hits.data(), hits);
+  }
+}
+
+class MpiDistribution final : public Distribution {
+ public:
+  MpiDistribution() {
+    int rank = 0, size = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    rank_ = unsigned(rank), size_ = unsigned(size);
+  }
+  unsigned Rank() const override { return rank_; }
+  unsigned Size() const override { return size_; }
+
+  std::vector<bool> Agree(bool ready) const override {
+    agreed_ = true;
+    const int mine = ready ? 1 : 0;
+    std::vector<int> all(size_);
+    MPI_Allgather(&mine, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    return {all.begin(), all.end()};
+  }
+
+  // Rank r > 0 sends its blocks' bytes in messages of at most kChunk; rank 0 takes them rank by rank.
+  std::vector<TracedBlock> Gather(std::vector<TracedBlock> mine) const override {
+    if (!Root()) {
+      const std::vector<char> bytes = Pack(mine);
+      const uint64_t size = bytes.size();
+      MPI_Send(&size, 1, MPI_UINT64_T, 0, kSizeTag, MPI_COMM_WORLD);
+      for (uint64_t at = 0; at < size; at += kChunk)
+        MPI_Send(bytes.data() + at, int(std::min<uint64_t>(kChunk, size - at)), MPI_BYTE, 0, kBytesTag, MPI_COMM_WORLD);
+      return {};
+    }
+    for (unsigned r = 1; r < size_; ++r) {
+      uint64_t size = 0;
+      MPI_Recv(&size, 1, MPI_UINT64_T, int(r), kSizeTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      std::vector<char> bytes(size);
+      for (uint64_t at = 0; at < size; at += kChunk)
+        MPI_Recv(bytes.data() + at, int(std::min<uint64_t>(kChunk, size - at)), MPI_BYTE, int(r), kBytesTag, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE);
+      Unpack(bytes, mine);
+    }
+    return mine;
+  }
+
+  void SumOnRoot(std::span<int64_t> values) const override {
+    for (size_t at = 0; at < values.size(); at += kChunk) {
+      const int count = int(std::min<size_t>(kChunk, values.size() - at));
+      int64_t* data = values.data() + at;
+      MPI_Reduce(Root() ? MPI_IN_PLACE : data, data, count, MPI_INT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    }
+  }
+
+ private:
+  static constexpr uint64_t kChunk = 1u << 30;  // elements per message, below MPI's int counts
+  static constexpr int kSizeTag = 1, kBytesTag = 2;
+  unsigned rank_ = 0, size_ = 1;
+};
+
+// Runs this rank's part; 0, or 1 after an InputError, which only rank 0 prints unless rank 0 was ready and this
+// rank was not (a file that only this rank cannot read).
+int Run(const tools::BakeCommandLine& c, const MpiDistribution& d) {
+  const Log log(c.options.quiet || !d.Root());
+  try {
+    if (d.Root())
+      PrintSummary(Bake(c.options, log, &d), log);
+    else
+      TraceShareOfBake(c.options, log, d);
+    return 0;
+  } catch (const InputError& e) {
+    const bool mine = !d.Agreed();  // this rank failed before every rank said it was ready
+    const std::vector<bool> ready = mine ? d.Agree(false) : std::vector<bool>(d.Size(), true);
+    if (d.Root() || (mine && ready[0])) fmt::print(stderr, "{}{}\n", d.Root() ? "" : fmt::format("rank {}: ", d.Rank()), e.what());
+    return 1;
+  }
+}
+
+}  // namespace
+}  // namespace pb
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  const pb::MpiDistribution distribution;
+  CLI::App app{"bake-mpi: bake, shared among the processes of mpirun (photonbake)"};
+  pb::tools::BakeCommandLine c;
+  pb::tools::DefineBakeCommandLine(app, c);
+  int status = 0;
+  try {
+    app.parse(argc, argv);
+    pb::tools::ApplyBakeCommandLine(app, c);
+    status = pb::Run(c, distribution);
+  } catch (const CLI::ParseError& e) {
+    status = distribution.Root() ? (app.exit(e) == 0 ? 0 : 2) : (e.get_exit_code() == 0 ? 0 : 2);
+  } catch (const pb::InputError& e) {  // a bad option value: every rank sees it, rank 0 says it
+    if (distribution.Root()) fmt::print(stderr, "{}\n", e.what());
+    status = 2;
+  }
+  MPI_Finalize();
+  return status;
+}
