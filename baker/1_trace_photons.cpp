@@ -188,15 +188,12 @@ std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<Light>& ligh
   return {done.begin(), done.end()};
 }
 
-// With a shared trace: hands this process's traced blocks to the share, and takes back every process's (none on a
-// process that does not go on), so that `done` and `blocks` describe the whole trace. Returns whether this process
-// traced every item it takes.
-bool GatherShares(const TraceShare& share, const std::vector<WorkItem>& work, std::vector<Block>& blocks,
+// With a shared trace: hands this process's traced blocks to the share, and takes back every process's, so that
+// `done` and `blocks` describe the whole trace.
+void GatherShares(const TraceShare& share, const std::vector<WorkItem>& work, std::vector<Block>& blocks,
                   std::vector<bool>& done) {
   std::vector<TracedBlock> mine;
-  bool complete = true;
   for (size_t i = 0; i < work.size(); ++i) {
-    if (share.Takes(i) && !done[i]) complete = false;
     if (!done[i]) continue;
     Block& b = blocks[work[i].block];
     mine.push_back({i, work[i].range, b.stats, std::move(b.hits)});
@@ -207,7 +204,6 @@ bool GatherShares(const TraceShare& share, const std::vector<WorkItem>& work, st
     blocks[work[t.item].block] = {std::move(t.hits), t.stats};
     done[t.item] = true;
   }
-  return complete;
 }
 
 // Moves the store's blocks out, for tracing to continue in them.
@@ -271,12 +267,10 @@ bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<Lig
                                                     : run.template operator()<false, true>())
                                           : (bounce ? run.template operator()<true, false>()
                                                     : run.template operator()<false, false>());
-  // Shared: each process answers for its own items; the one that goes on also for every other's.
-  const TraceShare* share = settings.share;
-  const bool traced = share == nullptr || GatherShares(*share, work, blocks, done);
+  if (settings.share != nullptr) GatherShares(*settings.share, work, blocks, done);
   StoreBlocks(store, blocks, work, done);
   store.Summarise();
-  return traced && ((share != nullptr && !share->GoesOn()) || std::find(done.begin(), done.end(), false) == done.end());
+  return std::find(done.begin(), done.end(), false) == done.end();
 }
 
 PhotonStore EmptyPhotonStore(const std::vector<Light>& lights) {

@@ -53,14 +53,12 @@ struct TracedBlock {
 };
 
 // A trace shared among processes (bake-mpi, tools/bake_mpi.cpp): each process traces the work items it Takes,
-// then every process calls Gather once with its blocks, which returns every process's blocks on the process that
-// goes on with the bake and none on the others. The store then holds the same bytes as one traced by one process.
-// Only a new store is shared.
+// then every process calls Gather once with its blocks, which returns every process's blocks. Every store then
+// holds the same bytes as one traced by one process. Only a new store is shared.
 class TraceShare {
  public:
   virtual ~TraceShare() = default;
   virtual bool Takes(size_t item) const = 0;
-  virtual bool GoesOn() const = 0;  // whether this process gets every process's blocks
   virtual std::vector<TracedBlock> Gather(std::vector<TracedBlock> mine) const = 0;
 };
 

@@ -143,7 +143,8 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
   return field;
 }
 
-BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise) {
+BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise,
+                             const std::function<bool(size_t)>& owns) {
   BakedMesh baked;
   const size_t n = mesh.VertexCount();
   baked.irradiance.resize(n);
@@ -151,8 +152,11 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
   baked.emitted.resize(n);
   if (withNoise) baked.irradianceNoise.assign(n, 0.0), baked.photonVarianceShare.assign(n, 1.0);
   Progress progress(log, "estimate irradiance", n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t v = r.begin(); v != r.end(); ++v) {
+  const size_t chunks = (n + kVertexChunk - 1) / kVertexChunk;
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    const size_t begin = c * kVertexChunk, end = std::min(n, begin + kVertexChunk);
+    if (owns && !owns(c)) return progress.Advance(end - begin);
+    for (size_t v = begin; v != end; ++v) {
       const SurfacePoint p = mesh.Point(v);
       const SurfaceLight light = withNoise ? field.LightWithNoise(p) : field.Light(p);
       baked.irradiance[v] = light.irradiance;
@@ -160,7 +164,7 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
       baked.emitted[v] = light.emitted;
       if (withNoise) baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
     }
-    progress.Advance(r.size());
+    progress.Advance(end - begin);
   });
   baked.mesh = std::move(mesh);
   return baked;

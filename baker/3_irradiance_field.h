@@ -17,6 +17,7 @@
 //            a path tracer's vertex bake; no photons are traced then.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -187,8 +188,14 @@ struct FieldSettings {
 IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins, const FieldSettings& settings,
                                      StageClock& clock);
 
-// H, R and Le at every vertex of `mesh`, in parallel; with `withNoise`, also each vertex's relative noise
-// (BakedMesh::irradianceNoise), from the same queries: H is the same bit for bit either way.
-BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise = false);
+// Vertices are estimated in chunks of this many, in parallel.
+inline constexpr size_t kVertexChunk = 1024;
+
+// H, R and Le at every vertex of `mesh`; with `withNoise`, also each vertex's relative noise
+// (BakedMesh::irradianceNoise), from the same queries: H is the same bit for bit either way. With `owns`, only the
+// chunks c of vertices [c kVertexChunk, (c + 1) kVertexChunk) for which owns(c) is true (a distributed bake shares
+// them out, baker/distribution.h); the others read 0.
+BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise = false,
+                             const std::function<bool(size_t)>& owns = {});
 
 }  // namespace pb

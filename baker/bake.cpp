@@ -152,14 +152,27 @@ FieldSettings FieldSettingsOf(const BakeOptions& o) {
 
 // Stages 2 and 3 from the photons in `lit` (and those `binner` binned while they were traced), with each vertex's
 // noise and the bake's.
+// Rank 0 takes every process's vertices (baker/distribution.h).
+void GatherVertices(BakedMesh& baked, const Distribution& d) {
+  const auto gather = [&](auto& values) {
+    d.GatherChunks(std::as_writable_bytes(std::span(values)), sizeof(values[0]), kVertexChunk);
+  };
+  gather(baked.irradiance), gather(baked.albedo), gather(baked.emitted);
+  gather(baked.irradianceNoise), gather(baked.photonVarianceShare);
+}
+
+// Stages 2 and 3 from the photons in `lit` (and those `binner` binned while they were traced), with each vertex's
+// noise and the bake's; with a distribution, each process estimates its share of the vertices for rank 0.
 void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, const BinningPlan& plan,
-                   PhotonBinner* binner, StageClock& clock, const Log& log) {
+                   PhotonBinner* binner, const Distribution* d, StageClock& clock, const Log& log) {
   lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons, log, plan, binner); });
   lit.field.emplace(BuildIrradianceField(scene, lit.bins, FieldSettingsOf(o), clock));
+  const auto owns = [d](size_t chunk) { return d == nullptr || d->Takes(chunk); };
   lit.baked = clock.Time("estimate", [&] {
-    return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true);
+    return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true, owns);
   });
-  lit.noise = clock.Time("noise", [&] { return BakeNoise(lit.baked); });
+  if (d != nullptr) clock.Time("estimate", [&] { GatherVertices(lit.baked, *d); });
+  if (d == nullptr || d->Root()) lit.noise = clock.Time("noise", [&] { return BakeNoise(lit.baked); });
 }
 
 // Noise that shows as blotches: above 2% of the displayed light, about 5 of 255 grey levels.
@@ -236,7 +249,7 @@ void TraceRound(RoundTrace& round, Lit& lit, uint64_t photons, const PreparedSce
   if (BinsWhileTracing(o, round.plan)) round.binner.emplace(scene, round.plan);
   PhotonBinner* binner = round.binner ? &*round.binner : nullptr;
   clock.Time("trace", [&] { round.complete = GrowPhotonStore(lit.photons, photons, o, scene, lit.progress, log, binner, d); });
-  if (d != nullptr) clock.Time("trace", [&] { binner->SumWith([&](std::span<int64_t> v) { d->SumOnRoot(v); }); });
+  if (d != nullptr) clock.Time("trace", [&] { binner->SumWith([&](std::span<int64_t> v) { d->SumOnAll(v); }); });
   if (binner != nullptr && !round.complete) RefuseInterruptedBinning(o, lit.photons);
 }
 
@@ -250,7 +263,7 @@ Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFil
   for (uint64_t photons = o.referencePaths > 0 ? 0 : std::max(o.photons, lit.progress.resumedPhotons);;) {
     RoundTrace round;
     TraceRound(round, lit, photons, scene, o, distribution, clock, log);
-    EstimateLight(lit, scene, o, round.plan, round.binner ? &*round.binner : nullptr, clock, log);
+    EstimateLight(lit, scene, o, round.plan, round.binner ? &*round.binner : nullptr, distribution, clock, log);
     if (!o.targetNoise) break;
     const double noise = lit.noise;
     lit.progress.rounds.push_back({photons, lit.photons.stats.emitted, noise});
@@ -357,6 +370,7 @@ void TraceShareOfBake(const BakeOptions& o, const Log& log, const Distribution& 
   lit.photons = EmptyPhotonStore(scene.lights);
   RoundTrace round;
   TraceRound(round, lit, o.photons, scene, o, &distribution, clock, log);
+  EstimateLight(lit, scene, o, round.plan, &*round.binner, &distribution, clock, log);
 }
 
 }  // namespace pb

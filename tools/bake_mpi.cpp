@@ -77,39 +77,70 @@ class MpiDistribution final : public Distribution {
     return {all.begin(), all.end()};
   }
 
-  // Rank r > 0 sends its blocks' bytes in messages of at most kChunk; rank 0 takes them rank by rank.
+  // Rank r > 0 sends rank 0 its blocks' bytes; rank 0 takes them rank by rank and sends every process all of them.
   std::vector<TracedBlock> Gather(std::vector<TracedBlock> mine) const override {
-    if (!Root()) {
-      const std::vector<char> bytes = Pack(mine);
-      const uint64_t size = bytes.size();
-      MPI_Send(&size, 1, MPI_UINT64_T, 0, kSizeTag, MPI_COMM_WORLD);
-      for (uint64_t at = 0; at < size; at += kChunk)
-        MPI_Send(bytes.data() + at, int(std::min<uint64_t>(kChunk, size - at)), MPI_BYTE, 0, kBytesTag, MPI_COMM_WORLD);
-      return {};
+    std::vector<char> all;
+    if (Root()) {
+      all = Pack(mine);
+      for (unsigned r = 1; r < size_; ++r) {
+        const std::vector<char> theirs = Receive(r);
+        all.insert(all.end(), theirs.begin(), theirs.end());
+      }
+      for (unsigned r = 1; r < size_; ++r) Send(all, r);
+    } else {
+      Send(Pack(mine), 0);
+      all = Receive(0);
     }
-    for (unsigned r = 1; r < size_; ++r) {
-      uint64_t size = 0;
-      MPI_Recv(&size, 1, MPI_UINT64_T, int(r), kSizeTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-      std::vector<char> bytes(size);
-      for (uint64_t at = 0; at < size; at += kChunk)
-        MPI_Recv(bytes.data() + at, int(std::min<uint64_t>(kChunk, size - at)), MPI_BYTE, int(r), kBytesTag, MPI_COMM_WORLD,
-                 MPI_STATUS_IGNORE);
-      Unpack(bytes, mine);
-    }
-    return mine;
+    std::vector<TracedBlock> blocks;
+    Unpack(all, blocks);
+    return blocks;
   }
 
-  void SumOnRoot(std::span<int64_t> values) const override {
+  void SumOnAll(std::span<int64_t> values) const override {
     for (size_t at = 0; at < values.size(); at += kChunk) {
       const int count = int(std::min<size_t>(kChunk, values.size() - at));
-      int64_t* data = values.data() + at;
-      MPI_Reduce(Root() ? MPI_IN_PLACE : data, data, count, MPI_INT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+      MPI_Allreduce(MPI_IN_PLACE, values.data() + at, count, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+    }
+  }
+
+  // Rank r > 0 sends the chunks it Takes, in order; rank 0 puts them in place.
+  void GatherChunks(std::span<std::byte> items, size_t itemBytes, size_t chunk) const override {
+    const size_t chunkBytes = itemBytes * chunk, chunks = (items.size() + chunkBytes - 1) / chunkBytes;
+    const auto bytesOf = [&](size_t c) { return items.subspan(c * chunkBytes, std::min(chunkBytes, items.size() - c * chunkBytes)); };
+    if (!Root()) {
+      std::vector<char> mine;
+      for (size_t c = 0; c < chunks; ++c)
+        if (Takes(c)) Put(mine, bytesOf(c).data(), bytesOf(c).size());
+      return Send(mine, 0);
+    }
+    for (unsigned r = 1; r < size_; ++r) {
+      const std::vector<char> theirs = Receive(r);
+      size_t at = 0;
+      for (size_t c = 0; c < chunks; ++c)
+        if (Holder(c) == r) Get(theirs, at, bytesOf(c).data(), bytesOf(c).size());
     }
   }
 
  private:
   static constexpr uint64_t kChunk = 1u << 30;  // elements per message, below MPI's int counts
   static constexpr int kSizeTag = 1, kBytesTag = 2;
+
+  // Bytes to or from rank `r`: their size, then messages of at most kChunk.
+  static void Send(const std::vector<char>& bytes, unsigned r) {
+    const uint64_t size = bytes.size();
+    MPI_Send(&size, 1, MPI_UINT64_T, int(r), kSizeTag, MPI_COMM_WORLD);
+    for (uint64_t at = 0; at < size; at += kChunk)
+      MPI_Send(bytes.data() + at, int(std::min<uint64_t>(kChunk, size - at)), MPI_BYTE, int(r), kBytesTag, MPI_COMM_WORLD);
+  }
+  static std::vector<char> Receive(unsigned r) {
+    uint64_t size = 0;
+    MPI_Recv(&size, 1, MPI_UINT64_T, int(r), kSizeTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    std::vector<char> bytes(size);
+    for (uint64_t at = 0; at < size; at += kChunk)
+      MPI_Recv(bytes.data() + at, int(std::min<uint64_t>(kChunk, size - at)), MPI_BYTE, int(r), kBytesTag, MPI_COMM_WORLD,
+               MPI_STATUS_IGNORE);
+    return bytes;
+  }
   unsigned rank_ = 0, size_ = 1;
 };
 
