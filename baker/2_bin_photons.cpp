@@ -60,12 +60,6 @@ SurfaceBins Bin(const SurfaceSet& surfaces, const PhotonStore& hits, Progress* p
   return bins;
 }
 
-uint64_t StoredHits(const PhotonStore& store) {
-  uint64_t count = 0;
-  for (const HitBlock& block : store.blocks) count += block.size();
-  return count;
-}
-
 double StoreFluxUnit(const PhotonStore& store) { return FluxUnit(store.lightPower, store.emitted); }
 
 // Bytes per node while photons are binned (four 64-bit sums), and of a stored hit (the store's record).
@@ -194,7 +188,7 @@ SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits) {
 
 SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, const Log& log, const BinningPlan& plan,
                        PhotonBinner* binner) {
-  Progress progress(log, "bin photons", 2 * StoredHits(hits));
+  Progress progress(log, "bin photons", 2 * hits.StoredHits());
   SurfaceBins bins = Bin(surfaces, hits, &progress, plan.wide ? plan.fluxUnit : StoreFluxUnit(hits));
   bins.wide = plan.wide;
   if (binner == nullptr) return bins;

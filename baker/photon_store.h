@@ -98,6 +98,12 @@ struct PhotonStore {
       for (const PhotonHit& hit : blocks[b]) visit(hit, hit.attenuation * flux);
     }
   }
+  // The hits the blocks hold: stats.hits less those a HitSink took while tracing (baker/1_trace_photons.h).
+  uint64_t StoredHits() const {
+    uint64_t count = 0;
+    for (const HitBlock& block : blocks) count += block.size();
+    return count;
+  }
   // Recomputes `stats` from the blocks.
   void Summarise();
 };

@@ -177,7 +177,7 @@ BakeReport DescribeBake(const BakeResults& r) {
   report.lights = DescribeLights(p.scene, p.lights, r.photons.emitted, p.plan);
   report.surfaces = DescribeSurfaces(p.scene, p.surfaces, r.bins, r.field);
   report.trace = r.photons.stats;
-  for (const HitBlock& block : r.photons.blocks) report.storedHits += block.size();
+  report.storedHits = r.photons.StoredHits();
   report.stageSeconds = r.stageSeconds;
   report.plan = p.plan;
   report.warnings = r.warnings;

@@ -9,7 +9,6 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
-#include <climits>
 #include <cstring>
 #include <type_traits>
 
