@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 
+#include "baker/3_gap_gather.h"
 #include "estimators/bandwidth.h"
 
 namespace pb {
@@ -44,18 +45,17 @@ double PhotonIrradiance::UniformNoise(uint32_t s, uint64_t hits, double area) co
   return UniformRelativeNoise(own, double(hits) / area);
 }
 
-namespace {
-// The random numbers of point p: a stream keyed by the seed, p's surface and its chart position (-0 as +0).
 Rng PointStream(uint64_t seed, const SurfacePoint& p) {
   const auto bits = [](float f) { return uint64_t(std::bit_cast<uint32_t>(f == 0.0f ? 0.0f : f)); };
   return Rng(seed, SplitMix64((uint64_t(p.surface) << 32) ^ bits(p.uv.u)) ^ bits(p.uv.v));
 }
 
-// Where rays for point p start. A vertex where a wall meets the floor lies on the wall's plane too: half the rays
-// gathered there would leave through the wall, and shadow rays would graze it. The value at such a point is the
-// limit from inside its surface, so on a planar surface a point within kProbe of its region's boundary steps
-// kStep inward, along the region's kernel centroid about it (SurfaceRegion::Moments). [m]
+// On a planar surface a point within kProbe of its region's boundary steps kStep inward, along the region's
+// kernel centroid about it (SurfaceRegion::Moments). [m]
+namespace {
 constexpr double kProbe = 2e-3, kStep = 2e-4;
+}  // namespace
+
 SurfacePoint RayStart(const PreparedScene& scene, const SurfacePoint& p) {
   const Surface& surface = scene.surfaces.surfaces[p.surface];
   if (!surface.planar) return p;
@@ -68,7 +68,6 @@ SurfacePoint RayStart(const PreparedScene& scene, const SurfacePoint& p) {
   start.uv = {p.uv.u + du, p.uv.v + dv};
   return start;
 }
-}  // namespace
 
 IrradianceSample PointSampledIrradiance::WithNoise(const SurfacePoint& p) const {
   Rng rng = PointStream(seed_, p);
@@ -93,8 +92,18 @@ void IrradianceField::Add(std::unique_ptr<IrradianceContribution> contribution) 
   contributions_.push_back(std::move(contribution));
 }
 
+void IrradianceField::GatherGaps(std::unique_ptr<GapGather> gaps) { gaps_ = std::move(gaps); }
+
+std::optional<IrradianceSample> IrradianceField::GapTerm(const SurfacePoint& p) const {
+  if (!gaps_) return std::nullopt;
+  const SurfacePoint start = RayStart(*scene_, p);
+  if (!gaps_->InGap(p, start)) return std::nullopt;
+  return gaps_->Gathered(p, start);
+}
+
 Rgb IrradianceField::Irradiance(const SurfacePoint& p) const {
-  Rgb sum = contributions_.front()->At(p);
+  const std::optional<IrradianceSample> gap = GapTerm(p);
+  Rgb sum = gap ? gap->irradiance : contributions_.front()->At(p);
   for (size_t i = 1; i < contributions_.size(); ++i) sum = sum + contributions_[i]->At(p);
   return sum;
 }
@@ -108,11 +117,12 @@ SurfaceLight IrradianceField::Light(const SurfacePoint& p) const { return LightW
 
 SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   // Independent contributions: their variances add, sigma_i = relative noise_i x luminance_i.
-  IrradianceSample total = contributions_.front()->WithNoise(p);
-  double share = 1;
+  const std::optional<IrradianceSample> gap = GapTerm(p);
+  IrradianceSample total = gap ? *gap : contributions_.front()->WithNoise(p);
+  double share = gap ? 0 : 1;
   if (contributions_.size() > 1) {
-    const double photons = std::pow(total.relativeNoise * Luminance(total.irradiance), 2);
-    double variance = photons;
+    const double first = std::pow(total.relativeNoise * Luminance(total.irradiance), 2), photons = gap ? 0 : first;
+    double variance = first;
     for (size_t i = 1; i < contributions_.size(); ++i) {
       const IrradianceSample c = contributions_[i]->WithNoise(p);
       total.irradiance = total.irradiance + c.irradiance;
@@ -139,7 +149,11 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
   if (settings.referencePaths > 0)
     field.Add(std::make_unique<ReferenceIrradiance>(scene, settings.referencePaths, settings.seed));
   else if (settings.direct.mode == DirectLight::kSampled)
+  {
     field.Add(std::make_unique<DirectIrradiance>(scene, settings.direct, settings.seed));
+    if (settings.gaps.paths > 0)
+      field.GatherGaps(std::make_unique<GapGather>(scene, field.Photons(), settings.gaps, settings.seed));
+  }
   return field;
 }
 

@@ -19,12 +19,14 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "baker/0_prepare_scene.h"
 #include "baker/2_bin_photons.h"
+#include "baker/3_gap_gather.h"
 #include "baker/baked_mesh.h"
 #include "baker/options.h"
 #include "baker/progress.h"
@@ -46,6 +48,13 @@ struct IrradianceSample {
   Rgb irradiance;
   double relativeNoise = 0;
 };
+
+// The random numbers of point p: a stream keyed by the seed, p's surface and its chart position (-0 as +0).
+Rng PointStream(uint64_t seed, const SurfacePoint& p);
+// Where rays for point p start. A vertex where a wall meets the floor lies on the wall's plane too: half the rays
+// gathered there would leave through the wall, and shadow rays would graze it. The value at such a point is the
+// limit from inside its surface, so a point on a planar surface's boundary starts just inside it.
+SurfacePoint RayStart(const PreparedScene& scene, const SurfacePoint& p);
 
 class IrradianceContribution {
  public:
@@ -152,6 +161,8 @@ class IrradianceField {
   IrradianceField(const PreparedScene& scene, std::unique_ptr<PhotonIrradiance> photons);
   // Adds a term of H after the photons'.
   void Add(std::unique_ptr<IrradianceContribution> contribution);
+  // At points in narrow gaps, gathers the light the photons would have estimated (baker/3_gap_gather.h).
+  void GatherGaps(std::unique_ptr<GapGather> gaps);
 
   Rgb Irradiance(const SurfacePoint& p) const;
   SurfaceLight Light(const SurfacePoint& p) const;
@@ -166,9 +177,13 @@ class IrradianceField {
   const PreparedScene& Prepared() const { return *scene_; }
 
  private:
+  // The gathered term that replaces the photons' at p, if p lies in a gap.
+  std::optional<IrradianceSample> GapTerm(const SurfacePoint& p) const;
+
   const PreparedScene* scene_;
   const PhotonIrradiance* photons_;
   std::vector<std::unique_ptr<IrradianceContribution>> contributions_;  // photons first
+  std::unique_ptr<GapGather> gaps_;                                     // or null
 };
 
 // What the field is made of: the photons' estimator, and the terms computed at the points.
@@ -181,6 +196,7 @@ struct FieldSettings {
   DirectSettings direct{DirectLight::kPhotons};
   uint32_t referencePaths = 0;      // --reference SPP: ReferenceIrradiance instead of direct light (0: none)
   uint64_t seed = 1;                // of the point streams
+  GapSettings gaps;                 // with --direct sampled: the gathering in narrow gaps (paths 0: none)
 };
 
 // The field of the photons in `bins`: bandwidths ("bandwidth") and estimators ("estimators") timed on `clock`,

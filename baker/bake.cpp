@@ -147,7 +147,7 @@ struct Lit {
 };
 
 FieldSettings FieldSettingsOf(const BakeOptions& o) {
-  return {o.estimator, o.autoBandwidth, o.direct, o.referencePaths, o.seed};
+  return {o.estimator, o.autoBandwidth, o.direct, o.referencePaths, o.seed, o.gaps};
 }
 
 // Stages 2 and 3 from the photons in `lit` (and those `binner` binned while they were traced), with each vertex's

@@ -35,6 +35,14 @@ struct DirectSettings {
   double noise = 0;
 };
 
+// Gathering in narrow gaps, with --direct sampled (baker/3_gap_gather.h).
+struct GapSettings {
+  uint32_t paths = 256;  // --gap-paths: paths gathered at a point in a gap; 0: none gathered; range [0, 1e6]
+  uint32_t probes = 32;  // rays that decide whether a point lies in a gap
+  float facing = 0.3f;   // the fraction of them that must meet a near parallel surface
+  float reach = 0.5f;    // how near, as a fraction of the point's h
+};
+
 // --quality: photons, h and shadow rays per point together, chosen from the box's measured error against time
 // (accuracy --box; README, "Quality presets"). Options given explicitly win over the preset's.
 //   draft       250,000 photons, h 0.08 m,    64 shadow rays   (box: 4.3% error against the reference, 0.16 s)
@@ -84,6 +92,7 @@ struct BakeOptions {
   // [0, 10000]; the default, 10000, is unlimited in practice (Russian roulette ends paths; baker/1_trace_photons.h).
   uint32_t maxBounces = kDefaultMaxBounces;
   DirectSettings direct;          // --direct, --direct-samples
+  GapSettings gaps;               // --gap-paths (baker/3_gap_gather.h)
   // --reference: instead of tracing photons, gather this many paths at every point (a path tracer's vertex bake,
   // unbiased: estimators/irradiance_gather.h); 0 = off; range [0, 1e7], typical 1024-16384.
   uint32_t referencePaths = 0;

@@ -12,7 +12,7 @@ IrradianceGatherer::IrradianceGatherer(const Scene& scene, const RayScene& rays,
                                        uint32_t maxDepth)
     : scene_(scene), rays_(rays), lights_(lights), maxDepth_(maxDepth) {}
 
-Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng) const {
+Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, const ScatteredLightField* field) const {
   Rgb radiance, throughput{1, 1, 1};
   bool countEmission = false;  // only after a specular event: the light samples cover every other path to a light
   for (uint32_t depth = 0; depth < maxDepth_; ++depth) {
@@ -35,7 +35,9 @@ Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng) co
     if (s.event == ScatterEvent::kDiffuse) {
       // Kd / pi E_d(y), over the probability of this lobe: s.weight is Kd / P(diffuse) for cosine sampling.
       const DirectSample direct = lights_.Irradiance(y, side, 1, rng);
-      radiance = radiance + throughput * s.weight * direct.irradiance * float(kInvPi);
+      const std::optional<Rgb> scattered = field ? field->ScatteredAt(*hit, onFront) : std::nullopt;
+      radiance = radiance + throughput * s.weight * (direct.irradiance + scattered.value_or(Rgb{})) * float(kInvPi);
+      if (scattered) break;  // the field holds the rest of this path's light
     }
     countEmission = s.Specular();
     throughput = throughput * s.weight;
@@ -45,15 +47,16 @@ Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng) co
   return radiance;
 }
 
-DirectSample IrradianceGatherer::Irradiance(Point3 p, Normal3 n, uint32_t paths, Rng& rng) const {
+DirectSample IrradianceGatherer::Gather(Point3 p, Normal3 n, uint32_t paths, Rng& rng, bool direct,
+                                        const ScatteredLightField* field) const {
   if (paths == 0) return {};
   const Frame frame = Frame::FromNormal(n);
   const Point3 origin = rays_.SpawnPoint(p, n);
   SampleMean mean;
   for (uint32_t k = 0; k < paths; ++k) {
-    const Rgb direct = lights_.Irradiance(p, n, 1, rng).irradiance;
+    const Rgb e = direct ? lights_.Irradiance(p, n, 1, rng).irradiance : Rgb{};
     const Vector3 w = frame.ToWorld(SampleCosineHemisphere(rng.Uniform2()).direction);
-    mean.Add(direct + ScatteredRadiance(origin, w, rng) * float(kPi));
+    mean.Add(e + ScatteredRadiance(origin, w, rng, field) * float(kPi));
   }
   return mean.Result();
 }

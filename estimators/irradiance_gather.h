@@ -9,10 +9,18 @@
 // is not counted: the light samples already did. So every path of light is counted once (Veach 1997, ch. 10,
 // with only the light sample at diffuse vertices; Kajiya 1986).
 //
+// ScatteredIrradiance gathers only the light that has scattered at least once, E_s = pi L_s, and ends each path
+// at the first diffuse hit where a ScatteredLightField (the photons) can be read: there it adds
+// Kd / pi (E_d(y) + E_s(y)), with E_d(y) by one light sample and E_s(y) read from the field. Paths that meet
+// surfaces closer than the field's detail (a 1 mm gap between books) go on bouncing, as above, until they reach
+// a surface the field can speak for: one level of final gathering (Jensen 1996, "Global illumination using
+// photon maps", section 3: the photon map read only where the gathered ray has gone far).
+//
 // The relative noise is the S paths' standard error over their mean. Deterministic for a given Rng stream.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "estimators/light_sampler.h"
 #include "estimators/rng.h"
@@ -21,17 +29,35 @@
 
 namespace pb {
 
+// What the photons know where a gathered path meets a surface: the irradiance there of the light that has
+// scattered at least once [W/m^2], or nothing where it is not to be trusted: a back face, or a hit whose
+// distance from the path's last vertex (hit.t [m]) is below the field's own detail there.
+class ScatteredLightField {
+ public:
+  virtual ~ScatteredLightField() = default;
+  virtual std::optional<Rgb> ScatteredAt(const RayHit& hit, bool onFront) const = 0;
+};
+
 class IrradianceGatherer {
  public:
   // All must outlive the gatherer.
   IrradianceGatherer(const Scene& scene, const RayScene& rays, const LightSampler& lights, uint32_t maxDepth = 1000);
 
   // E at point p (local coordinates [m]) on the side of unit normal n, from `paths` paths.
-  DirectSample Irradiance(Point3 p, Normal3 n, uint32_t paths, Rng& rng) const;
+  DirectSample Irradiance(Point3 p, Normal3 n, uint32_t paths, Rng& rng) const {
+    return Gather(p, n, paths, rng, true, nullptr);
+  }
+  // E_s at p, the irradiance of light scattered at least once, from `paths` paths ended where `field` is read.
+  DirectSample ScatteredIrradiance(Point3 p, Normal3 n, uint32_t paths, Rng& rng, const ScatteredLightField& field) const {
+    return Gather(p, n, paths, rng, false, &field);
+  }
 
  private:
-  // L_s along the ray from p (already offset) in direction d: radiance that scattered at least once [W/(m^2 sr)].
-  Rgb ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng) const;
+  // The mean over `paths` paths of E_d (one light sample, when `direct`) + pi L_s.
+  DirectSample Gather(Point3 p, Normal3 n, uint32_t paths, Rng& rng, bool direct, const ScatteredLightField* field) const;
+  // L_s along the ray from p (already offset) in direction d: radiance that scattered at least once [W/(m^2 sr)];
+  // with a field, ended at the first diffuse hit where it can be read.
+  Rgb ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, const ScatteredLightField* field = nullptr) const;
 
   const Scene& scene_;
   const RayScene& rays_;

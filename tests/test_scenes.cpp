@@ -286,6 +286,33 @@ std::string WriteClosedBox(const std::string& directory, float side, float albed
   return directory + "/box.obj";
 }
 
+std::string WriteGapScene(const std::string& directory) {
+  WriteText(directory + "/gap.mtl", "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 10 10 10\n");
+  ObjWriter obj;
+  obj.text = "mtllib gap.mtl\nusemtl grey\n";
+  // Quads {a, b, d, cuts}, counter-clockwise seen from the side they face.
+  const auto quad = [&](std::array<float, 3> a, std::array<float, 3> b, std::array<float, 3> d, int n) {
+    obj.Quad(a.data(), b.data(), d.data(), n);
+  };
+  quad({0, 0, 0}, {0, 0, 1}, {1, 0, 0}, 20);  // the room, facing in
+  quad({0, 1, 0}, {1, 1, 0}, {0, 1, 1}, 4);
+  quad({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 4);
+  quad({0, 0, 1}, {0, 1, 1}, {1, 0, 1}, 4);
+  quad({0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 4);
+  quad({1, 0, 0}, {1, 0, 1}, {1, 1, 0}, 4);
+  const float x0 = 0.3f, x1 = 0.7f, y0 = 0.003f, y1 = 0.013f, z0 = 0.3f, z1 = 0.7f;  // the slab, facing out
+  quad({x0, y0, z0}, {x1, y0, z0}, {x0, y0, z1}, 4);
+  quad({x0, y1, z0}, {x0, y1, z1}, {x1, y1, z0}, 4);
+  quad({x0, y0, z0}, {x0, y1, z0}, {x1, y0, z0}, 1);
+  quad({x0, y0, z1}, {x1, y0, z1}, {x0, y1, z1}, 1);
+  quad({x0, y0, z0}, {x0, y0, z1}, {x0, y1, z0}, 1);
+  quad({x1, y0, z0}, {x1, y1, z0}, {x1, y0, z1}, 1);
+  obj.text += "usemtl light\n";
+  quad({0.4f, 0.99f, 0.4f}, {0.6f, 0.99f, 0.4f}, {0.4f, 0.99f, 0.6f}, 1);
+  WriteText(directory + "/gap.obj", obj.text);
+  return directory + "/gap.obj";
+}
+
 std::string WriteTwoLamps(const std::string& directory) {
   WriteText(directory + "/two.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl a\nKe 1 1 1\nnewmtl b\nKe 3 3 3\n");
   WriteText(directory + "/two.obj",

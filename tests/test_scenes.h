@@ -60,6 +60,11 @@ std::string WriteLampGrid(const std::string& directory, int side, float pitch, f
 double LampGridRadiance(int i, int j);
 std::vector<std::array<double, 3>> LampGridSquare(int side, float pitch, float lampSide, float height, int i, int j);
 
+// A narrow gap: a grey (Kd 0.5) room [0, 1]^3 m, its floor cut into 20 x 20 quads (5 cm), lit by a 0.2 m square
+// light of radiance 10 just under the ceiling, and a grey slab [0.3, 0.7] x [0.003, 0.013] x [0.3, 0.7] floating
+// 3 mm above the floor: the floor under it is lit only through the 3 mm mouth around its rim. Returns the OBJ path.
+std::string WriteGapScene(const std::string& directory);
+
 // A grey (Kd 0.5) 10 x 10 m floor y = 0 under two 1 x 1 m lamps facing down at y = 1: "a" of radiance 1 and "b"
 // of radiance 3, so Phi_a : Phi_b = 1 : 3. Returns the OBJ path.
 std::string WriteTwoLamps(const std::string& directory);

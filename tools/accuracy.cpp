@@ -55,6 +55,7 @@ struct Config {
   uint64_t photons = 0;
   pb::DirectSettings direct{pb::DirectLight::kPhotons};  // --direct, --direct-samples (the closed form: photons)
   uint32_t referencePaths = 0;  // > 0: a path tracer's vertex bake (--reference) instead of photons
+  pb::GapSettings gaps;         // --gap-paths, with --direct sampled
   // The curve this run belongs to: the method on the box, the estimator on the closed form.
   std::string Group(Bench bench) const {
     if (referencePaths > 0) return "path tracer";
@@ -72,6 +73,8 @@ struct Config {
          : autoBandwidth                               ? std::string(" h=auto")
                                                        : fmt::format(" h={}", estimator.bandwidth);
     if (!estimator.edgeCorrection) s += " no-correction";
+    if (direct.mode == pb::DirectLight::kSampled && gaps.paths != pb::GapSettings{}.paths)
+      s += fmt::format(" gaps={}", gaps.paths);
     return s;
   }
 };
@@ -146,6 +149,7 @@ pb::BakeResult BakeMesh(const std::string& scene, const Config& c, uint64_t seed
   o.scenePath = scene;
   o.direct = c.direct;
   o.referencePaths = c.referencePaths;
+  o.gaps = c.gaps;
   o.estimator = c.estimator;
   o.autoBandwidth = c.autoBandwidth;
   o.photons = c.photons;
@@ -590,6 +594,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"closed-form", "box", "office"}))
       ->capture_default_str();
   app.add_option("--truth-paths", truthPaths, "box, office: paths per vertex of the truth")->capture_default_str();
+  // One sampled bake instead of the sweep (box, office).
+  Config one;
+  one.direct.mode = pb::DirectLight::kSampled;
+  app.add_option("--photons", one.photons, "box, office: measure only --direct sampled with this many photons");
+  app.add_option("--h", one.estimator.bandwidth, "with --photons: h [m]")->capture_default_str();
+  app.add_option("--direct-samples", one.direct.samples, "with --photons: shadow rays per point")->capture_default_str();
+  app.add_option("--gap-paths", one.gaps.paths, "with --photons: paths gathered in narrow gaps")->capture_default_str();
   return pb::tools::RunTool(app, argc, argv, [] {}, [&] {
     std::filesystem::create_directories(out);
     const Bench bench = ParseBench(sceneName);
@@ -597,7 +608,9 @@ int main(int argc, char** argv) {
     const bool closedForm = bench == Bench::kClosedForm;
     const Truth truth = closedForm ? Truth{} : SceneTruth(scene, quick ? 256 : truthPaths, threads);
     std::vector<Run> runs;
-    const std::vector<Config> configs = closedForm ? ClosedFormConfigs(quick) : SceneConfigs(bench, quick);
+    const std::vector<Config> configs = closedForm    ? ClosedFormConfigs(quick)
+                                        : one.photons ? std::vector<Config>{one}
+                                                      : SceneConfigs(bench, quick);
     for (size_t i = 0; i < configs.size(); ++i) {
       runs.push_back(Measure(scene, truth, configs[i], threads));
       const Run& r = runs.back();

@@ -98,6 +98,11 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
                  "standard error to this, up to --direct-samples (a pilot of 16 chooses; README, 'Direct light'); "
                  "0 = off; range 0 or 1e-4 to 1, typical 0.005-0.02")
       ->capture_default_str();
+  app.add_option("--gap-paths", o.gaps.paths,
+                 "with --direct sampled: paths gathered at each point in a narrow gap (between books, behind a "
+                 "mirror), where no kernel can follow the light, instead of the photons' estimate (README, 'Narrow "
+                 "gaps'); 0 = none; range 0-1e6, typical 64-1024")
+      ->capture_default_str();
   app.add_option("--reference", o.referencePaths,
                  "trace no photons: gather this many paths at every vertex and texel instead, an unbiased path-traced "
                  "vertex bake to measure against (README, 'A reference'); range 1-1e7, typical 1024-16384");

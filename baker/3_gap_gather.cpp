@@ -1,0 +1,54 @@
+#include "baker/3_gap_gather.h"
+
+#include <cmath>
+
+#include "baker/3_irradiance_field.h"
+#include "estimators/warps.h"
+
+namespace pb {
+
+namespace {
+// Salt the probes' and the paths' streams apart from each other and from the direct light's at the same point.
+constexpr uint64_t kProbeStream = 0x9a9e'0b5e'77e5'0001ull, kPathStream = 0x9a9e'0b5e'77e5'0002ull;
+constexpr float kParallelCosine = 0.5f;                       // within 60 degrees of parallel
+}  // namespace
+
+GapGather::GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const GapSettings& settings,
+                     uint64_t seed)
+    : scene_(scene), photons_(photons), settings_(settings), seed_(seed), lights_(scene.scene, scene.lights, *scene.rays),
+      gatherer_(scene.scene, *scene.rays, lights_) {}
+
+bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
+  if (settings_.paths == 0) return false;
+  const float reach = settings_.reach * photons_.Bandwidth(p.surface);
+  const RayScene& rays = *scene_.rays;
+  const Frame frame = Frame::FromNormal(p.normal);
+  const Point3 origin = rays.SpawnPoint(start.position, p.normal);
+  Rng rng = PointStream(seed_ ^ kProbeStream, p);
+  uint32_t parallel = 0;
+  for (uint32_t k = 0; k < settings_.probes; ++k) {
+    const Vector3 w = frame.ToWorld(SampleCosineHemisphere(rng.Uniform2()).direction);
+    const auto hit = rays.Intersect(origin, w, reach);
+    if (hit && std::abs(Dot(scene_.scene.FrontNormal(hit->triangle), p.normal)) >= kParallelCosine) ++parallel;
+  }
+  return float(parallel) >= settings_.facing * float(settings_.probes);
+}
+
+IrradianceSample GapGather::Gathered(const SurfacePoint& p, const SurfacePoint& start) const {
+  Rng rng = PointStream(seed_ ^ kPathStream, p);
+  const DirectSample e = gatherer_.ScatteredIrradiance(start.position, p.normal, settings_.paths, rng, *this);
+  return {e.irradiance, e.relativeNoise};
+}
+
+std::optional<Rgb> GapGather::ScatteredAt(const RayHit& hit, bool onFront) const {
+  const uint32_t s = scene_.surfaces.surfaceOfTriangle[hit.triangle];
+  if (!onFront || hit.t < photons_.Bandwidth(s)) return std::nullopt;
+  // Per unit surface area: times the chart's area ratio on this triangle (1 on planar charts).
+  const auto& c = scene_.surfaces.cornerUv[hit.triangle];
+  const float uvArea = std::abs((c[1].u - c[0].u) * (c[2].v - c[0].v) - (c[2].u - c[0].u) * (c[1].v - c[0].v));
+  const float area = Length(scene_.scene.AreaVector(hit.triangle));
+  const float ratio = scene_.surfaces.surfaces[s].planar || !(area > 0) ? 1.0f : uvArea / area;
+  return photons_.ChartDensity(s, scene_.surfaces.UvAt(hit.triangle, hit.b1, hit.b2)) * ratio;
+}
+
+}  // namespace pb

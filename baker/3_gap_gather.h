@@ -1,0 +1,55 @@
+// Stage 3, where no kernel can follow the light: narrow gaps. Between two books 1 mm apart, under a book lying
+// 1 mm above a table, behind a mirror 1 mm in front of its frame, the light changes across the gap's width,
+// far below any bandwidth h the photons allow, and the photons' density estimate averages the bright mouth of
+// the gap with its dark inside. At such a point this term takes the place of the photons' estimate: it gathers
+// the light scattered at least once, E_s [W/m^2], by paths from the point that bounce on through the gap and end
+// where they first meet a surface far enough away for the photons there to be read (estimators/irradiance_gather.h,
+// ScatteredIrradiance; one level of final gathering, Jensen 1996).
+//
+// A point lies in a gap when, of `probes` cosine-distributed rays from it, at least a fraction `facing` meet,
+// within `reach` x its surface's h, a surface within 60 degrees of parallel to its own (facing it or turned
+// away). A floor meeting a wall sees the wall at right angles and is not a gap; its kernel, corrected at the
+// boundary, follows the light there. A path's hit is read from the photons when it lies on a surface's front
+// and at least that surface's h from the path's last vertex.
+//
+// Only with --direct sampled, whose photons carry exactly the light scattered at least once. The points' random
+// numbers come from their own streams (PointStream), so a point reads the same value on any thread.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "baker/0_prepare_scene.h"
+#include "baker/options.h"
+#include "estimators/irradiance_gather.h"
+#include "estimators/light_sampler.h"
+#include "mesh/split_mesh.h"
+
+namespace pb {
+
+class PhotonIrradiance;
+struct IrradianceSample;
+
+
+class GapGather final : public ScatteredLightField {
+ public:
+  // All must outlive the gather.
+  GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const GapSettings& settings, uint64_t seed);
+
+  // Whether p, whose rays start at `start` (RayStart), lies in a gap.
+  bool InGap(const SurfacePoint& p, const SurfacePoint& start) const;
+  // E_s at p by `paths` gathered paths, and its relative noise.
+  IrradianceSample Gathered(const SurfacePoint& p, const SurfacePoint& start) const;
+
+  std::optional<Rgb> ScatteredAt(const RayHit& hit, bool onFront) const override;
+
+ private:
+  const PreparedScene& scene_;
+  const PhotonIrradiance& photons_;
+  GapSettings settings_;
+  uint64_t seed_;
+  LightSampler lights_;
+  IrradianceGatherer gatherer_;
+};
+
+}  // namespace pb
