@@ -18,8 +18,14 @@ GapGather::GapGather(const PreparedScene& scene, const PhotonIrradiance& photons
     : scene_(scene), photons_(photons), settings_(settings), seed_(seed), lights_(scene.scene, scene.lights, *scene.rays),
       gatherer_(scene.scene, *scene.rays, lights_) {}
 
+bool GapGather::SmallerThanKernel(uint32_t s) const {
+  const double h = photons_.Bandwidth(s);
+  return scene_.surfaces.surfaces[s].area < settings_.smallArea * h * h;
+}
+
 bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
   if (settings_.paths == 0) return false;
+  if (SmallerThanKernel(p.surface)) return true;
   const float reach = settings_.reach * photons_.Bandwidth(p.surface);
   const RayScene& rays = *scene_.rays;
   const Frame frame = Frame::FromNormal(p.normal);
@@ -42,7 +48,7 @@ IrradianceSample GapGather::Gathered(const SurfacePoint& p, const SurfacePoint& 
 
 std::optional<Rgb> GapGather::ScatteredAt(const RayHit& hit, bool onFront) const {
   const uint32_t s = scene_.surfaces.surfaceOfTriangle[hit.triangle];
-  if (!onFront || hit.t < photons_.Bandwidth(s)) return std::nullopt;
+  if (!onFront || hit.t < photons_.Bandwidth(s) || SmallerThanKernel(s)) return std::nullopt;
   // Per unit surface area: times the chart's area ratio on this triangle (1 on planar charts).
   const auto& c = scene_.surfaces.cornerUv[hit.triangle];
   const float uvArea = std::abs((c[1].u - c[0].u) * (c[2].v - c[0].v) - (c[2].u - c[0].u) * (c[1].v - c[0].v));

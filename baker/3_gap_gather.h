@@ -44,6 +44,9 @@ class GapGather final : public ScatteredLightField {
   std::optional<Rgb> ScatteredAt(const RayHit& hit, bool onFront) const override;
 
  private:
+  // Whether surface s is smaller than its kernel: its area below smallArea h^2.
+  bool SmallerThanKernel(uint32_t s) const;
+
   const PreparedScene& scene_;
   const PhotonIrradiance& photons_;
   GapSettings settings_;

@@ -41,6 +41,7 @@ struct GapSettings {
   uint32_t probes = 32;  // rays that decide whether a point lies in a gap
   float facing = 0.3f;   // the fraction of them that must meet a near parallel surface
   float reach = 0.5f;    // how near, as a fraction of the point's h
+  float smallArea = 0;   // a surface of area below smallArea h^2 is gathered everywhere, and never read
 };
 
 // --quality: photons, h and shadow rays per point together, chosen from the box's measured error against time

@@ -27,7 +27,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
 #include <string_view>
@@ -390,9 +392,17 @@ Truth Deserialise(std::string_view in) {
 
 Truth ComputeSceneTruth(const std::string& scene, uint32_t paths, unsigned threads);
 
-// A bundled scene's truth, computed in a child process (see InChild).
-Truth SceneTruth(const std::string& scene, uint32_t paths, unsigned threads) {
-  return Deserialise(InChild("the truth", [&] { return Serialise(ComputeSceneTruth(scene, paths, threads)); }));
+// A bundled scene's truth, computed in a child process (see InChild), or read from `cache` if it exists there,
+// which it is written to otherwise (a cache is only valid for the same scene and paths).
+Truth SceneTruth(const std::string& scene, uint32_t paths, unsigned threads, const std::string& cache) {
+  if (!cache.empty() && std::filesystem::exists(cache)) {
+    std::ifstream in(cache, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return Deserialise(bytes);
+  }
+  const std::string bytes = InChild("the truth", [&] { return Serialise(ComputeSceneTruth(scene, paths, threads)); });
+  if (!cache.empty()) pb::WriteFileAtomically(cache, [&](std::ostream& out) { out << bytes; });
+  return Deserialise(bytes);
 }
 
 // A path-traced bake with `paths` per vertex (seed 99, unlike every measured run), its predicted noise per vertex,
@@ -594,6 +604,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"closed-form", "box", "office"}))
       ->capture_default_str();
   app.add_option("--truth-paths", truthPaths, "box, office: paths per vertex of the truth")->capture_default_str();
+  std::string truthCache;
+  app.add_option("--truth-cache", truthCache,
+                 "box, office: read the truth from this file if it exists, else write it there (same scene and "
+                 "--truth-paths only)");
   // One sampled bake instead of the sweep (box, office).
   Config one;
   one.direct.mode = pb::DirectLight::kSampled;
@@ -601,12 +615,16 @@ int main(int argc, char** argv) {
   app.add_option("--h", one.estimator.bandwidth, "with --photons: h [m]")->capture_default_str();
   app.add_option("--direct-samples", one.direct.samples, "with --photons: shadow rays per point")->capture_default_str();
   app.add_option("--gap-paths", one.gaps.paths, "with --photons: paths gathered in narrow gaps")->capture_default_str();
+  app.add_option("--gap-facing", one.gaps.facing, "with --photons: the gaps' probe fraction")->capture_default_str();
+  app.add_option("--gap-reach", one.gaps.reach, "with --photons: the gaps' probe reach, in h")->capture_default_str();
+  app.add_option("--gap-small-area", one.gaps.smallArea, "with --photons: surfaces below this many h^2 are gathered")
+      ->capture_default_str();
   return pb::tools::RunTool(app, argc, argv, [] {}, [&] {
     std::filesystem::create_directories(out);
     const Bench bench = ParseBench(sceneName);
     const std::string scene = ScenePath(bench, out);
     const bool closedForm = bench == Bench::kClosedForm;
-    const Truth truth = closedForm ? Truth{} : SceneTruth(scene, quick ? 256 : truthPaths, threads);
+    const Truth truth = closedForm ? Truth{} : SceneTruth(scene, quick ? 256 : truthPaths, threads, truthCache);
     std::vector<Run> runs;
     const std::vector<Config> configs = closedForm    ? ClosedFormConfigs(quick)
                                         : one.photons ? std::vector<Config>{one}

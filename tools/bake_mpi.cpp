@@ -9,8 +9,11 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include <csignal>
 #include <cstring>
 #include <type_traits>
+
+#include <unistd.h>
 
 #include "baker/bake.h"
 #include "baker/distribution.h"
@@ -143,6 +146,22 @@ class MpiDistribution final : public Distribution {
   unsigned rank_ = 0, size_ = 1;
 };
 
+// mpirun ends every rank with SIGTERM when it is interrupted (Ctrl-C) or when a rank fails. Rank 0 says so, with
+// write(2), which a signal handler may call; no output has been renamed into place, so an earlier one survives.
+constexpr char kEnded[] =
+    "bake-mpi: stopped by mpirun (Ctrl-C, or another rank failed): no output written, any earlier output is left as "
+    "it was\n";
+void EndedByMpirun(int) {
+  [[maybe_unused]] const ssize_t written = write(STDERR_FILENO, kEnded, sizeof kEnded - 1);
+  _exit(1);
+}
+void SayWhenMpirunEndsTheJob(bool root) {
+  struct sigaction action{};
+  action.sa_handler = root ? EndedByMpirun : SIG_DFL;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
 // Runs this rank's part; 0, or 1 after an InputError, which only rank 0 prints unless rank 0 was ready and this
 // rank was not (a file that only this rank cannot read).
 int Run(const tools::BakeCommandLine& c, const MpiDistribution& d) {
@@ -167,6 +186,7 @@ int Run(const tools::BakeCommandLine& c, const MpiDistribution& d) {
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   const pb::MpiDistribution distribution;
+  pb::SayWhenMpirunEndsTheJob(distribution.Root());
   CLI::App app{"bake-mpi: bake, shared among the processes of mpirun (photonbake)"};
   pb::tools::BakeCommandLine c;
   pb::tools::DefineBakeCommandLine(app, c);

@@ -76,19 +76,41 @@ TEST(BakeMpi, BadInputAndUnsharedOptionsAreReportedOnce) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.photons"));
 }
 
-TEST(BakeMpi, AKilledRankFailsTheJobAndLeavesTheEarlierOutput) {
-  REQUIRE_BAKE_MPI();
-  const std::string dir = test::TempDirectory("bake-mpi-kill");
-  std::ofstream(dir + "/out.ply") << "earlier output";
-  // 400M photons take minutes; rank 1 (the second bake-mpi process) is killed after two seconds.
-  const std::string job = kMpirun + " " + kBox + " -q --photons 400000000 -o " + dir + "/out.ply";
-  const test::ToolRun run = test::RunTool("sh", "-c '" + job + " & sleep 2; kill -9 $(pgrep -x bake-mpi | sed -n 2p); wait $!'");
-  EXPECT_NE(run.status, 0) << run.output;
-  EXPECT_NE(run.output.find("rank"), std::string::npos) << run.output;
+// dir holds out.ply as it was ("earlier output") and nothing else.
+void ExpectOnlyTheEarlierOutput(const std::string& dir) {
   EXPECT_EQ(test::ReadBytes(dir + "/out.ply"), "earlier output");
   size_t files = 0;
   for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
   EXPECT_EQ(files, 1u) << "a temporary file was left beside the output";
+}
+
+TEST(BakeMpi, AKilledRankFailsTheJobAndLeavesTheEarlierOutput) {
+  REQUIRE_BAKE_MPI();
+  const std::string dir = test::TempDirectory("bake-mpi-kill");
+  std::ofstream(dir + "/out.ply") << "earlier output";
+  // 400M photons take minutes; rank 1 (the second of mpirun's children) is killed after two seconds.
+  const std::string job = kMpirun + " " + kBox + " -q --photons 400000000 -o " + dir + "/out.ply";
+  const test::ToolRun run = test::RunTool("sh", "-c '" + job + " & sleep 2; kill -9 $(pgrep -P $! | sed -n 2p); wait $!'");
+  EXPECT_NE(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("rank"), std::string::npos) << run.output;
+  ExpectOnlyTheEarlierOutput(dir);
+}
+
+TEST(BakeMpi, CtrlCOnMpirunSaysSoAndLeavesTheEarlierOutput) {
+  REQUIRE_BAKE_MPI();
+  const std::string dir = test::TempDirectory("bake-mpi-interrupt");
+  std::ofstream(dir + "/out.ply") << "earlier output";
+  // As a terminal's Ctrl-C: SIGINT to mpirun, which ends every rank with SIGTERM.
+  const std::string job = kMpirun + " " + kBox + " -q --photons 400000000 -o " + dir + "/out.ply";
+  // Once both ranks (mpirun's children; other tests may run jobs of their own) run, and a second more for them to
+  // be past MPI_Init.
+  const std::string ranksRun = "until [ $(pgrep -P $! | wc -l) -ge 2 ]; do sleep 0.1; done; sleep 1";
+  const test::ToolRun run = test::RunTool("sh", "-c '" + job + " & " + ranksRun + "; kill -INT $!; wait $!'");
+  EXPECT_NE(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("bake-mpi: stopped by mpirun (Ctrl-C, or another rank failed): no output written"),
+            std::string::npos)
+      << run.output;
+  ExpectOnlyTheEarlierOutput(dir);
 }
 
 }  // namespace
