@@ -77,6 +77,7 @@ struct Config {
     if (!estimator.edgeCorrection) s += " no-correction";
     if (direct.mode == pb::DirectLight::kSampled && gaps.paths != pb::GapSettings{}.paths)
       s += fmt::format(" gaps={}", gaps.paths);
+    if (direct.mode == pb::DirectLight::kSampled && gaps.smallArea > 0) s += fmt::format(" small<{}h2", gaps.smallArea);
     return s;
   }
 };

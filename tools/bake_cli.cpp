@@ -103,6 +103,11 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
                  "mirror), where no kernel can follow the light, instead of the photons' estimate (README, 'Narrow "
                  "gaps'); 0 = none; range 0-1e6, typical 64-1024")
       ->capture_default_str();
+  app.add_option("--gap-small-area", o.gaps.smallArea,
+                 "with --direct sampled and --gap-paths: also gather on every surface whose area is below this many "
+                 "h^2, smaller than its kernel (books, table legs at a wide h; README, 'Narrow gaps'); 0 = off; "
+                 "range 0-1e3, typical 4-8")
+      ->capture_default_str();
   app.add_option("--reference", o.referencePaths,
                  "trace no photons: gather this many paths at every vertex and texel instead, an unbiased path-traced "
                  "vertex bake to measure against (README, 'A reference'); range 1-1e7, typical 1024-16384");

@@ -6,6 +6,8 @@
 //    dark, fails that on the first ring inside;
 //  - only points in gaps are gathered: the floor under the slab, the slab's underside and the ceiling 1 cm over
 //    the light's back, never the open floor or the floor where it meets a wall;
+//  - with --gap-small-area, every vertex of a surface smaller than its kernel (the slab's sides) is gathered, and
+//    nothing else changes;
 //  - the gathered bake is the same, bit for bit, on one thread and on two.
 #include <gtest/gtest.h>
 
@@ -19,13 +21,14 @@
 namespace pb {
 namespace {
 
-BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned threads = 0) {
+BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned threads = 0, float smallArea = 0) {
   static const std::string scene = test::WriteGapScene(test::TempDirectory("gap-gather"));
   BakeOptions o;
   o.scenePath = scene;
   o.photons = 1'000'000;
   o.estimator.bandwidth = 0.1f;
   o.gaps.paths = gapPaths;
+  o.gaps.smallArea = smallArea;
   o.referencePaths = referencePaths;
   o.threads = threads;
   return BakeMesh(o, Log(true));
@@ -95,6 +98,24 @@ TEST(GapGather, OnlyPointsInTheGapAreGathered) {
   }
   std::printf("%d vertices gathered, %d of them on the floor under the slab\n", changed, underChanged);
   EXPECT_GE(underChanged, 49) << "at least the 7 x 7 inside the rim";
+}
+
+// The slab's four sides (0.4 m x 1 cm: 0.004 m^2) are below 1 h^2 = 0.01 m^2; nothing else is.
+TEST(GapGather, SurfacesSmallerThanTheKernelAreGatheredEverywhere) {
+  const BakeResult small = BakeGap(256, 0, 0, 1.0f), gaps = BakeGap(256);
+  const BakedMesh &a = small.mesh, &b = gaps.mesh;
+  int sides = 0;
+  for (size_t v = 0; v < a.mesh.VertexCount(); ++v) {
+    const Point3 p = World(a, v);
+    const bool side = std::abs(a.mesh.normals[v].y) < 0.5f && p.y < 0.02f && p.x > 0.29f && p.x < 0.71f &&
+                      p.z > 0.29f && p.z < 0.71f;
+    if (!side) continue;
+    ++sides;
+    EXPECT_NE(a.irradiance[v], b.irradiance[v]) << "a side vertex was not gathered";
+  }
+  EXPECT_EQ(sides, 16) << "four vertices on each of four sides";
+  for (size_t v = 0; v < a.mesh.VertexCount(); ++v)
+    if (a.irradiance[v] != b.irradiance[v]) EXPECT_LT(std::abs(a.mesh.normals[v].y), 0.5f) << "only the sides change";
 }
 
 TEST(GapGather, TheSameOnAnyThreadCount) {
