@@ -9,8 +9,10 @@
 // A point lies in a gap when, of `probes` cosine-distributed rays from it, at least a fraction `facing` meet,
 // within `reach` x its surface's h, a surface within 60 degrees of parallel to its own (facing it or turned
 // away). A floor meeting a wall sees the wall at right angles and is not a gap; its kernel, corrected at the
-// boundary, follows the light there. A path's hit is read from the photons when it lies on a surface's front
-// and at least that surface's h from the path's last vertex.
+// boundary, follows the light there. With `smallArea` > 0, every point of a surface of area below smallArea h^2
+// (smaller than its kernel: a book's face at a wide h) is gathered too. A path's hit is read from the photons
+// when it lies on a surface's front, at least that surface's h from the path's last vertex, and on a surface
+// that is not smaller than its kernel.
 //
 // Only with --direct sampled, whose photons carry exactly the light scattered at least once. The points' random
 // numbers come from their own streams (PointStream), so a point reads the same value on any thread.
@@ -30,13 +32,12 @@ namespace pb {
 class PhotonIrradiance;
 struct IrradianceSample;
 
-
 class GapGather final : public ScatteredLightField {
  public:
   // All must outlive the gather.
   GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const GapSettings& settings, uint64_t seed);
 
-  // Whether p, whose rays start at `start` (RayStart), lies in a gap.
+  // Whether p, whose rays start at `start` (RayStart), lies in a gap or on a surface smaller than its kernel.
   bool InGap(const SurfacePoint& p, const SurfacePoint& start) const;
   // E_s at p by `paths` gathered paths, and its relative noise.
   IrradianceSample Gathered(const SurfacePoint& p, const SurfacePoint& start) const;
