@@ -148,8 +148,7 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
   });
   if (settings.referencePaths > 0)
     field.Add(std::make_unique<ReferenceIrradiance>(scene, settings.referencePaths, settings.seed));
-  else if (settings.direct.mode == DirectLight::kSampled)
-  {
+  else if (settings.direct.mode == DirectLight::kSampled) {
     field.Add(std::make_unique<DirectIrradiance>(scene, settings.direct, settings.seed));
     if (settings.gaps.paths > 0)
       field.GatherGaps(std::make_unique<GapGather>(scene, field.Photons(), settings.gaps, settings.seed));

@@ -15,6 +15,8 @@
 //            (estimators/light_sampler.h); the photons then carry only the light scattered at least once;
 //   reference with --reference SPP, all of H by SPP paths gathered at the point (estimators/irradiance_gather.h),
 //            a path tracer's vertex bake; no photons are traced then.
+// With --direct sampled, at a point in a narrow gap (or on a surface smaller than its kernel) the photons' term is
+// replaced by the scattered light gathered there (baker/3_gap_gather.h).
 #pragma once
 
 #include <functional>
