@@ -13,10 +13,9 @@ constexpr uint64_t kProbeStream = 0x9a9e'0b5e'77e5'0001ull, kPathStream = 0x9a9e
 constexpr float kParallelCosine = 0.5f;                       // within 60 degrees of parallel
 }  // namespace
 
-GapGather::GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const GapSettings& settings,
-                     uint64_t seed)
-    : scene_(scene), photons_(photons), settings_(settings), seed_(seed), lights_(scene.scene, scene.lights, *scene.rays),
-      gatherer_(scene.scene, *scene.rays, lights_) {}
+GapGather::GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const LightSampler& lights,
+                     const GapSettings& settings, uint64_t seed)
+    : scene_(scene), photons_(photons), settings_(settings), seed_(seed), gatherer_(scene.scene, *scene.rays, lights) {}
 
 bool GapGather::SmallerThanKernel(uint32_t s) const {
   const double h = photons_.Bandwidth(s);

@@ -35,7 +35,9 @@ struct IrradianceSample;
 class GapGather final : public ScatteredLightField {
  public:
   // All must outlive the gather.
-  GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const GapSettings& settings, uint64_t seed);
+  // `lights` samples the direct light at each diffuse bounce (the field's own, DirectIrradiance's).
+  GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const LightSampler& lights,
+            const GapSettings& settings, uint64_t seed);
 
   // Whether p, whose rays start at `start` (RayStart), lies in a gap or on a surface smaller than its kernel.
   bool InGap(const SurfacePoint& p, const SurfacePoint& start) const;
@@ -52,7 +54,6 @@ class GapGather final : public ScatteredLightField {
   const PhotonIrradiance& photons_;
   GapSettings settings_;
   uint64_t seed_;
-  LightSampler lights_;
   IrradianceGatherer gatherer_;
 };
 

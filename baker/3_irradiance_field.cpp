@@ -149,9 +149,11 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
   if (settings.referencePaths > 0)
     field.Add(std::make_unique<ReferenceIrradiance>(scene, settings.referencePaths, settings.seed));
   else if (settings.direct.mode == DirectLight::kSampled) {
-    field.Add(std::make_unique<DirectIrradiance>(scene, settings.direct, settings.seed));
+    auto direct = std::make_unique<DirectIrradiance>(scene, settings.direct, settings.seed);
+    const LightSampler& lights = direct->Sampler();  // owned by the field from here on
+    field.Add(std::move(direct));
     if (settings.gaps.paths > 0)
-      field.GatherGaps(std::make_unique<GapGather>(scene, field.Photons(), settings.gaps, settings.seed));
+      field.GatherGaps(std::make_unique<GapGather>(scene, field.Photons(), lights, settings.gaps, settings.seed));
   }
   return field;
 }

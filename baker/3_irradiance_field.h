@@ -125,6 +125,7 @@ class DirectIrradiance final : public PointSampledIrradiance {
  public:
   DirectIrradiance(const PreparedScene& scene, const DirectSettings& direct, uint64_t seed);
   std::string_view Name() const override { return "direct"; }
+  const LightSampler& Sampler() const { return sampler_; }
 
  private:
   DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const override {
