@@ -23,7 +23,6 @@ bool GapGather::SmallerThanKernel(uint32_t s) const {
 }
 
 bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
-  if (settings_.paths == 0) return false;
   if (SmallerThanKernel(p.surface)) return true;
   const float reach = settings_.reach * photons_.Bandwidth(p.surface);
   const RayScene& rays = *scene_.rays;
@@ -50,9 +49,10 @@ std::optional<Rgb> GapGather::ScatteredAt(const RayHit& hit, bool onFront) const
   if (!onFront || hit.t < photons_.Bandwidth(s) || SmallerThanKernel(s)) return std::nullopt;
   // Per unit surface area: times the chart's area ratio on this triangle (1 on planar charts).
   const auto& c = scene_.surfaces.cornerUv[hit.triangle];
-  const float uvArea = std::abs((c[1].u - c[0].u) * (c[2].v - c[0].v) - (c[2].u - c[0].u) * (c[1].v - c[0].v));
-  const float area = Length(scene_.scene.AreaVector(hit.triangle));
-  const float ratio = scene_.surfaces.surfaces[s].planar || !(area > 0) ? 1.0f : uvArea / area;
+  const double area = scene_.scene.Area(hit.triangle);
+  const float ratio = scene_.surfaces.surfaces[s].planar || !(area > 0)
+                          ? 1.0f
+                          : float(std::fabs(SignedArea(c[0], c[1], c[2])) / area);
   return photons_.ChartDensity(s, scene_.surfaces.UvAt(hit.triangle, hit.b1, hit.b2)) * ratio;
 }
 
