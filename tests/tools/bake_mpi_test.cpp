@@ -102,9 +102,10 @@ TEST(BakeMpi, CtrlCOnMpirunSaysSoAndLeavesTheEarlierOutput) {
   std::ofstream(dir + "/out.ply") << "earlier output";
   // As a terminal's Ctrl-C: SIGINT to mpirun, which ends every rank with SIGTERM.
   const std::string job = kMpirun + " " + kBox + " -q --photons 400000000 -o " + dir + "/out.ply";
-  // Once both ranks (mpirun's children; other tests may run jobs of their own) run, and a second more for them to
-  // be past MPI_Init.
-  const std::string ranksRun = "until [ $(pgrep -P $! | wc -l) -ge 2 ]; do sleep 0.1; done; sleep 1";
+  // Once both ranks (mpirun's children; other tests may run jobs of their own) run, and three seconds more for them
+  // to be past MPI_Init on a loaded machine (after one second, under ctest -j2, rank 0 had not always installed
+  // its handler).
+  const std::string ranksRun = "until [ $(pgrep -P $! | wc -l) -ge 2 ]; do sleep 0.1; done; sleep 3";
   const test::ToolRun run = test::RunTool("sh", "-c '" + job + " & " + ranksRun + "; kill -INT $!; wait $!'");
   EXPECT_NE(run.status, 0) << run.output;
   EXPECT_NE(run.output.find("bake-mpi: stopped by mpirun (Ctrl-C, or another rank failed): no output written"),
