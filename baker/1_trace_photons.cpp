@@ -158,7 +158,13 @@ template <typename Tracer>
 std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<Light>& lights, const std::vector<WorkItem>& work,
                             std::vector<Block>& blocks, uint64_t seed, const HitSink* sink, const TraceShare* share,
                             const Log& log) {
-  const auto takes = [&](size_t i) { return share == nullptr || share->Takes(i); };
+  std::vector<bool> mine(work.size(), true);
+  if (share != nullptr) {
+    std::vector<uint32_t> itemLights(work.size());
+    for (size_t i = 0; i < work.size(); ++i) itemLights[i] = work[i].range.light;
+    mine = share->Takes(itemLights);
+  }
+  const auto takes = [&](size_t i) { return bool(mine[i]); };
   uint64_t total = 0;
   for (size_t i = 0; i < work.size(); ++i)
     if (takes(i)) total += work[i].range.end - work[i].from;

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "baker/0_plan_transport.h"
@@ -53,12 +54,12 @@ struct TracedBlock {
 };
 
 // A trace shared among processes (bake-mpi, tools/bake_mpi.cpp): each process traces the work items it Takes,
-// then every process calls Gather once with its blocks, which returns every process's blocks. Every store then
+// given the light of each item in the order the items are claimed, then every process calls Gather once with its blocks, which returns every process's blocks. Every store then
 // holds the same bytes as one traced by one process. Only a new store is shared.
 class TraceShare {
  public:
   virtual ~TraceShare() = default;
-  virtual bool Takes(size_t item) const = 0;
+  virtual std::vector<bool> Takes(std::span<const uint32_t> itemLights) const = 0;
   virtual std::vector<TracedBlock> Gather(std::vector<TracedBlock> mine) const = 0;
 };
 

@@ -167,7 +167,7 @@ void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, c
                    PhotonBinner* binner, const Distribution* d, StageClock& clock, const Log& log) {
   lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons, log, plan, binner); });
   lit.field.emplace(BuildIrradianceField(scene, lit.bins, FieldSettingsOf(o), clock));
-  const auto owns = [d](size_t chunk) { return d == nullptr || d->Takes(chunk); };
+  const auto owns = [d](size_t chunk) { return d == nullptr || d->TakesChunk(chunk); };
   lit.baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true, owns);
   });

@@ -105,21 +105,21 @@ class MpiDistribution final : public Distribution {
     }
   }
 
-  // Rank r > 0 sends the chunks it Takes, in order; rank 0 puts them in place.
+  // Rank r > 0 sends the chunks it TakesChunk, in order; rank 0 puts them in place.
   void GatherChunks(std::span<std::byte> items, size_t itemBytes, size_t chunk) const override {
     const size_t chunkBytes = itemBytes * chunk, chunks = (items.size() + chunkBytes - 1) / chunkBytes;
     const auto bytesOf = [&](size_t c) { return items.subspan(c * chunkBytes, std::min(chunkBytes, items.size() - c * chunkBytes)); };
     if (!Root()) {
       std::vector<char> mine;
       for (size_t c = 0; c < chunks; ++c)
-        if (Takes(c)) Put(mine, bytesOf(c).data(), bytesOf(c).size());
+        if (TakesChunk(c)) Put(mine, bytesOf(c).data(), bytesOf(c).size());
       return Send(mine, 0);
     }
     for (unsigned r = 1; r < size_; ++r) {
       const std::vector<char> theirs = Receive(r);
       size_t at = 0;
       for (size_t c = 0; c < chunks; ++c)
-        if (Holder(c) == r) Get(theirs, at, bytesOf(c).data(), bytesOf(c).size());
+        if (ChunkHolder(c) == r) Get(theirs, at, bytesOf(c).data(), bytesOf(c).size());
     }
   }
 
