@@ -349,7 +349,7 @@ std::vector<Config> SceneConfigs(Bench bench, bool quick) {
   if (quick) return Sweep({{}, {}, {100'000}, {0.05f}, {16}, {64}});
   if (bench == Bench::kBox)
     return Sweep({{1'000'000, 4'000'000, 16'000'000}, {0.01f, 0.02f, 0.03f}, {250'000, 1'000'000, 4'000'000},
-                  {0.05f, 0.08f, 0.12f}, {64, 256, 1024}, {64, 256, 1024, 4096}, {0.02, 0.01}});
+                  {0.05f, 0.08f, 0.12f}, {64, 100, 256, 1024}, {64, 256, 1024, 4096}, {0.02, 0.01}});
   // The office is 5 x 4 x 3 m: about 30 times the box's area, so wider kernels and more photons.
   return Sweep({{4'000'000, 16'000'000}, {0.03f, 0.05f, 0.1f}, {1'000'000, 4'000'000, 16'000'000},
                 {0.05f, 0.1f, 0.2f}, {64, 256}, {64, 256, 1024}, {}});
