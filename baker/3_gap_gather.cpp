@@ -40,7 +40,10 @@ bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
 
 IrradianceSample GapGather::Gathered(const SurfacePoint& p, const SurfacePoint& start) const {
   Rng rng = PointStream(seed_ ^ kPathStream, p);
-  const DirectSample e = gatherer_.ScatteredIrradiance(start.position, p.normal, settings_.paths, rng, *this);
+  const DirectSample e =
+      settings_.noise > 0
+          ? gatherer_.AdaptiveScatteredIrradiance(start.position, p.normal, settings_.noise, settings_.paths, rng, *this)
+          : gatherer_.ScatteredIrradiance(start.position, p.normal, settings_.paths, rng, *this);
   return {e.irradiance, e.relativeNoise};
 }
 

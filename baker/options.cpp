@@ -65,6 +65,8 @@ void BakeOptions::Validate() const {
   Require(direct.noise == 0 || (direct.noise >= 1e-4 && direct.noise <= 1), "--direct-noise",
           "must be 0 (off) or lie in [0.0001, 1]");
   Require(gaps.paths <= 1'000'000, "--gap-paths", "must lie in [0, 1000000] paths per point");
+  Require(gaps.noise == 0 || (gaps.noise >= 1e-4 && gaps.noise <= 1), "--gap-noise",
+          "must be 0 (off) or lie in [0.0001, 1]");
   Require(gaps.smallArea >= 0 && gaps.smallArea <= 1000, "--gap-small-area", "must lie in [0, 1000] h^2");
   Require(referencePaths <= 10'000'000, "--reference", "must lie in [0, 10000000] paths per point");
   Require(referencePaths == 0 || (resumePath.empty() && savePhotonsPath.empty() && !targetNoise), "--reference",

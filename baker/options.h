@@ -37,7 +37,8 @@ struct DirectSettings {
 
 // Gathering in narrow gaps, with --direct sampled (baker/3_gap_gather.h).
 struct GapSettings {
-  uint32_t paths = 256;  // --gap-paths: paths gathered at a point in a gap; 0: none gathered; range [0, 1e6]
+  uint32_t paths = 256;  // --gap-paths: paths gathered at a point in a gap (with `noise`: at most); 0: none; [0, 1e6]
+  double noise = 0;      // --gap-noise: the gathered points' relative noise target; 0: always `paths`; [0, 1]
   uint32_t probes = 32;  // rays that decide whether a point lies in a gap
   float facing = 0.3f;   // the fraction of them that must meet a near parallel surface
   float reach = 0.5f;    // how near, as a fraction of the point's h

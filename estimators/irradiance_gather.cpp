@@ -61,4 +61,18 @@ DirectSample IrradianceGatherer::Gather(Point3 p, Normal3 n, uint32_t paths, Rng
   return mean.Result();
 }
 
+DirectSample IrradianceGatherer::AdaptiveScatteredIrradiance(Point3 p, Normal3 n, double target, uint32_t maxPaths,
+                                                             Rng& rng, const ScatteredLightField& field) const {
+  const uint64_t pilotSeed = (uint64_t(rng.NextU32()) << 32) | rng.NextU32();
+  Rng pilotRng(pilotSeed, 0x70696c6f74ull);  // "pilot"
+  const DirectSample pilot = ScatteredIrradiance(p, n, kPilotPaths, pilotRng, field);
+  const double ratio = pilot.relativeNoise / target;
+  // A pilot that met no light has said nothing of the noise (light through a gap's mouth is a rare path).
+  const double wanted = Luminance(pilot.irradiance) > 0 ? std::ceil(double(kPilotPaths) * ratio * ratio) : double(4 * kPilotPaths);
+  const auto count = uint32_t(std::clamp(wanted, double(kPilotPaths), double(std::max(maxPaths, kPilotPaths))));
+  DirectSample result = ScatteredIrradiance(p, n, count, rng, field);
+  result.samples = count + kPilotPaths;
+  return result;
+}
+
 }  // namespace pb

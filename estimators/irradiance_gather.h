@@ -51,6 +51,15 @@ class IrradianceGatherer {
   DirectSample ScatteredIrradiance(Point3 p, Normal3 n, uint32_t paths, Rng& rng, const ScatteredLightField& field) const {
     return Gather(p, n, paths, rng, false, &field);
   }
+  // E_s at p with as many paths as reach relative standard error `target`: a pilot of kPilotPaths, from a stream
+  // of its own, predicts the count S = kPilotPaths (r / target)^2 from its relative error r (independent paths:
+  // the error falls as S^-1/2), clamped to [kPilotPaths, maxPaths]; a pilot that met no light (deep in a gap,
+  // where H is 10^-4 of the mouth's) takes 4 kPilotPaths. E_s then comes from S fresh paths alone; the
+  // pilot is not averaged in, since the count depends on it (as LightSampler::AdaptiveIrradiance). Unbiased; the
+  // returned noise is the fresh paths', and `samples` counts the pilot's paths too.
+  static constexpr uint32_t kPilotPaths = 64;
+  DirectSample AdaptiveScatteredIrradiance(Point3 p, Normal3 n, double target, uint32_t maxPaths, Rng& rng,
+                                           const ScatteredLightField& field) const;
 
  private:
   // The mean over `paths` paths of E_d (one light sample, when `direct`) + pi L_s.

@@ -76,7 +76,7 @@ struct Config {
                                                        : fmt::format(" h={}", estimator.bandwidth);
     if (!estimator.edgeCorrection) s += " no-correction";
     if (direct.mode == pb::DirectLight::kSampled && gaps.paths != pb::GapSettings{}.paths)
-      s += fmt::format(" gaps={}", gaps.paths);
+      s += gaps.noise > 0 ? fmt::format(" gaps noise {} (<= {})", gaps.noise, gaps.paths) : fmt::format(" gaps={}", gaps.paths);
     if (direct.mode == pb::DirectLight::kSampled && gaps.smallArea > 0) s += fmt::format(" small<{}h2", gaps.smallArea);
     return s;
   }
@@ -614,8 +614,13 @@ int main(int argc, char** argv) {
   one.direct.mode = pb::DirectLight::kSampled;
   app.add_option("--photons", one.photons, "box, office: measure only --direct sampled with this many photons");
   app.add_option("--h", one.estimator.bandwidth, "with --photons: h [m]")->capture_default_str();
-  app.add_option("--direct-samples", one.direct.samples, "with --photons: shadow rays per point")->capture_default_str();
+  app.add_option("--direct-samples", one.direct.samples, "with --photons: shadow rays per point (with --direct-noise: at most)")
+      ->capture_default_str();
+  app.add_option("--direct-noise", one.direct.noise, "with --photons: the points' noise target (0: fixed --direct-samples)")
+      ->capture_default_str();
   app.add_option("--gap-paths", one.gaps.paths, "with --photons: paths gathered in narrow gaps")->capture_default_str();
+  app.add_option("--gap-noise", one.gaps.noise, "with --photons: the gathered points' noise target (0: --gap-paths)")
+      ->capture_default_str();
   app.add_option("--gap-facing", one.gaps.facing, "with --photons: the gaps' probe fraction")->capture_default_str();
   app.add_option("--gap-reach", one.gaps.reach, "with --photons: the gaps' probe reach, in h")->capture_default_str();
   app.add_option("--gap-small-area", one.gaps.smallArea, "with --photons: surfaces below this many h^2 are gathered")

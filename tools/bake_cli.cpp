@@ -103,6 +103,11 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
                  "mirror), where no kernel can follow the light, instead of the photons' estimate (README, 'Narrow "
                  "gaps'); 0 = none; range 0-1e6, typical 64-1024")
       ->capture_default_str();
+  app.add_option("--gap-noise", o.gaps.noise,
+                 "with --gap-paths: each gathered point takes the paths that bring its relative standard error to "
+                 "this, up to --gap-paths (a pilot of 64 chooses; README, 'Narrow gaps'); 0 = off, always "
+                 "--gap-paths; range 0 or 1e-4 to 1, typical 0.01-0.03")
+      ->capture_default_str();
   app.add_option("--gap-small-area", o.gaps.smallArea,
                  "with --direct sampled and --gap-paths: also gather on every surface whose area is below this many "
                  "h^2, smaller than its kernel (books, table legs at a wide h; README, 'Narrow gaps'); 0 = off; "

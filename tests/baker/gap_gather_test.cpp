@@ -8,9 +8,13 @@
 //    the light's back, never the open floor or the floor where it meets a wall;
 //  - with --gap-small-area, every vertex of a surface smaller than its kernel (the slab's sides) is gathered, and
 //    nothing else changes;
+//  - with --gap-noise, each gathered point takes the paths its own noise asks for: the floor under the slab still
+//    agrees with the path tracer as above, and its lit points' predicted noise is the target in RMS (within the
+//    pilot's misjudgement), where a fixed 256 paths leave it several times higher;
 //  - the gathered bake is the same, bit for bit, on one thread and on two.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -21,7 +25,8 @@
 namespace pb {
 namespace {
 
-BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned threads = 0, float smallArea = 0) {
+BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned threads = 0, float smallArea = 0,
+                   double gapNoise = 0) {
   static const std::string scene = test::WriteGapScene(test::TempDirectory("gap-gather"));
   BakeOptions o;
   o.scenePath = scene;
@@ -29,6 +34,7 @@ BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned thre
   o.estimator.bandwidth = 0.1f;
   o.gaps.paths = gapPaths;
   o.gaps.smallArea = smallArea;
+  o.gaps.noise = gapNoise;
   o.referencePaths = referencePaths;
   o.threads = threads;
   return BakeMesh(o, Log(true));
@@ -83,6 +89,33 @@ TEST(GapGather, TheFloorUnderAFloatingSlabMatchesThePathTracer) {
   std::printf("vertices under the slab off the path tracer: %d gathered, %d from the kernel alone\n", withGather, without);
   EXPECT_EQ(withGather, 0);
   EXPECT_GE(without, 16) << "the kernel carries the rim's light onto the first ring inside: the test can fail";
+}
+
+// The RMS of the predicted relative noise (the gather's alone: no direct light reaches them) over the vertices
+// under the slab that `lit` reads at least 5% of the brightest of them: deeper in, H falls to 10^-4 of the rim's,
+// where a relative error says little (256 paths find no light there and report none).
+double RmsNoiseUnderSlab(const BakedMesh& b, const BakedMesh& lit) {
+  double brightest = 0, sum = 0;
+  for (size_t v = 0; v < b.mesh.VertexCount(); ++v)
+    if (UnderSlab(b, v)) brightest = std::max(brightest, double(Luminance(lit.irradiance[v])));
+  int n = 0;
+  for (size_t v = 0; v < b.mesh.VertexCount(); ++v)
+    if (UnderSlab(b, v) && Luminance(lit.irradiance[v]) >= 0.05 * brightest)
+      sum += b.irradianceNoise[v] * b.irradianceNoise[v], ++n;
+  return std::sqrt(sum / n);
+}
+
+TEST(GapGather, ANoiseTargetChoosesEachPointsPaths) {
+  constexpr double kTarget = 0.03;
+  const BakeResult adaptive = BakeGap(16384, 0, 0, 0, kTarget), fixed = BakeGap(256), reference = BakeGap(0, 8192);
+  const double rms = RmsNoiseUnderSlab(adaptive.mesh, reference.mesh), fixedRms = RmsNoiseUnderSlab(fixed.mesh, reference.mesh);
+  std::printf("RMS noise under the slab: %.4f with a target of %.2f, %.4f at 256 paths\n", rms, kTarget, fixedRms);
+  EXPECT_EQ(Disagreements(adaptive.mesh, reference.mesh), 0) << "unbiased: the pilot is not averaged in";
+  // A 64-path pilot misjudges a point's noise by about 1 / sqrt(2 x 64) = 9% for light Gaussian tails, more for
+  // heavy ones; the chosen count follows the square of that.
+  EXPECT_GT(rms, 0.6 * kTarget);
+  EXPECT_LT(rms, 1.4 * kTarget);
+  EXPECT_GT(fixedRms, 2 * kTarget) << "256 paths fall short of the target: the test can fail";
 }
 
 TEST(GapGather, OnlyPointsInTheGapAreGathered) {
