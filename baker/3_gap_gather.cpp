@@ -29,13 +29,15 @@ bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
   const Frame frame = Frame::FromNormal(p.normal);
   const Point3 origin = rays.SpawnPoint(start.position, p.normal);
   Rng rng = PointStream(seed_ ^ kProbeStream, p);
+  // The decision, parallel >= needed, is known as soon as enough probes have met a surface or too few are left to.
+  const auto needed = uint32_t(std::ceil(settings_.facing * float(settings_.probes)));
   uint32_t parallel = 0;
-  for (uint32_t k = 0; k < settings_.probes; ++k) {
+  for (uint32_t k = 0; k < settings_.probes && parallel < needed && parallel + (settings_.probes - k) >= needed; ++k) {
     const Vector3 w = frame.ToWorld(SampleCosineHemisphere(rng.Uniform2()).direction);
     const auto hit = rays.Intersect(origin, w, reach);
     if (hit && std::abs(Dot(scene_.scene.FrontNormal(hit->triangle), p.normal)) >= kParallelCosine) ++parallel;
   }
-  return float(parallel) >= settings_.facing * float(settings_.probes);
+  return parallel >= needed;
 }
 
 IrradianceSample GapGather::Gathered(const SurfacePoint& p, const SurfacePoint& start) const {

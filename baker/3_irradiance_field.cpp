@@ -149,7 +149,7 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
   if (settings.referencePaths > 0)
     field.Add(std::make_unique<ReferenceIrradiance>(scene, settings.referencePaths, settings.seed));
   else if (settings.direct.mode == DirectLight::kSampled) {
-    auto direct = std::make_unique<DirectIrradiance>(scene, settings.direct, settings.seed);
+    auto direct = clock.Time("lights", [&] { return std::make_unique<DirectIrradiance>(scene, settings.direct, settings.seed); });
     const LightSampler& lights = direct->Sampler();  // owned by the field from here on
     field.Add(std::move(direct));
     if (settings.gaps.paths > 0)
