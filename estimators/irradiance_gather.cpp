@@ -63,8 +63,7 @@ DirectSample IrradianceGatherer::Gather(Point3 p, Normal3 n, uint32_t paths, Rng
 
 DirectSample IrradianceGatherer::AdaptiveScatteredIrradiance(Point3 p, Normal3 n, double target, uint32_t maxPaths,
                                                              Rng& rng, const ScatteredLightField& field) const {
-  const uint64_t pilotSeed = (uint64_t(rng.NextU32()) << 32) | rng.NextU32();
-  Rng pilotRng(pilotSeed, 0x70696c6f74ull);  // "pilot"
+  Rng pilotRng = PilotStream(rng);
   const DirectSample pilot = ScatteredIrradiance(p, n, kPilotPaths, pilotRng, field);
   const double ratio = pilot.relativeNoise / target;
   // A pilot that met no light has said nothing of the noise (light through a gap's mouth is a rare path).

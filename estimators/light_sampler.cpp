@@ -266,8 +266,7 @@ DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng
 
 DirectSample LightSampler::AdaptiveIrradiance(Point3 p, Normal3 n, double target, uint32_t maxSamples,
                                               Rng& rng) const {
-  const uint64_t pilotSeed = (uint64_t(rng.NextU32()) << 32) | rng.NextU32();
-  Rng pilotRng(pilotSeed, 0x70696c6f74ull);  // "pilot"
+  Rng pilotRng = PilotStream(rng);
   const DirectSample pilot = Irradiance(p, n, kPilotSamples, pilotRng);
   const double ratio = pilot.relativeNoise / target;
   // Rounded up to a square, so that the samples fill their stratification grid and its error estimate holds.

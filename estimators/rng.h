@@ -50,4 +50,11 @@ class Rng {
   uint64_t increment_ = 1;
 };
 
+// A pilot's stream of its own, drawn from `rng`: an adaptive count's pilot (LightSampler::AdaptiveIrradiance,
+// IrradianceGatherer::AdaptiveScatteredIrradiance) must not share the numbers of the samples it sizes.
+inline Rng PilotStream(Rng& rng) {
+  const uint64_t seed = (uint64_t(rng.NextU32()) << 32) | rng.NextU32();
+  return Rng(seed, 0x70696c6f74ull);  // "pilot"
+}
+
 }  // namespace pb
