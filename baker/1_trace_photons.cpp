@@ -21,6 +21,9 @@ struct Block {
   TraceStats stats;
 };
 
+// Hits reserved per photon before tracing: ~2.5 in a box, so that growth copies are rare.
+constexpr uint64_t kReservedHitsPerPhoton = 3;
+
 // The photon loop. kInterreflect: diffuse surfaces scatter (else a photon ends at its first diffuse surface).
 // kSpecular: materials of every class are sampled, with mirror and glass events (else every surface is
 // treated as the diffuse class, which the plan guarantees it is).
@@ -151,6 +154,36 @@ std::vector<WorkItem> PlanWork(const PhotonStore& store, const std::vector<uint6
   return work;
 }
 
+// Photons [w.from, w.range.end) of w's light, appended to `block`; a sink takes what it bins. An item of few photons
+// (one of 100,000 LEDs) is traced into `scratch`, a worker's array reused from item to item, and its hits are then
+// copied into an array of exactly their size: reserving ahead in each block's own array touched 3 hits' memory per
+// photon, in 4 KiB pages each a page fault. A large item, reserved in huge pages, is traced in place.
+template <typename Tracer>
+void TraceItem(const Tracer& tracer, const Light& light, const WorkItem& w, uint64_t seed, const HitSink* sink,
+               Block& block, HitBlock& scratch) {
+  const uint64_t photons = w.range.end - w.from;
+  const bool small = !HugePageAllocator<PhotonHit>::Huge(photons * kReservedHitsPerPhoton);
+  Block traced{small ? std::move(scratch) : std::move(block.hits), block.stats};
+  const size_t before = small ? 0 : traced.hits.size();
+  traced.hits.resize(before);
+  traced.hits.reserve(before + photons * kReservedHitsPerPhoton);
+  for (uint64_t j = w.from; j < w.range.end; ++j) {
+    Rng rng(seed, PhotonStream(w.range.light, j));
+    tracer.Trace(light, rng, traced);
+  }
+  traced.stats.hits += traced.hits.size() - before;  // every hit, those a sink takes too
+  if (sink != nullptr) sink->Take(w.range.light, traced.hits, before);
+  block.stats = traced.stats;
+  if (!small) {
+    block.hits = std::move(traced.hits);
+    if (sink != nullptr) block.hits.shrink_to_fit();
+    return;
+  }
+  block.hits.reserve(block.hits.size() + traced.hits.size());
+  block.hits.insert(block.hits.end(), traced.hits.begin(), traced.hits.end());
+  scratch = std::move(traced.hits);
+}
+
 // Traces the work items in parallel, each into its block (moved out of the store, or new); claims them in order,
 // so that an interruption leaves each light's traced photons close to a prefix of its stream. done[i] says
 // whether item i was traced.
@@ -173,20 +206,11 @@ std::vector<bool> TraceWork(const Tracer& tracer, const std::vector<Light>& ligh
   std::vector<char> done(work.size(), 0);
   const size_t workers = std::min<size_t>(work.size(), size_t(tbb::this_task_arena::max_concurrency()));
   tbb::parallel_for(size_t(0), workers, [&](size_t) {
+    HitBlock scratch;  // this worker's, reused by its small items
     for (size_t i; !InterruptRequested() && (i = next++) < work.size();) {
       if (!takes(i)) continue;
       const WorkItem& w = work[i];
-      Block& block = blocks[w.block];
-      // ~2.5 hits per photon in a box: growth copies are rare. In proportion to the block's photons, so that a
-      // light of a few photons (one of 100,000 LEDs) costs a few hits' memory, not a full block's.
-      const size_t before = block.hits.size();
-      block.hits.reserve(before + (w.range.end - w.from) * 3);
-      for (uint64_t j = w.from; j < w.range.end; ++j) {
-        Rng rng(seed, PhotonStream(w.range.light, j));
-        tracer.Trace(lights[w.range.light], rng, block);
-      }
-      block.stats.hits += block.hits.size() - before;  // every hit, those a sink takes too
-      if (sink != nullptr) sink->Take(w.range.light, block.hits, before), block.hits.shrink_to_fit();
+      TraceItem(tracer, lights[w.range.light], w, seed, sink, blocks[w.block], scratch);
       done[i] = 1;
       progress.Advance(w.range.end - w.from);
     }

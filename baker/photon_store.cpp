@@ -1,5 +1,7 @@
 #include "baker/photon_store.h"
 
+#include "mesh/errors.h"
+
 namespace pb {
 
 void TraceStats::Add(const TraceStats& b, Rgb flux) {
@@ -26,11 +28,16 @@ void TraceStats::Add(const TraceStats& b, Rgb flux) {
 }
 
 void PhotonStore::Summarise() {
-  std::vector<TraceStats> perLight(emitted.size());
-  for (size_t b = 0; b < blocks.size(); ++b)
-    perLight[ranges[b].light].Add(blockStats[b]);  // in block order: the sums do not depend on threads
+  // Blocks are ordered by light: each light's blocks are summed in block order (so the sums do not depend on
+  // threads), then added in watts. No array per light: 100,000 LEDs made that 18 MB zeroed at every call.
   stats = TraceStats{};
-  for (size_t l = 0; l < emitted.size(); ++l) stats.Add(perLight[l], PhotonFlux(l));
+  for (size_t b = 0; b < blocks.size();) {
+    const uint32_t light = ranges[b].light;
+    PB_CHECK(b == 0 || ranges[b - 1].light < light, "photon blocks out of light order");
+    TraceStats sum;
+    for (; b < blocks.size() && ranges[b].light == light; ++b) sum.Add(blockStats[b]);
+    stats.Add(sum, PhotonFlux(light));
+  }
 }
 
 }  // namespace pb
