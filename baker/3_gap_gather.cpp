@@ -31,6 +31,8 @@ bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
   Rng rng = PointStream(seed_ ^ kProbeStream, p);
   // The decision, parallel >= needed, is known as soon as enough probes have met a surface or too few are left to.
   const auto needed = uint32_t(std::ceil(settings_.facing * float(settings_.probes)));
+  // Where nothing lies in front within reach (most points of a room, an LED's face), every probe would miss.
+  if (needed > 0 && !rays.MayMeetInFront(origin, p.normal, reach)) return false;
   uint32_t parallel = 0;
   for (uint32_t k = 0; k < settings_.probes && parallel < needed && parallel + (settings_.probes - k) >= needed; ++k) {
     const Vector3 w = frame.ToWorld(SampleCosineHemisphere(rng.Uniform2()).direction);

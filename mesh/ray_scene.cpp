@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 
 #include <cstdio>
+#include <algorithm>
 #include <cstring>
 
 #include "mesh/errors.h"
@@ -44,6 +45,7 @@ RayScene::RayScene(const Scene& scene) {
   auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                  3 * sizeof(uint32_t), scene.triangles.size()));
   for (size_t t = 0; t < scene.triangles.size(); ++t) std::memcpy(&indices[3 * t], scene.triangles[t].v.data(), 12);
+  vertices_ = vertices, indices_ = indices;
   rtcCommitGeometry(mesh);
   rtcAttachGeometryByID(scene_, mesh, 0);  // one geometry: primID is then our triangle index.
   rtcReleaseGeometry(mesh);                // the scene holds the reference now.
@@ -96,6 +98,51 @@ bool RayScene::Occluded(Point3 origin, Vector3 direction, float tFar) const {
   RTCRay ray = MakeRay(origin, direction, tFar);
   rtcOccluded1(scene_, &context, &ray);
   return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
+}
+
+namespace {
+
+// A point query's question to each triangle near it: MayMeetInFront's test.
+struct FrontQuery {
+  const float* vertices;
+  const uint32_t* indices;
+  Point3 origin;
+  Normal3 n;
+  float slack;  // [m]: how far behind the origin's plane a corner may lie and still count
+  bool found = false;
+};
+
+bool MeetsFront(RTCPointQueryFunctionArguments* args) {
+  auto& q = *static_cast<FrontQuery*>(args->userPtr);
+  const RTCPointQuery& point = *args->query;
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  float front = -INFINITY;
+  for (int c = 0; c < 3; ++c) {
+    const float* v = q.vertices + 3 * size_t(q.indices[3 * size_t(args->primID) + c]);
+    front = std::max(front, Dot(Point3{v[0], v[1], v[2]} - q.origin, q.n));
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], v[k]), hi[k] = std::max(hi[k], v[k]);
+  }
+  const float at[3] = {point.x, point.y, point.z};
+  float distance2 = 0;  // from the origin to the triangle's bounding box
+  for (int k = 0; k < 3; ++k) {
+    const float d = std::max({lo[k] - at[k], at[k] - hi[k], 0.0f});
+    distance2 += d * d;
+  }
+  if (front < -q.slack || distance2 > point.radius * point.radius) return false;
+  q.found = true;
+  args->query->radius = 0;  // the answer is known: the traversal can stop looking
+  return true;
+}
+
+}  // namespace
+
+bool RayScene::MayMeetInFront(Point3 origin, Normal3 n, float reach) const {
+  RTCPointQuery query{origin.x, origin.y, origin.z, 0.0f, reach};
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  FrontQuery q{vertices_, indices_, origin, n, 0.25f * spawnOffset_};
+  rtcPointQuery(scene_, &query, &context, MeetsFront, &q);
+  return q.found;
 }
 
 }  // namespace pb

@@ -40,6 +40,13 @@ class RayScene {
   // any-hit query (rtcOccluded1), which stops at the first hit it finds. For shadow rays.
   bool Occluded(Point3 origin, Vector3 direction, float tFar = INFINITY) const;
 
+  // Whether a ray from `origin` (a SpawnPoint off a surface of normal n) into n's hemisphere, cut at t = `reach`,
+  // could meet anything: false proves that every such ray misses, by one point query instead of the rays (Embree's
+  // rtcPointQuery). Conservative: a triangle counts when its bounding box comes within `reach` of the origin and a
+  // corner lies on n's side of it, less a quarter of the spawn offset for rounding, so that the surface the
+  // origin was spawned from, and the coplanar triangles beside it, do not count.
+  bool MayMeetInFront(Point3 origin, Normal3 n, float reach) const;
+
   // A ray origin for leaving the surface at `p` on the side `side` faces: p moved off the surface by an
   // offset proportional to the scene's largest coordinate, so that the ray cannot re-hit its own triangle.
   Point3 SpawnPoint(Point3 p, Normal3 side) const { return p + AsVector(side) * spawnOffset_; }
@@ -48,6 +55,8 @@ class RayScene {
   RTCDeviceTy* device_ = nullptr;
   RTCSceneTy* scene_ = nullptr;
   float spawnOffset_ = 0;
+  const float* vertices_ = nullptr;   // Embree's copies (x, y, z per vertex), which live as long as scene_
+  const uint32_t* indices_ = nullptr;  // three per triangle
 };
 
 }  // namespace pb

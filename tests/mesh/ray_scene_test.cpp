@@ -1,8 +1,11 @@
 // Robust rays at the awkward places of a mesh: rays aimed exactly at triangle edges and vertices of a closed box
 // must hit it (no crack lets light through), and a ray leaving a surface from SpawnPoint must not hit the
-// surface it leaves (no self-intersection), even at an edge or a corner where three walls meet.
+// surface it leaves (no self-intersection), even at an edge or a corner where three walls meet. A point query that
+// says no ray into a hemisphere can meet anything within reach (MayMeetInFront) must never be contradicted by a ray.
 #include <gtest/gtest.h>
 
+#include "estimators/rng.h"
+#include "estimators/warps.h"
 #include "mesh/obj_loader.h"
 #include "mesh/ray_scene.h"
 #include "tests/test_scenes.h"
@@ -36,6 +39,50 @@ TEST(RayScene, EdgesAndVerticesNeitherLeakNorSelfIntersect) {
     }
   }
   EXPECT_GT(aimed, 500);
+}
+
+// At points all over the Cornell box (its blocks' faces and the walls they meet, both sides of every surface), at
+// reaches from 5 mm to 20 cm: wherever the point query says nothing lies in front within reach, 64 cosine rays cut
+// at that reach all miss. And it is not always yes: the open middle of a wall, or an outward side, hears no.
+TEST(RayScene, NothingInFrontMeansEveryRayMisses) {
+  const Scene scene = LoadObj(PB_SOURCE_DIR "/data/box/box.obj").scene;
+  const RayScene rays(scene);
+  Rng rng(11, 0);
+  int no = 0, yes = 0, yesAndHit = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const auto t = uint32_t(std::min<size_t>(size_t(rng.Uniform() * scene.triangles.size()), scene.triangles.size() - 1));
+    Point2 b = rng.Uniform2();
+    if (b.u + b.v > 1) b = {1 - b.u, 1 - b.v};
+    const Normal3 side = i % 2 ? scene.FrontNormal(t) : -scene.FrontNormal(t);
+    const Point3 origin = rays.SpawnPoint(scene.PointAt(t, b.u, b.v), side);
+    const float reach = 0.005f * std::pow(40.0f, rng.Uniform());
+    const Frame frame = Frame::FromNormal(side);
+    int hits = 0;
+    for (int k = 0; k < 64; ++k)
+      hits += rays.Intersect(origin, frame.ToWorld(SampleCosineHemisphere(rng.Uniform2()).direction), reach).has_value();
+    if (rays.MayMeetInFront(origin, side, reach)) {
+      ++yes, yesAndHit += hits > 0;
+    } else {
+      ++no;
+      ASSERT_EQ(hits, 0) << "triangle " << t << ", reach " << reach << " m: a ray met what the point query missed";
+    }
+  }
+  EXPECT_GT(no, 1000);
+  EXPECT_GT(yesAndHit, 100);
+  EXPECT_GT(yes, yesAndHit);  // conservative: a box's corner on the near side, or within reach, need not be hit
+}
+
+// Closed form: a unit square 1 cm in front of a point facing it. Within 2 cm: yes; within 5 mm: no; facing away: no.
+TEST(RayScene, AParallelPlaneInFrontIsFoundWithinReachOnly) {
+  Scene scene;
+  scene.positions = {{-0.5f, -0.5f, 0.01f}, {0.5f, -0.5f, 0.01f}, {0.5f, 0.5f, 0.01f}, {-0.5f, 0.5f, 0.01f}};
+  scene.triangles = {{{0, 1, 2}}, {{0, 2, 3}}};
+  const RayScene rays(scene);
+  EXPECT_TRUE(rays.MayMeetInFront({0.2f, 0.1f, 0}, {0, 0, 1}, 0.02f));
+  EXPECT_FALSE(rays.MayMeetInFront({0.2f, 0.1f, 0}, {0, 0, 1}, 0.005f));
+  EXPECT_FALSE(rays.MayMeetInFront({0.2f, 0.1f, 0}, {0, 0, -1}, 0.02f));
+  // On the plane itself, spawned off it: the plane is behind, and does not count.
+  EXPECT_FALSE(rays.MayMeetInFront(rays.SpawnPoint({0.2f, 0.1f, 0.01f}, {0, 0, -1}), {0, 0, -1}, 0.5f));
 }
 
 }  // namespace
