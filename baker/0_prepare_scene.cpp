@@ -78,7 +78,7 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
   PreparedScene p{std::move(scene)};
   if (p.scene.Recentred()) p.warnings.push_back(RecentringNote(p.scene));
   p.surfaces = clock.Time("surfaces", [&] { return BuildSurfaces(p.scene); });
-  p.lights = CollectLights(p.scene, p.surfaces);
+  p.lights = clock.Time("lights", [&] { return CollectLights(p.scene, p.surfaces); });
   RequireLight(p.scene, p.lights);
   p.plan = clock.Time("plan", [&] { return PlanTransport(p.scene, p.surfaces, p.lights, effects); });
   p.rays = clock.Time("bvh", [&] { return std::make_unique<RayScene>(p.scene); });

@@ -49,7 +49,7 @@ struct PreparedScene {
   std::unique_ptr<RayScene> rays;
 };
 
-// Loads and prepares the scene, timing each part on `clock` ("load", "surfaces", "plan", "bvh", "covers",
+// Loads and prepares the scene, timing each part on `clock` ("load", "surfaces", "lights", "plan", "bvh", "covers",
 // "regions").
 // InputError for a bad file (with file:line), a scene with no light, or no light that reaches a receiver.
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock);

@@ -89,6 +89,9 @@ std::string LightName(const Scene& scene, const Light& light) {
 
 std::vector<Light> CollectLights(const Scene& scene, const SurfaceSet& surfaces) {
   std::vector<Light> lights;
+  size_t emissive = 0;  // reserved: growing 100,000 lights by doubling moved each about twice
+  for (const Surface& surface : surfaces.surfaces) emissive += scene.materials[surface.material].IsEmissive();
+  lights.reserve(emissive + scene.analyticLights.size());
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
     const Material& material = scene.materials[surface.material];
