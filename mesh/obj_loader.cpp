@@ -182,7 +182,9 @@ class ObjParser {
     Scene& scene = result_.scene;
     // Texture coordinates are kept only for textured materials (normals never are).
     const bool textured = scene.materials[size_t(currentMaterial_)].albedoTexture >= 0;
-    std::vector<uint32_t> corners, texcoords;
+    std::vector<uint32_t>& corners = corners_;  // reused from face to face
+    std::vector<uint32_t>& texcoords = texcoords_;
+    corners.clear(), texcoords.clear();
     for (size_t i = 1; i < line.tokens.size(); ++i) {
       corners.push_back(CornerIndex(line, line.tokens[i], 0, builder_.PositionCount()));
       texcoords.push_back(textured ? CornerIndex(line, line.tokens[i], 1, scene.texcoords.size()) : kNoTexcoord);
@@ -194,12 +196,15 @@ class ObjParser {
       material = UntexturedVariant(line, material);
       std::fill(texcoords.begin(), texcoords.end(), kNoTexcoord);
     }
-    for (const auto& [a, b, c] : Triangulate(line, corners))
+    const auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
       AddTriangle(line, Triangle{{corners[a], corners[b], corners[c]},
                                  {texcoords[a], texcoords[b], texcoords[c]},
                                  material,
                                  currentObject_,
                                  uint32_t(line.number)});
+    };
+    if (corners.size() == 3) return add(0, 1, 2);  // what TriangulatePolygon gives a triangle, without its arrays
+    for (const auto& [a, b, c] : Triangulate(line, corners)) add(a, b, c);
   }
 
   // A face of a textured material without texture coordinates (Blender's exporter keeps the last usemtl for the
@@ -278,6 +283,7 @@ class ObjParser {
   std::unordered_map<std::string, int> firstIgnored_;  // kind of ignored statement -> its first line
   WarningLog warnings_;
   size_t normalCount_ = 0;
+  std::vector<uint32_t> corners_, texcoords_;  // Face's, kept to reuse their memory
   int currentMaterial_ = -1;
   uint32_t currentObject_ = 0;
 };

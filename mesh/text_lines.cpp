@@ -12,8 +12,9 @@ namespace {
 
 bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
 
-std::string Trimmed(const std::string& text) {
-  const size_t from = text.find_first_not_of(" \t\v\f");
+// text[at..], less the blanks at either end.
+std::string TrimmedFrom(const std::string& text, size_t at) {
+  const size_t from = text.find_first_not_of(" \t\v\f", at);
   return from == std::string::npos ? std::string() : text.substr(from, text.find_last_not_of(" \t\v\f") + 1 - from);
 }
 
@@ -116,7 +117,10 @@ bool TextFileReader::NextPhysicalLine(std::string& text) {
 }
 
 bool TextFileReader::Next(TextLine& line) {
-  for (std::string text; NextPhysicalLine(text);) {
+  // `line` and text_'s line buffer keep their memory from statement to statement: a 400,000-line OBJ had paid
+  // several allocations per line.
+  std::string& text = line_;
+  while (NextPhysicalLine(text)) {
     const int first = number_;
     // A trailing backslash continues the statement on the next line.
     for (std::string more;;) {
@@ -126,15 +130,19 @@ bool TextFileReader::Next(TextLine& line) {
       text += ' ' + more;
     }
     if (const size_t hash = text.find('#'); hash != std::string::npos) text.resize(hash);
-    line = TextLine{&path_, first, {}, {}};
+    line.file = &path_, line.number = first, line.rest.clear();
+    size_t count = 0;
     for (size_t i = 0; i < text.size();) {
       while (i < text.size() && IsBlank(text[i])) ++i;
       const size_t start = i;
       while (i < text.size() && !IsBlank(text[i])) ++i;
-      if (i > start) line.tokens.emplace_back(text, start, i - start);
-      if (line.tokens.size() == 1 && i > start) line.rest = Trimmed(text.substr(i));
+      if (i == start) continue;
+      if (count == line.tokens.size()) line.tokens.emplace_back();
+      line.tokens[count++].assign(text, start, i - start);
+      if (count == 1) line.rest = TrimmedFrom(text, i);
     }
-    if (!line.tokens.empty()) return true;
+    line.tokens.resize(count);
+    if (count > 0) return true;
   }
   return false;
 }

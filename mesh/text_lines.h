@@ -55,6 +55,7 @@ class TextFileReader {
 
   std::string path_;
   std::string text_;  // the whole file, as UTF-8
+  std::string line_;  // the statement being split, kept to reuse its memory
   size_t at_ = 0;
   int number_ = 0;
 };
