@@ -47,8 +47,12 @@ TEST_P(BinnedWhileTraced, EqualsTheStoredBakeOnAnyThreadCount) {
 
   EXPECT_EQ(stored.storedHits, stored.trace.hits) << "--save-photons keeps every hit";
   EXPECT_LT(two.storedHits, stored.storedHits / 4) << "the binned surfaces' hits are not kept";
-  if (h == 0.05f) EXPECT_EQ(two.storedHits, 0u) << "every surface of the box is 2 h wide";
-  if (h == 0.1f) EXPECT_GT(two.storedHits, 0u) << "the blocks' faces are narrower than 2 h";
+  if (h == 0.05f) {
+    EXPECT_EQ(two.storedHits, 0u) << "every surface of the box is 2 h wide";
+  }
+  if (h == 0.1f) {
+    EXPECT_GT(two.storedHits, 0u) << "the blocks' faces are narrower than 2 h";
+  }
   const std::string bytes = test::ReadBytes(dir + "/stored.ply");
   EXPECT_TRUE(test::ReadBytes(dir + "/two.ply") == bytes) << "binned while traced, 2 threads";
   EXPECT_TRUE(test::ReadBytes(dir + "/one.ply") == bytes) << "binned while traced, 1 thread";

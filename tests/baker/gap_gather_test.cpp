@@ -148,7 +148,9 @@ TEST(GapGather, SurfacesSmallerThanTheKernelAreGatheredEverywhere) {
   }
   EXPECT_EQ(sides, 16) << "four vertices on each of four sides";
   for (size_t v = 0; v < a.mesh.VertexCount(); ++v)
-    if (a.irradiance[v] != b.irradiance[v]) EXPECT_LT(std::abs(a.mesh.normals[v].y), 0.5f) << "only the sides change";
+    if (a.irradiance[v] != b.irradiance[v]) {
+      EXPECT_LT(std::abs(a.mesh.normals[v].y), 0.5f) << "only the sides change";
+    }
 }
 
 TEST(GapGather, TheSameOnAnyThreadCount) {

@@ -49,12 +49,14 @@ void ExpectSameMaterial(const Material& a, const Material& b) {
     EXPECT_NEAR(x.r, y.r, 1e-5 * std::max(1.0f, y.r)) << a.name;
     EXPECT_NEAR(x.b, y.b, 1e-5 * std::max(1.0f, y.b)) << a.name;
   }
-  if (a.kind == MaterialClass::kGlass) EXPECT_FLOAT_EQ(a.ior, b.ior) << a.name;
+  if (a.kind == MaterialClass::kGlass) {
+    EXPECT_FLOAT_EQ(a.ior, b.ior) << a.name;
+  }
 }
 
 TEST(SceneToGltf, AnObjSceneReadsBackAsTheSameScene) {
   const std::string dir = test::TempDirectory("scene-to-gltf");
-  for (const std::string& name : {"box_glass", "office_books"}) {
+  for (const std::string name : {"box_glass", "office_books"}) {
     const std::string obj = std::string(PB_SOURCE_DIR "/data/") + name + "/" + name + ".obj";
     const std::string glb = dir + "/" + name + ".glb";
     const test::ToolRun run = test::RunTool(PB_SCENE_TO_GLTF_EXE, obj + " -o " + glb);
