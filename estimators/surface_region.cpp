@@ -360,17 +360,44 @@ KernelMomentsAt SurfaceRegion::Moments(Point2 x, Kernel kernel, double h) const 
            g2 * (angle / 2 + through[2] / 4) + inside.second[2]}};
 }
 
+namespace {
+
+// The least and greatest u of triangle t within the strip v0 <= v <= v1: of its corners inside the strip and
+// its edges' crossings of the strip's sides. The triangle's own u extent `box` when the strip misses it (the
+// cells then test as outside, as before).
+std::pair<float, float> ExtentInStrip(const Triangle2& t, float v0, float v1, const Bounds2& box) {
+  double u0 = INFINITY, u1 = -INFINITY;
+  const auto extend = [&](double u) { u0 = std::min(u0, u), u1 = std::max(u1, u); };
+  for (int e = 0; e < 3; ++e) {
+    const Point2 a = t[e], b = t[(e + 1) % 3];
+    for (const Point2& p : {a, b})
+      if (p.v >= v0 && p.v <= v1) extend(p.u);
+    if (a.v == b.v) continue;
+    for (const float side : {v0, v1}) {
+      const double f = (double(side) - a.v) / (double(b.v) - a.v);
+      if (f > 0 && f < 1) extend(a.u + f * (double(b.u) - a.u));
+    }
+  }
+  if (!(u0 <= u1)) return {box.lo.u, box.hi.u};
+  return {float(u0), float(u1)};
+}
+
+}  // namespace
+
 std::vector<double> SurfaceRegion::GridOverlapAreas(Point2 lo, float side, int nu, int nv) const {
   std::vector<double> area(size_t(nu) * nv, 0.0);
   const auto cell = [&](float c, float origin, int n) { return std::clamp(int(std::floor((c - origin) / side)), 0, n - 1); };
   // Only cells that a triangle's edge crosses are clipped: one wholly inside it adds its own area, one wholly
   // outside an edge nothing (the triangles are counter-clockwise). A fine grid under large triangles (the binned
   // kernel's coverage mask) is mostly the first kind.
+  // Row by row, only the cells within the triangle's extent in that row, and one either side for rounding: a
+  // sliver of a 20,000-corner disc's fan spans its whole box in rows of one or two cells.
   const auto add = [&](const Triangle2& t, double sign) {
     Bounds2 tb;
     for (const Point2& p : t) tb.Extend(p);
-    for (int iv = cell(tb.lo.v, lo.v, nv); iv <= cell(tb.hi.v, lo.v, nv); ++iv)
-      for (int iu = cell(tb.lo.u, lo.u, nu); iu <= cell(tb.hi.u, lo.u, nu); ++iu) {
+    for (int iv = cell(tb.lo.v, lo.v, nv); iv <= cell(tb.hi.v, lo.v, nv); ++iv) {
+      const auto [u0, u1] = ExtentInStrip(t, lo.v + iv * side, lo.v + (iv + 1) * side, tb);
+      for (int iu = std::max(cell(u0, lo.u, nu) - 1, 0); iu <= std::min(cell(u1, lo.u, nu) + 1, nu - 1); ++iu) {
         const Bounds2 box{{lo.u + iu * side, lo.v + iv * side}, {lo.u + (iu + 1) * side, lo.v + (iv + 1) * side}};
         const std::array<Point2, 4> corners = {box.lo, Point2{box.hi.u, box.lo.v}, box.hi, Point2{box.lo.u, box.hi.v}};
         bool inside = true, outside = false;
@@ -384,6 +411,7 @@ std::vector<double> SurfaceRegion::GridOverlapAreas(Point2 lo, float side, int n
                                       : TriangleBoxOverlapArea(t, box);
         area[size_t(iv) * nu + iu] += sign * overlap;
       }
+    }
   };
   for (const Triangle2& t : triangles_) add(t, 1);
   for (const Triangle2& t : holes_) add(t, -1);
