@@ -164,8 +164,8 @@ void TraceItem(const Tracer& tracer, const Light& light, const WorkItem& w, uint
   const uint64_t photons = w.range.end - w.from;
   const bool small = !HugePageAllocator<PhotonHit>::Huge(photons * kReservedHitsPerPhoton);
   Block traced{small ? std::move(scratch) : std::move(block.hits), block.stats};
-  const size_t before = small ? 0 : traced.hits.size();
-  traced.hits.resize(before);
+  if (small) traced.hits.clear();  // the scratch holds the last small item's hits
+  const size_t before = traced.hits.size();
   traced.hits.reserve(before + photons * kReservedHitsPerPhoton);
   for (uint64_t j = w.from; j < w.range.end; ++j) {
     Rng rng(seed, PhotonStream(w.range.light, j));

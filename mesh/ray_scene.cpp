@@ -2,8 +2,8 @@
 
 #include <embree3/rtcore.h>
 
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 
 #include "mesh/errors.h"

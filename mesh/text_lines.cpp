@@ -117,7 +117,7 @@ bool TextFileReader::NextPhysicalLine(std::string& text) {
 }
 
 bool TextFileReader::Next(TextLine& line) {
-  // `line` and text_'s line buffer keep their memory from statement to statement: a 400,000-line OBJ had paid
+  // `line` and the reader's line_ keep their memory from statement to statement: a 400,000-line OBJ had paid
   // several allocations per line.
   std::string& text = line_;
   while (NextPhysicalLine(text)) {
