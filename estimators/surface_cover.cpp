@@ -1,10 +1,13 @@
 #include "estimators/surface_cover.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <unordered_map>
 
@@ -73,10 +76,17 @@ class CoverBuilder {
     c_.lo_ = {float(b.lo.u - spacing / 2), float(b.lo.v - spacing / 2)};
     c_.nu_ = int(std::ceil(su / spacing)) + 2;  // from half a spacing before the chart to at least half after
     c_.nv_ = int(std::ceil(sv / spacing)) + 2;
-    ClassifyLattice();
-    if (std::find(c_.covered_.begin(), c_.covered_.end(), 1) == c_.covered_.end()) return {};
-    FindCrossings();
-    FindCorners();
+    const std::vector<uint64_t> band = BandPoints(MarkedCells());
+    ClassifyLattice(band);
+    if (c_.runs_.empty()) {
+      SurfaceCover empty;
+      empty.probed_ = band.size();
+      return empty;
+    }
+    c_.probed_ = band.size();
+    const std::vector<LatticeEdge> changing = ChangingEdges();
+    FindCrossings(changing);
+    FindCorners(changing);
     CutPieces();
     return std::move(c_);
   }
@@ -118,24 +128,295 @@ class CoverBuilder {
     return false;
   }
 
-  void ClassifyLattice() {
-    c_.covered_.assign(size_t(c_.nu_) * c_.nv_, 0);
-    tbb::parallel_for(0, c_.nv_, [&](int j) {
-      for (int i = 0; i < c_.nu_; ++i) c_.covered_[size_t(j) * c_.nu_ + i] = CoveredAt(c_.Lattice(i, j));
+  // Lattice cells [i, i + 1] x [j, j + 1] as keys j * nu + i, and lattice points (i, j) alike.
+  uint64_t Key(int i, int j) const { return uint64_t(j) * uint64_t(c_.nu_) + uint64_t(i); }
+
+  // The cells that the slab's cut of the other triangles near the surface, and the surface's own boundary edges,
+  // touch (see the top): where the cover can change. Unsorted, with repeats.
+  std::vector<uint64_t> MarkedCells() const {
+    tbb::enumerable_thread_specific<std::vector<uint64_t>> marked;
+    const float reach = Reach();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, surface_.triangles.size()), [&](const tbb::blocked_range<size_t>& r) {
+      std::vector<uint64_t>& cells = marked.local();
+      std::vector<uint32_t> near;
+      for (size_t k = r.begin(); k != r.end(); ++k) MarkNear(surface_.triangles[k], reach, near, cells);
     });
+    std::vector<uint64_t> cells;
+    for (const std::vector<uint64_t>& part : marked) cells.insert(cells.end(), part.begin(), part.end());
+    for (const auto& [a, b] : BoundaryEdges()) MarkPolygon({a, b}, Whole(), cells);
+    return cells;
   }
 
-  // On each lattice edge whose ends differ, the fraction of the way from its first end where the cover changes.
-  void FindCrossings() {
-    c_.crossing_.assign(size_t(c_.nu_) * c_.nv_ * 2, NAN);
-    tbb::parallel_for(0, c_.nv_, [&](int j) {
-      for (int i = 0; i < c_.nu_; ++i)
-        for (int axis = 0; axis < 2; ++axis) {
-          const int i1 = i + (axis == 0), j1 = j + (axis == 1);
-          if (i1 >= c_.nu_ || j1 >= c_.nv_ || c_.CoveredPoint(i, j) == c_.CoveredPoint(i1, j1)) continue;
-          c_.crossing_[(size_t(j) * c_.nu_ + i) * 2 + axis] = Bisect(c_.Lattice(i, j), c_.Lattice(i1, j1), c_.CoveredPoint(i, j));
+  // r: how far from the surface's mean plane [m] another triangle may pass and still bound a cover.
+  float Reach() const {
+    float deviation = 0;
+    for (uint32_t t : surface_.triangles)
+      for (uint32_t v : scene_.triangles[t].v)
+        deviation = std::max(deviation, std::fabs(Dot(scene_.positions[v] - surface_.chart.origin, surface_.chart.frame.n)));
+    return deviation + 2 * c_.spacing_ + 4 * rays_.SpawnOffset();
+  }
+
+  // Marks the cells that the slab's cut of each other triangle near surface triangle t touches, within t's chart
+  // box grown by two cells.
+  void MarkNear(uint32_t t, float reach, std::vector<uint32_t>& near, std::vector<uint64_t>& cells) const {
+    const std::array<uint32_t, 3>& v = scene_.triangles[t].v;
+    const Point3 centre = Centroid(scene_.positions[v[0]], scene_.positions[v[1]], scene_.positions[v[2]]);
+    float radius = 0;
+    for (uint32_t corner : v) radius = std::max(radius, Length(scene_.positions[corner] - centre));
+    Bounds2 window;
+    for (const Point2& p : surfaces_.cornerUv[t]) window.Extend(p);
+    const float margin = 2 * c_.spacing_;
+    window.lo = {window.lo.u - margin, window.lo.v - margin};
+    window.hi = {window.hi.u + margin, window.hi.v + margin};
+    near.clear();
+    rays_.TrianglesNear(centre, radius + margin + reach, near);
+    for (uint32_t other : near) {
+      if (surfaces_.surfaceOfTriangle[other] == surfaceIndex_) continue;
+      const SlabPart cut = SlabCut(other, reach);
+      if (cut.inPlane) {
+        for (size_t k = 0; k < cut.uv.size(); ++k) MarkPolygon({cut.uv[k], cut.uv[(k + 1) % cut.uv.size()]}, window, cells);
+      } else {
+        MarkPolygon(cut.uv, window, cells);
+      }
+    }
+  }
+
+  static Point3 Centroid(Point3 a, Point3 b, Point3 c) {
+    return {(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3, (a.z + b.z + c.z) / 3};
+  }
+
+  // The part of triangle `other` within `reach` of the surface's plane, projected into the chart: a convex polygon
+  // (empty when it stays out of the slab). In the plane when every corner is as near it as the surface's own
+  // (the surface's deviation, `reach` less 2 s): rays from the surface cannot meet it, and only its edges,
+  // where a neighbour's outline may run, count.
+  struct SlabPart {
+    std::vector<Point2> uv;
+    bool inPlane = true;
+  };
+  SlabPart SlabCut(uint32_t other, float reach) const {
+    const SurfaceChart& chart = surface_.chart;
+    struct Corner {
+      Point3 p;
+      float d;  // signed distance from the plane [m]
+    };
+    std::vector<Corner> polygon;
+    SlabPart part;
+    for (uint32_t v : scene_.triangles[other].v) {
+      polygon.push_back({scene_.positions[v], Dot(scene_.positions[v] - chart.origin, chart.frame.n)});
+      part.inPlane = part.inPlane && std::fabs(polygon.back().d) <= reach - 2 * c_.spacing_;
+    }
+    for (const float side : {1.0f, -1.0f}) {  // keep side * d <= reach
+      std::vector<Corner> kept;
+      for (size_t k = 0; k < polygon.size(); ++k) {
+        const Corner a = polygon[k], b = polygon[(k + 1) % polygon.size()];
+        const bool inA = side * a.d <= reach, inB = side * b.d <= reach;
+        if (inA) kept.push_back(a);
+        if (inA != inB) {
+          const float t = (side * reach - a.d) / (b.d - a.d);
+          kept.push_back({a.p + (b.p - a.p) * t, side * reach});
         }
+      }
+      polygon = std::move(kept);
+      if (polygon.empty()) return {};
+    }
+    for (const Corner& c : polygon) part.uv.push_back(chart.ToUv(c.p));
+    return part;
+  }
+
+  Bounds2 Whole() const {
+    return {c_.lo_, c_.Lattice(c_.nu_ - 1, c_.nv_ - 1)};
+  }
+
+  // The surface's chart edges that only one of its triangles has (its outline, holes included).
+  std::vector<std::array<Point2, 2>> BoundaryEdges() const {
+    struct Edge {
+      std::array<uint64_t, 2> key;  // the ends' bits, the smaller first
+      Point2 a, b;
+    };
+    const auto bits = [](Point2 p) {
+      uint32_t u, v;
+      std::memcpy(&u, &p.u, 4), std::memcpy(&v, &p.v, 4);
+      return uint64_t(u) << 32 | v;
+    };
+    std::vector<Edge> edges;
+    for (uint32_t t : surface_.triangles) {
+      const std::array<Point2, 3>& c = surfaces_.cornerUv[t];
+      for (int k = 0; k < 3; ++k) {
+        const Point2 a = c[k], b = c[(k + 1) % 3];
+        const uint64_t ka = bits(a), kb = bits(b);
+        edges.push_back({{std::min(ka, kb), std::max(ka, kb)}, a, b});
+      }
+    }
+    std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.key < y.key; });
+    std::vector<std::array<Point2, 2>> boundary;
+    for (size_t k = 0; k < edges.size();) {
+      size_t end = k + 1;
+      while (end < edges.size() && edges[end].key == edges[k].key) ++end;
+      if (end - k == 1) boundary.push_back({edges[k].a, edges[k].b});
+      k = end;
+    }
+    return boundary;
+  }
+
+  // Marks every lattice cell that convex polygon `corners` [m] (two corners: a segment), cut to `window`, touches
+  // (its closed square): row by row, the span between the leftmost and rightmost points of its edges' parts in
+  // the row.
+  void MarkPolygon(const std::vector<Point2>& corners, const Bounds2& window, std::vector<uint64_t>& cells) const {
+    const double s = c_.spacing_;
+    std::vector<std::array<double, 4>> edges;  // (x0, y0, x1, y1) in cells, cut to the window
+    double yLo = INFINITY, yHi = -INFINITY;
+    const std::vector<Point2> inside = corners.size() < 3 ? corners : ClipToWindow(corners, window);
+    for (size_t k = 0; k < inside.size(); ++k) {
+      Point2 a = inside[k], b = inside[(k + 1) % inside.size()];
+      if (inside.size() == 2 && k == 1) break;
+      if (!ClipToBox(a, b, window)) continue;
+      edges.push_back({(a.u - c_.lo_.u) / s, (a.v - c_.lo_.v) / s, (b.u - c_.lo_.u) / s, (b.v - c_.lo_.v) / s});
+      yLo = std::min({yLo, edges.back()[1], edges.back()[3]}), yHi = std::max({yHi, edges.back()[1], edges.back()[3]});
+    }
+    if (edges.empty()) return;
+    const int lastCell = c_.nu_ - 2, lastRow = c_.nv_ - 2;
+    for (int j = std::clamp(int(std::floor(yLo)), 0, lastRow); j <= std::clamp(int(std::floor(yHi)), 0, lastRow); ++j) {
+      double xLo = INFINITY, xHi = -INFINITY;
+      for (const auto& [x0, y0, x1, y1] : edges) {
+        // The edge's part with y in [j, j + 1] (the first and last rows take all below or above them).
+        const double lo = j == 0 ? -INFINITY : double(j), hi = j == lastRow ? INFINITY : double(j + 1);
+        double t0 = 0, t1 = 1;
+        if (y1 != y0) {
+          const double ta = (lo - y0) / (y1 - y0), tb = (hi - y0) / (y1 - y0);
+          t0 = std::max(t0, std::min(ta, tb)), t1 = std::min(t1, std::max(ta, tb));
+        } else if (y0 < lo || y0 > hi) {
+          continue;
+        }
+        if (!(t0 <= t1)) continue;
+        for (const double t : {t0, t1}) {
+          const double x = x0 + t * (x1 - x0);
+          xLo = std::min(xLo, x), xHi = std::max(xHi, x);
+        }
+      }
+      if (!(xLo <= xHi)) continue;
+      for (int i = std::clamp(int(std::floor(xLo)), 0, lastCell); i <= std::clamp(int(std::floor(xHi)), 0, lastCell); ++i)
+        cells.push_back(Key(i, j));
+    }
+  }
+
+  // The part of convex polygon `corners` inside the box.
+  static std::vector<Point2> ClipToWindow(std::vector<Point2> polygon, const Bounds2& box) {
+    const Point2 c[4] = {box.lo, {box.hi.u, box.lo.v}, box.hi, {box.lo.u, box.hi.v}};  // counter-clockwise
+    if (SignedArea(polygon[0], polygon[1], polygon[2]) < 0) std::reverse(polygon.begin(), polygon.end());
+    for (int k = 0; k < 4 && polygon.size() >= 2; ++k) polygon = ClipLeftOf(polygon, c[k], c[(k + 1) % 4]);
+    return polygon;
+  }
+
+  // Cuts segment a -> b to the box (Liang and Barsky); false when nothing of it is inside.
+  static bool ClipToBox(Point2& a, Point2& b, const Bounds2& box) {
+    double t0 = 0, t1 = 1;
+    const double du = double(b.u) - a.u, dv = double(b.v) - a.v;
+    const double p[4] = {-du, du, -dv, dv};
+    const double q[4] = {double(a.u) - box.lo.u, double(box.hi.u) - a.u, double(a.v) - box.lo.v, double(box.hi.v) - a.v};
+    for (int k = 0; k < 4; ++k) {
+      if (p[k] == 0) {
+        if (q[k] < 0) return false;
+        continue;
+      }
+      const double t = q[k] / p[k];
+      if (p[k] < 0) t0 = std::max(t0, t);
+      else t1 = std::min(t1, t);
+    }
+    if (!(t0 <= t1)) return false;
+    const Point2 from = a;
+    a = {float(from.u + t0 * du), float(from.v + t0 * dv)};
+    b = {float(from.u + t1 * du), float(from.v + t1 * dv)};
+    return true;
+  }
+
+  // The band's lattice points: the corners of the marked cells grown by one cell, sorted.
+  std::vector<uint64_t> BandPoints(std::vector<uint64_t> marked) const {
+    std::sort(marked.begin(), marked.end());
+    marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+    std::vector<uint64_t> points;
+    points.reserve(marked.size() * 16);
+    for (uint64_t cell : marked) {
+      const int i = int(cell % uint64_t(c_.nu_)), j = int(cell / uint64_t(c_.nu_));
+      for (int dj = -1; dj <= 2; ++dj)
+        for (int di = -1; di <= 2; ++di)
+          if (i + di >= 0 && i + di < c_.nu_ && j + dj >= 0 && j + dj < c_.nv_) points.push_back(Key(i + di, j + dj));
+    }
+    std::sort(points.begin(), points.end());
+    points.erase(std::unique(points.begin(), points.end()), points.end());
+    return points;
+  }
+
+  // Casts the rays at the band's points; every other point of a row takes the class of the band point before it
+  // in the row (open before the first: the row's start is off the surface). Fills the cover's runs.
+  void ClassifyLattice(const std::vector<uint64_t>& band) {
+    std::vector<uint8_t> covered(band.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, band.size()), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k != r.end(); ++k)
+        covered[k] = CoveredAt(c_.Lattice(int(band[k] % uint64_t(c_.nu_)), int(band[k] / uint64_t(c_.nu_))));
     });
+    std::vector<std::pair<int, SurfaceCover::Run>> runs;  // (row, run)
+    for (size_t k = 0; k < band.size(); ++k) {
+      if (!covered[k]) continue;
+      const int i = int(band[k] % uint64_t(c_.nu_)), j = int(band[k] / uint64_t(c_.nu_));
+      const bool nextInRow = k + 1 < band.size() && band[k + 1] / uint64_t(c_.nu_) == uint64_t(j);
+      const int last = nextInRow ? int(band[k + 1] % uint64_t(c_.nu_)) - 1 : i;
+      if (!runs.empty() && runs.back().first == j && runs.back().second.last + 1 == i) runs.back().second.last = last;
+      else runs.push_back({j, {i, last}});
+    }
+    if (runs.empty()) return;
+    c_.firstRow_ = runs.front().first;
+    const int rows = runs.back().first - c_.firstRow_ + 1;
+    c_.rowStart_.assign(size_t(rows) + 1, 0);
+    for (const auto& [j, run] : runs) {
+      ++c_.rowStart_[size_t(j - c_.firstRow_) + 1];
+      c_.runs_.push_back(run);
+    }
+    for (size_t k = 1; k < c_.rowStart_.size(); ++k) c_.rowStart_[k] += c_.rowStart_[k - 1];
+  }
+
+  struct LatticeEdge {
+    int i, j, axis;  // from point (i, j) along +u (axis 0) or +v (axis 1)
+  };
+
+  // The lattice edges whose ends differ: at each run's ends along its row, and where two neighbouring rows' runs
+  // differ (their symmetric difference), found from the runs alone.
+  std::vector<LatticeEdge> ChangingEdges() const {
+    std::vector<LatticeEdge> edges;
+    const int rows = int(c_.rowStart_.size()) - 1;
+    for (int j = c_.firstRow_; j < c_.firstRow_ + rows; ++j)
+      for (const SurfaceCover::Run& run : c_.RowRuns(j)) {
+        if (run.first > 0) edges.push_back({run.first - 1, j, 0});
+        if (run.last + 1 < c_.nu_) edges.push_back({run.last, j, 0});
+      }
+    for (int j = std::max(c_.firstRow_ - 1, 0); j < std::min(c_.firstRow_ + rows, c_.nv_ - 1); ++j) {
+      std::vector<int> ends;  // half-open [first, last + 1) of both rows' runs; equal ends cancel
+      for (int row : {j, j + 1})
+        for (const SurfaceCover::Run& run : c_.RowRuns(row)) ends.push_back(run.first), ends.push_back(run.last + 1);
+      std::sort(ends.begin(), ends.end());
+      std::vector<int> toggles;
+      for (int e : ends) {
+        if (!toggles.empty() && toggles.back() == e) toggles.pop_back();
+        else toggles.push_back(e);
+      }
+      for (size_t k = 0; k + 1 < toggles.size(); k += 2)
+        for (int i = toggles[k]; i < toggles[k + 1]; ++i) edges.push_back({i, j, 1});
+    }
+    return edges;
+  }
+
+  // On each changing lattice edge, the fraction of the way from its first end where the cover changes.
+  void FindCrossings(const std::vector<LatticeEdge>& edges) {
+    std::vector<float> at(edges.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, edges.size()), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k != r.end(); ++k) {
+        const LatticeEdge& e = edges[k];
+        const int i1 = e.i + (e.axis == 0), j1 = e.j + (e.axis == 1);
+        at[k] = Bisect(c_.Lattice(e.i, e.j), c_.Lattice(i1, j1), c_.CoveredPoint(e.i, e.j));
+      }
+    });
+    c_.crossing_.reserve(edges.size());
+    for (size_t k = 0; k < edges.size(); ++k)
+      c_.crossing_.emplace(SurfaceCover::EdgeKey(Key(edges[k].i, edges[k].j), edges[k].axis), at[k]);
   }
 
   // Where along a -> b the cover changes, to 1 / 2^kBisections, rounded toward the covered end.
@@ -150,14 +431,23 @@ class CoverBuilder {
   }
 
   // Cells whose polygon has one crossing where the cover ends and one where it begins again: where the contact
-  // line turns a corner between them, the corner (SurfaceCover::corners_).
-  void FindCorners() {
-    std::vector<std::optional<Point2>> corner(size_t(c_.nu_) * c_.nv_);
-    tbb::parallel_for(0, c_.nv_ - 1, [&](int j) {
-      for (int i = 0; i + 1 < c_.nu_; ++i) corner[size_t(j) * c_.nu_ + i] = CornerIn(i, j);
+  // line turns a corner between them, the corner (SurfaceCover::corners_). Only cells beside a changing edge can.
+  void FindCorners(const std::vector<LatticeEdge>& changing) {
+    std::vector<uint64_t> cells;
+    for (const LatticeEdge& e : changing) {
+      const int i = e.i - (e.axis == 1), j = e.j - (e.axis == 0);  // the cell before the edge, then the one after
+      for (const auto& [ci, cj] : {std::pair{i, j}, std::pair{e.i, e.j}})
+        if (ci >= 0 && cj >= 0 && ci + 1 < c_.nu_ && cj + 1 < c_.nv_) cells.push_back(Key(ci, cj));
+    }
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    std::vector<std::optional<Point2>> corner(cells.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, cells.size()), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k != r.end(); ++k)
+        corner[k] = CornerIn(int(cells[k] % uint64_t(c_.nu_)), int(cells[k] / uint64_t(c_.nu_)));
     });
-    for (size_t cell = 0; cell < corner.size(); ++cell)
-      if (corner[cell]) c_.corners_.emplace(cell, *corner[cell]);
+    for (size_t k = 0; k < cells.size(); ++k)
+      if (corner[k]) c_.corners_.emplace(size_t(cells[k]), *corner[k]);
   }
 
   std::optional<Point2> CornerIn(int i, int j) const {
@@ -215,35 +505,43 @@ class CoverBuilder {
     return true;
   }
 
-  // Each cell's covered polygon, cut to each surface triangle that its box meets, as triangles.
+  // Each cell's covered polygon, cut to each surface triangle that its box meets, as triangles, in cell order.
   void CutPieces() {
-    std::unordered_map<size_t, std::vector<uint32_t>> trianglesOfCell;
+    const std::vector<uint64_t> cells = CellsWithACoveredCorner();
+    std::vector<std::vector<uint32_t>> trianglesOfCell(cells.size());
     const auto cellOf = [&](float c, float lo, int n) { return std::clamp(int(std::floor((c - lo) / c_.spacing_)), 0, n - 2); };
     for (uint32_t t : surface_.triangles) {
       Bounds2 tb;
       for (const Point2& p : surfaces_.cornerUv[t]) tb.Extend(p);
+      const int i0 = cellOf(tb.lo.u, c_.lo_.u, c_.nu_), i1 = cellOf(tb.hi.u, c_.lo_.u, c_.nu_);
       for (int j = cellOf(tb.lo.v, c_.lo_.v, c_.nv_); j <= cellOf(tb.hi.v, c_.lo_.v, c_.nv_); ++j)
-        for (int i = cellOf(tb.lo.u, c_.lo_.u, c_.nu_); i <= cellOf(tb.hi.u, c_.lo_.u, c_.nu_); ++i)
-          if (AnyCornerCovered(i, j)) trianglesOfCell[size_t(j) * c_.nu_ + i].push_back(t);
+        for (auto c = std::lower_bound(cells.begin(), cells.end(), Key(i0, j)); c != cells.end() && *c <= Key(i1, j); ++c)
+          trianglesOfCell[size_t(c - cells.begin())].push_back(t);
     }
-    std::vector<size_t> cells;
-    for (const auto& [cell, triangles] : trianglesOfCell) cells.push_back(cell);
-    std::sort(cells.begin(), cells.end());  // pieces in lattice order, whatever the hash map's
-    for (size_t cell : cells) {
-      const std::vector<Point2> polygon = c_.CellPolygon(int(cell % c_.nu_), int(cell / c_.nu_));
-      for (uint32_t t : trianglesOfCell[cell]) {
+    for (size_t k = 0; k < cells.size(); ++k) {
+      const std::vector<Point2> polygon = c_.CellPolygon(int(cells[k] % uint64_t(c_.nu_)), int(cells[k] / uint64_t(c_.nu_)));
+      for (uint32_t t : trianglesOfCell[k]) {
         std::array<Point2, 3> tri = surfaces_.cornerUv[t];
         if (SignedArea(tri[0], tri[1], tri[2]) < 0) std::swap(tri[1], tri[2]);
         std::vector<Point2> piece = polygon;
-        for (int k = 0; k < 3 && piece.size() >= 3; ++k) piece = ClipLeftOf(piece, tri[k], tri[(k + 1) % 3]);
+        for (int e = 0; e < 3 && piece.size() >= 3; ++e) piece = ClipLeftOf(piece, tri[e], tri[(e + 1) % 3]);
         if (piece.size() < 3 || !(TwiceSignedArea(piece) > 1e-12 * double(c_.spacing_) * c_.spacing_)) continue;
-        for (size_t k = 1; k + 1 < piece.size(); ++k) c_.pieces_.push_back({piece[0], piece[k], piece[k + 1]});
+        for (size_t m = 1; m + 1 < piece.size(); ++m) c_.pieces_.push_back({piece[0], piece[m], piece[m + 1]});
       }
     }
   }
 
-  bool AnyCornerCovered(int i, int j) const {
-    return c_.CoveredPoint(i, j) || c_.CoveredPoint(i + 1, j) || c_.CoveredPoint(i + 1, j + 1) || c_.CoveredPoint(i, j + 1);
+  // The cells with a covered corner, from the runs: each covered point's four cells. Sorted.
+  std::vector<uint64_t> CellsWithACoveredCorner() const {
+    std::vector<uint64_t> cells;
+    const int rows = int(c_.rowStart_.size()) - 1;
+    for (int j = c_.firstRow_; j < c_.firstRow_ + rows; ++j)
+      for (const SurfaceCover::Run& run : c_.RowRuns(j))
+        for (int cj = std::max(j - 1, 0); cj <= std::min(j, c_.nv_ - 2); ++cj)
+          for (int ci = std::max(run.first - 1, 0); ci <= std::min(run.last, c_.nu_ - 2); ++ci) cells.push_back(Key(ci, cj));
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    return cells;
   }
 
   const Scene& scene_;
@@ -271,7 +569,7 @@ std::array<SurfaceCover::CellEdge, 4> SurfaceCover::EdgesOf(int i, int j) const 
     e = {Lattice(ia, ja), Lattice(ib, jb), CoveredPoint(ia, ja), CoveredPoint(ib, jb), inward[k], {}};
     if (e.coveredA == e.coveredB) continue;
     const auto [ei, ej, axis] = stored[k];
-    const float t = crossing_[(size_t(ej) * nu_ + ei) * 2 + axis];
+    const float t = crossing_.at(EdgeKey(size_t(ej) * nu_ + ei, axis));
     const Point2 p = Lattice(ei, ej), q = Lattice(ei + (axis == 0), ej + (axis == 1));
     e.crossing = {p.u + t * (q.u - p.u), p.v + t * (q.v - p.v)};
   }
@@ -291,6 +589,18 @@ std::vector<Point2> SurfaceCover::CellPolygon(int i, int j, const Point2* corner
     if (e.coveredA && corner != nullptr) polygon.push_back(*corner);  // the line turns before it re-enters
   }
   return polygon;
+}
+
+std::span<const SurfaceCover::Run> SurfaceCover::RowRuns(int j) const {
+  const int k = j - firstRow_;
+  if (k < 0 || k + 1 >= int(rowStart_.size())) return {};
+  return {runs_.data() + rowStart_[size_t(k)], runs_.data() + rowStart_[size_t(k) + 1]};
+}
+
+bool SurfaceCover::CoveredPoint(int i, int j) const {
+  const std::span<const Run> row = RowRuns(j);
+  const auto after = std::upper_bound(row.begin(), row.end(), i, [](int x, const Run& run) { return x < run.first; });
+  return after != row.begin() && i <= std::prev(after)->last;
 }
 
 bool SurfaceCover::InCell(Point2 uv, int i, int j) const {

@@ -7,9 +7,9 @@
 // A chart point is covered when all but one of kCoverRays fixed directions over its front hemisphere (a
 // cosine-weighted spiral, the lowest 10 degrees above the plane) first meet the back of a triangle: the point lies
 // inside a closed object. The one spared ray forgives a crack in the object's mesh; a one-sided table top over a
-// floor lets its grazing rays out, so the floor under it stays open. The test runs on a square lattice of spacing
-// s [m] over the chart; points off the surface are open, so a contact line that reaches the surface's edge ends
-// there. On each lattice edge whose ends differ, the change is found by bisection to s / 1024, and each
+// floor lets its grazing rays out, so the floor under it stays open. The test is made on a square lattice of
+// spacing s [m] over the chart; points off the surface are open, so a contact line that reaches the surface's edge
+// ends there. On each lattice edge whose ends differ, the change is found by bisection to s / 1024, and each
 // lattice cell's covered part is the convex polygon through its covered corners and those crossings (marching
 // squares; a cell covered on one diagonal only takes the two corners as joined). A straight contact line is thus
 // found to s / 1024 whatever s; covered features narrower than s can be missed. Where the contact line turns a
@@ -20,11 +20,26 @@
 // Kobbelt et al. 2001, "Feature sensitive surface extraction from volume data", SIGGRAPH). A reflex corner of
 // the cover (an open notch) stays cut.
 //
+// Where the rays are cast. A point can change from open to covered only where an object crosses the surface's
+// plane or hangs close over it (it passes through the slab of half-thickness r about the plane: the surface's own
+// deviation from its mean plane, plus 2 s: a lamp 1 cm under a ceiling covers the ceiling behind it) or at the
+// surface's edge. So the lattice is classified by rays only in a band about
+// those lines: the cells that the slab's cut of every other triangle near the surface touches (projected into the
+// chart; only its edges when it lies in the plane itself; found by one Embree point query per surface triangle), and the cells its own boundary edges
+// touch, each grown by one cell. Every other lattice point takes the class of the band point beside it in its
+// row (open where the row has none: it reaches the lattice's rim, off the surface). The cost is linear in the
+// triangles near the surface and in the length of those lines over s, not in the surface's area over s^2; a planar
+// surface with nothing on it and a simple outline costs its outline. The covered points are kept as runs per row,
+// so a cover's memory grows with its outline too, and its pieces merge whole cells into rectangles. An object
+// that covers a surface from farther than r (a box with no bottom hovering over a floor) is not seen: covers are
+// where objects stand on, pass through or hang close over a surface.
+//
 // Only planar, non-emissive surfaces are tested; a curved surface or a light has an empty cover.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -52,6 +67,8 @@ class SurfaceCover {
   const std::vector<Triangle2>& Pieces() const { return pieces_; }
   double Area() const;
   float Spacing() const { return spacing_; }
+  // Lattice points classified by rays [count]: the band's (see the top), however empty the cover.
+  uint64_t ProbedPoints() const { return probed_; }
 
  private:
   friend class CoverBuilder;
@@ -69,15 +86,26 @@ class SurfaceCover {
   std::array<CellEdge, 4> EdgesOf(int i, int j) const;
   bool InCell(Point2 uv, int i, int j) const;  // strictly inside cell (i, j)
   Point2 Lattice(int i, int j) const { return {lo_.u + float(i) * spacing_, lo_.v + float(j) * spacing_}; }
-  bool CoveredPoint(int i, int j) const { return covered_[size_t(j) * nu_ + i] != 0; }
+  bool CoveredPoint(int i, int j) const;
+  // A row's covered points i in [first, last].
+  struct Run {
+    int first, last;
+  };
+  std::span<const Run> RowRuns(int j) const;
+  static size_t EdgeKey(size_t point, int axis) { return point * 2 + size_t(axis); }
 
   Point2 lo_;
   float spacing_ = 0;
-  int nu_ = 0, nv_ = 0;            // lattice points per axis
-  std::vector<uint8_t> covered_;   // per lattice point, row-major (v outer)
-  std::vector<float> crossing_;    // per lattice edge (2 per point: +u, then +v): where along it the cover changes
+  int nu_ = 0, nv_ = 0;             // lattice points per axis
+  int firstRow_ = 0;                // the rows [firstRow_, firstRow_ + rowStart_.size() - 1) hold covered points
+  std::vector<uint32_t> rowStart_;  // row firstRow_ + k's runs are runs_[rowStart_[k], rowStart_[k + 1])
+  std::vector<Run> runs_;           // the covered lattice points, row by row (v outer), ascending
+  // Per lattice edge whose ends differ (EdgeKey of its first end, axis 0: +u, 1: +v): where along it the cover
+  // changes, as a fraction from its first end.
+  std::unordered_map<size_t, float> crossing_;
   std::unordered_map<size_t, Point2> corners_;  // per cell (j * nu + i) whose contact line turns a corner in it
   std::vector<Triangle2> pieces_;
+  uint64_t probed_ = 0;
 };
 
 // One cover per surface of `surfaces`.

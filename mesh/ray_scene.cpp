@@ -136,6 +136,28 @@ bool MeetsFront(RTCPointQueryFunctionArguments* args) {
 
 }  // namespace
 
+namespace {
+
+// A point query's question to each triangle near it: TrianglesNear's collection. Embree calls this for each
+// reference in the leaves its traversal reaches; with spatial splits (RTC_BUILD_QUALITY_HIGH) a triangle can have
+// several, so the caller removes repeats.
+bool CollectNear(RTCPointQueryFunctionArguments* args) {
+  static_cast<std::vector<uint32_t>*>(args->userPtr)->push_back(args->primID);
+  return false;  // the query's radius stays as it is
+}
+
+}  // namespace
+
+void RayScene::TrianglesNear(Point3 centre, float radius, std::vector<uint32_t>& out) const {
+  const size_t first = out.size();
+  RTCPointQuery query{centre.x, centre.y, centre.z, 0.0f, radius};
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(scene_, &query, &context, CollectNear, &out);
+  std::sort(out.begin() + std::ptrdiff_t(first), out.end());
+  out.erase(std::unique(out.begin() + std::ptrdiff_t(first), out.end()), out.end());
+}
+
 bool RayScene::MayMeetInFront(Point3 origin, Normal3 n, float reach) const {
   RTCPointQuery query{origin.x, origin.y, origin.z, 0.0f, reach};
   RTCPointQueryContext context;

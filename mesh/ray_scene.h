@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "mesh/geometry.h"
 #include "mesh/scene.h"
@@ -46,6 +47,14 @@ class RayScene {
   // corner lies on n's side of it, less a quarter of the spawn offset for rounding, so that the surface the
   // origin was spawned from, and the coplanar triangles beside it, do not count.
   bool MayMeetInFront(Point3 origin, Normal3 n, float reach) const;
+
+  // Appends to `out` every triangle (Scene::triangles index) whose bounding box comes within `radius` [m] of
+  // `centre`, each once, in ascending order after those already there; some farther ones may be among them (one
+  // point query, rtcPointQuery: O(log triangles + found)).
+  void TrianglesNear(Point3 centre, float radius, std::vector<uint32_t>& out) const;
+
+  // The offset SpawnPoint moves a point by [m].
+  float SpawnOffset() const { return spawnOffset_; }
 
   // A ray origin for leaving the surface at `p` on the side `side` faces: p moved off the surface by an
   // offset proportional to the scene's largest coordinate, so that the ray cannot re-hit its own triangle.

@@ -6,13 +6,18 @@
 //              baseline that the ceiling's bake time is measured against.
 //   grid-room: the one-light room with its six faces cut into a grid of about --triangles triangles in all
 //              (squares of side sqrt(2 A / N) over the faces' area A), for the front end's scaling.
-// Usage: make-scene led-room|one-light|grid-room [--lamps N] [--triangles N] --out DIR; prints the OBJ's path.
+//   lit-copy:  a copy of the OBJ --from (a real asset that has no light of its own) with its material libraries
+//              named by absolute path, and one emissive quad added: as wide as the model's bounding box in x and z,
+//              facing down (y up) a tenth of the box's height above it, of radiance 10 W/(m^2 sr).
+// Usage: make-scene led-room|one-light|grid-room|lit-copy [--lamps N] [--triangles N] [--from OBJ] --out DIR;
+// prints the OBJ's path.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -81,6 +86,32 @@ void Write(const std::string& path, const std::string& text) {
   if (!out) throw std::runtime_error("cannot write " + path);
 }
 
+// lit-copy: `from`'s statements, its mtllib names made absolute, then the light over its bounding box.
+std::string LitCopy(const std::string& from, const std::string& lightMtl) {
+  std::ifstream in(from);
+  if (!in) throw std::runtime_error("cannot read " + from);
+  const std::filesystem::path folder = std::filesystem::absolute(from).parent_path();
+  std::string obj, line;
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.rfind("mtllib ", 0) == 0) line = "mtllib " + (folder / line.substr(7)).string();
+    if (line.rfind("v ", 0) == 0) {
+      double p[3] = {0, 0, 0};
+      if (std::sscanf(line.c_str() + 2, "%lf %lf %lf", &p[0], &p[1], &p[2]) == 3) {
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+      }
+    }
+    obj += line + '\n';
+  }
+  const double y = hi[1] + 0.1 * (hi[1] - lo[1]);
+  obj += fmt::format("mtllib {}\nusemtl photonbake_light\n", lightMtl);
+  // Counter-clockwise seen from below: facing down.
+  obj += fmt::format("v {0} {1} {2}\nv {3} {1} {2}\nv {3} {1} {4}\nv {0} {1} {4}\nf -4 -3 -2 -1\n", lo[0], y, lo[2],
+                     hi[0], hi[2]);
+  return obj;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -89,12 +120,22 @@ int main(int argc, char** argv) {
   uint64_t lamps = 100000;
   uint64_t triangles = 2'000'000;
   app.add_option("kind", kind, "led-room, one-light or grid-room")
-      ->check(CLI::IsMember({"led-room", "one-light", "grid-room"}));
+      ->check(CLI::IsMember({"led-room", "one-light", "grid-room", "lit-copy"}));
   app.add_option("--triangles", triangles, "grid-room: triangles of the room's faces")->capture_default_str();
   app.add_option("--lamps", lamps, "lamps of the LED ceiling (one-light: whose flux it carries)")->capture_default_str();
+  std::string from;
+  app.add_option("--from", from, "lit-copy: the OBJ to copy");
   app.add_option("--out", out, "folder for room.obj and room.mtl")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   std::filesystem::create_directories(out);
+  if (kind == "lit-copy") {
+    const std::string lightMtl = std::filesystem::absolute(out + "/photonbake_light.mtl").string();
+    Write(lightMtl, "newmtl photonbake_light\nKd 0 0 0\nKe 10 10 10\n");
+    const std::string obj = out + "/" + std::filesystem::path(from).filename().string();
+    Write(obj, LitCopy(from, lightMtl));
+    fmt::print("{}: {} with a light added\n", obj, from);
+    return 0;
+  }
 
   std::string mtl = "newmtl grey\nKd 0.5 0.5 0.5\n";
   uint64_t first = kind == "grid-room" ? 1 : 9;  // the next vertex's index: the light's first

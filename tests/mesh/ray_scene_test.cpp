@@ -86,4 +86,35 @@ TEST(RayScene, AParallelPlaneInFrontIsFoundWithinReachOnly) {
 }
 
 }  // namespace
+// TrianglesNear against brute force on the box: every triangle whose bounding box comes within the radius is
+// listed, once, in ascending order, at 200 points and radii from 1 mm to the box's size.
+TEST(RayScene, TrianglesNearListsEveryTriangleWithinTheRadiusOnce) {
+  const Scene scene = LoadObj(PB_SOURCE_DIR "/data/box/box.obj").scene;
+  const RayScene rays(scene);
+  Rng rng(7, 0);
+  for (int k = 0; k < 200; ++k) {
+    const Point3 p{0.56f * rng.Uniform(), 0.55f * rng.Uniform(), 0.56f * rng.Uniform()};
+    const float radius = 0.001f * std::pow(500.0f, rng.Uniform());
+    std::vector<uint32_t> near;
+    rays.TrianglesNear(p, radius, near);
+    EXPECT_TRUE(std::is_sorted(near.begin(), near.end()));
+    EXPECT_EQ(std::adjacent_find(near.begin(), near.end()), near.end());
+    for (uint32_t t = 0; t < scene.triangles.size(); ++t) {
+      float d2 = 0;  // from p to t's bounding box
+      for (int axis = 0; axis < 3; ++axis) {
+        float lo = INFINITY, hi = -INFINITY;
+        for (uint32_t v : scene.triangles[t].v) {
+          const Point3& q = scene.positions[v];
+          const float c = axis == 0 ? q.x : axis == 1 ? q.y : q.z;
+          lo = std::min(lo, c), hi = std::max(hi, c);
+        }
+        const float c = axis == 0 ? p.x : axis == 1 ? p.y : p.z;
+        const float d = std::max({lo - c, c - hi, 0.0f});
+        d2 += d * d;
+      }
+      if (d2 < 0.99f * radius * radius) EXPECT_TRUE(std::binary_search(near.begin(), near.end(), t)) << t;
+    }
+  }
+}
+
 }  // namespace pb
