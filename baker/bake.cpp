@@ -281,12 +281,14 @@ Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFil
   return lit;
 }
 
-// The scene as the options describe it. Covered parts are found on a lattice of spacing h / 2, at most 10 mm, so
-// that a block's corner is kept past the vertices of a mesh finer than h (README, "Covered parts").
-constexpr float kMaxCoverSpacing = 0.01f;  // [m]
+// The scene as the options describe it. Covered parts are found on a lattice of spacing h / 2, at most 1/175 of
+// the scene's diagonal (10 mm on the box, whose 1.74 m includes the light behind the camera), so that a block's
+// corner is kept past the vertices of a mesh finer than h, and the lattice scales with the scene (README,
+// "Covered parts").
+constexpr double kMaxCoverSpacingPerDiagonal = 1.0 / 175;
 SceneSettings SceneOf(const BakeOptions& o) {
   const float h = o.autoBandwidth ? EstimatorSettings{}.bandwidth : o.estimator.bandwidth;
-  return {o.scenePath, o.scale, ParseEffectOverrides(o.effectsText), {.spacing = o.findCovers ? std::min(h / 2, kMaxCoverSpacing) : 0.0f},
+  return {o.scenePath, o.scale, ParseEffectOverrides(o.effectsText), {.spacing = o.findCovers ? h / 2 : 0.0f, .maxSpacingPerDiagonal = kMaxCoverSpacingPerDiagonal},
           o.lightsPath, o.luminousEfficacy};
 }
 

@@ -420,12 +420,24 @@ class CoverBuilder {
   }
 
   // Where along a -> b the cover changes, to 1 / 2^kBisections, rounded toward the covered end.
+  // Where the open end is off the surface, the cover usually runs up to the surface's edge (a face inside a
+  // closed object): the edge is found by the containment test alone, and one ray test just inside it confirms
+  // that the cover reaches it (else the rays decide every step).
   float Bisect(Point2 a, Point2 b, bool coveredAtA) const {
+    if (!whole_.Contains(coveredAtA ? b : a)) {
+      const float edge = BisectBy([&](Point2 m) { return whole_.Contains(m); }, a, b, coveredAtA);
+      if (CoveredAt(Between(a, b, edge))) return edge;
+    }
+    return BisectBy([&](Point2 m) { return CoveredAt(m); }, a, b, coveredAtA);
+  }
+
+  template <typename Covered>
+  static float BisectBy(const Covered& covered, Point2 a, Point2 b, bool coveredAtA) {
     float lo = 0, hi = 1;
     for (int k = 0; k < kBisections; ++k) {
       const float mid = 0.5f * (lo + hi);
       const Point2 m{a.u + mid * (b.u - a.u), a.v + mid * (b.v - a.v)};
-      (CoveredAt(m) == coveredAtA ? lo : hi) = mid;
+      (covered(m) == coveredAtA ? lo : hi) = mid;
     }
     return coveredAtA ? lo : hi;  // on the covered side: no photon that reached the surface lands in the cover
   }
@@ -632,10 +644,18 @@ std::vector<SurfaceCover> FindCovers(const Scene& scene, const SurfaceSet& surfa
                                      const CoverSettings& settings) {
   std::vector<SurfaceCover> covers(surfaces.surfaces.size());
   if (!(settings.spacing > 0)) return covers;
+  CoverSettings scaled = settings;
+  if (settings.maxSpacingPerDiagonal > 0) {
+    Point3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (const Point3& p : scene.positions)
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)}, hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    const double diagonal = scene.positions.empty() ? 0 : double(Length(hi - lo));
+    if (diagonal > 0) scaled.spacing = float(std::min(double(settings.spacing), settings.maxSpacingPerDiagonal * diagonal));
+  }
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
     if (!surface.planar || scene.materials[surface.material].IsEmissive()) continue;
-    covers[s] = CoverBuilder(scene, surfaces, rays, s, settings).Build();
+    covers[s] = CoverBuilder(scene, surfaces, rays, s, scaled).Build();
   }
   return covers;
 }

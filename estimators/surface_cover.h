@@ -54,6 +54,9 @@ inline constexpr int kCoverRays = 16;
 
 struct CoverSettings {
   float spacing = 0.025f;            // s [m], the lattice spacing; 0 tests nothing (every cover is empty)
+  // And at most this share of the diagonal of the scene's bounding box, so that the lattice scales with the scene;
+  // 0: no such bound.
+  double maxSpacingPerDiagonal = 0;
   // A surface whose lattice would have more points gets a coarser one: the spacing doubled until it fits.
   uint64_t maxPointsPerSurface = 1u << 20;
 };
