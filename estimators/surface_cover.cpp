@@ -70,6 +70,8 @@ class CoverBuilder {
   SurfaceCover Build() {
     const Bounds2& b = whole_.Bounds();
     const double su = double(b.hi.u) - b.lo.u, sv = double(b.hi.v) - b.lo.v;
+    // A surface narrower than two lattice spacings holds at most a row of lattice points: too few to find a cover.
+    if (!(std::min(su, sv) >= 2 * double(settings_.spacing))) return {};
     double spacing = settings_.spacing;
     while ((su / spacing + 3) * (sv / spacing + 3) > double(settings_.maxPointsPerSurface)) spacing *= 2;
     c_.spacing_ = float(spacing);
@@ -135,16 +137,53 @@ class CoverBuilder {
   // touch (see the top): where the cover can change. Unsorted, with repeats.
   std::vector<uint64_t> MarkedCells() const {
     tbb::enumerable_thread_specific<std::vector<uint64_t>> marked;
-    const float reach = Reach();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, surface_.triangles.size()), [&](const tbb::blocked_range<size_t>& r) {
+    const float reach = Reach(), side = TileSide();
+    const std::vector<std::array<int, 2>> tiles = Tiles(side);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size()), [&](const tbb::blocked_range<size_t>& r) {
       std::vector<uint64_t>& cells = marked.local();
       std::vector<uint32_t> near;
-      for (size_t k = r.begin(); k != r.end(); ++k) MarkNear(surface_.triangles[k], reach, near, cells);
+      for (size_t k = r.begin(); k != r.end(); ++k) MarkNear(tiles[k], side, reach, near, cells);
     });
     std::vector<uint64_t> cells;
     for (const std::vector<uint64_t>& part : marked) cells.insert(cells.end(), part.begin(), part.end());
     for (const auto& [a, b] : BoundaryEdges()) MarkPolygon({a, b}, Whole(), cells);
     return cells;
+  }
+
+  // The side g [m] of the square tiles over which other triangles are looked for, one point query each: 16 lattice
+  // cells, or the side of the surface's mean triangle where that is larger, so that there are at most about as
+  // many tiles as triangles, and a query's sphere holds little beyond the slab.
+  float TileSide() const {
+    return std::max(16 * c_.spacing_, float(std::sqrt(2 * surface_.area / double(surface_.triangles.size()))));
+  }
+
+  // The tiles (i, j), [i g, (i + 1) g] x [j g, (j + 1) g] in the chart, that meet one of the surface's triangles.
+  std::vector<std::array<int, 2>> Tiles(float g) const {
+    std::vector<std::array<int, 2>> tiles;
+    for (uint32_t t : surface_.triangles) {
+      std::array<Point2, 3> c = surfaces_.cornerUv[t];
+      if (SignedArea(c[0], c[1], c[2]) < 0) std::swap(c[1], c[2]);
+      Bounds2 b;
+      for (const Point2& p : c) b.Extend(p);
+      for (int j = int(std::floor(b.lo.v / g)); j <= int(std::floor(b.hi.v / g)); ++j)
+        for (int i = int(std::floor(b.lo.u / g)); i <= int(std::floor(b.hi.u / g)); ++i)
+          if (TileMeets({{float(i * g), float(j * g)}, {float((i + 1) * g), float((j + 1) * g)}}, c)) tiles.push_back({i, j});
+    }
+    std::sort(tiles.begin(), tiles.end());
+    tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
+    return tiles;
+  }
+
+  // Whether the box meets counter-clockwise triangle c, given that their bounding boxes meet: no edge of c has the
+  // whole box outside it (the separating axis test's remaining axes).
+  static bool TileMeets(const Bounds2& box, const std::array<Point2, 3>& c) {
+    const Point2 corners[4] = {box.lo, {box.hi.u, box.lo.v}, box.hi, {box.lo.u, box.hi.v}};
+    for (int e = 0; e < 3; ++e) {
+      bool allOutside = true;
+      for (const Point2& q : corners) allOutside = allOutside && SignedArea(c[e], c[(e + 1) % 3], q) < 0;
+      if (allOutside) return false;
+    }
+    return true;
   }
 
   // r: how far from the surface's mean plane [m] another triangle may pass and still bound a cover.
@@ -156,22 +195,21 @@ class CoverBuilder {
     return deviation + 2 * c_.spacing_ + 4 * rays_.SpawnOffset();
   }
 
-  // Marks the cells that the slab's cut of each other triangle near surface triangle t touches, within t's chart
-  // box grown by two cells.
-  void MarkNear(uint32_t t, float reach, std::vector<uint32_t>& near, std::vector<uint64_t>& cells) const {
-    const std::array<uint32_t, 3>& v = scene_.triangles[t].v;
-    const Point3 centre = Centroid(scene_.positions[v[0]], scene_.positions[v[1]], scene_.positions[v[2]]);
-    float radius = 0;
-    for (uint32_t corner : v) radius = std::max(radius, Length(scene_.positions[corner] - centre));
-    Bounds2 window;
-    for (const Point2& p : surfaces_.cornerUv[t]) window.Extend(p);
+  // Marks the cells that the slab's cut of each other triangle near tile (i, j) of side g touches, within the
+  // tile grown by two cells.
+  void MarkNear(std::array<int, 2> tile, float g, float reach, std::vector<uint32_t>& near, std::vector<uint64_t>& cells) const {
+    // The tile within the chart's box, grown by the margin.
     const float margin = 2 * c_.spacing_;
-    window.lo = {window.lo.u - margin, window.lo.v - margin};
-    window.hi = {window.hi.u + margin, window.hi.v + margin};
+    const Bounds2& chartBox = whole_.Bounds();
+    const Bounds2 window{{std::max(float(tile[0] * g), chartBox.lo.u) - margin, std::max(float(tile[1] * g), chartBox.lo.v) - margin},
+                         {std::min(float((tile[0] + 1) * g), chartBox.hi.u) + margin, std::min(float((tile[1] + 1) * g), chartBox.hi.v) + margin}};
+    const SurfaceChart& chart = surface_.chart;
+    const float u = 0.5f * (window.lo.u + window.hi.u), v = 0.5f * (window.lo.v + window.hi.v);
+    const Point3 centre = chart.origin + chart.frame.s * u + chart.frame.t * v;
     near.clear();
-    rays_.TrianglesNear(centre, radius + margin + reach, near);
+    rays_.TrianglesNear(centre, 0.5f * std::hypot(window.hi.u - window.lo.u, window.hi.v - window.lo.v) + reach, near);
     for (uint32_t other : near) {
-      if (surfaces_.surfaceOfTriangle[other] == surfaceIndex_) continue;
+      if (surfaces_.surfaceOfTriangle[other] == surfaceIndex_ || !MeetsSlab(other, reach)) continue;
       const SlabPart cut = SlabCut(other, reach);
       if (cut.inPlane) {
         for (size_t k = 0; k < cut.uv.size(); ++k) MarkPolygon({cut.uv[k], cut.uv[(k + 1) % cut.uv.size()]}, window, cells);
@@ -181,8 +219,15 @@ class CoverBuilder {
     }
   }
 
-  static Point3 Centroid(Point3 a, Point3 b, Point3 c) {
-    return {(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3, (a.z + b.z + c.z) / 3};
+  // Whether triangle `other` has points within `reach` of the surface's plane: its corners' distances straddle
+  // or touch [-reach, reach].
+  bool MeetsSlab(uint32_t other, float reach) const {
+    float lo = INFINITY, hi = -INFINITY;
+    for (uint32_t v : scene_.triangles[other].v) {
+      const float d = Dot(scene_.positions[v] - surface_.chart.origin, surface_.chart.frame.n);
+      lo = std::min(lo, d), hi = std::max(hi, d);
+    }
+    return lo <= reach && hi >= -reach;
   }
 
   // The part of triangle `other` within `reach` of the surface's plane, projected into the chart: a convex polygon

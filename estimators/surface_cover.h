@@ -25,7 +25,8 @@
 // deviation from its mean plane, plus 2 s: a lamp 1 cm under a ceiling covers the ceiling behind it) or at the
 // surface's edge. So the lattice is classified by rays only in a band about
 // those lines: the cells that the slab's cut of every other triangle near the surface touches (projected into the
-// chart; only its edges when it lies in the plane itself; found by one Embree point query per surface triangle), and the cells its own boundary edges
+// chart; only its edges when it lies in the plane itself; found by one Embree point query per square tile of the
+// chart, of side 16 s or the surface's mean triangle side, whichever is larger), and the cells its own boundary edges
 // touch, each grown by one cell. Every other lattice point takes the class of the band point beside it in its
 // row (open where the row has none: it reaches the lattice's rim, off the surface). The cost is linear in the
 // triangles near the surface and in the length of those lines over s, not in the surface's area over s^2; a planar
@@ -34,7 +35,8 @@
 // that covers a surface from farther than r (a box with no bottom hovering over a floor) is not seen: covers are
 // where objects stand on, pass through or hang close over a surface.
 //
-// Only planar, non-emissive surfaces are tested; a curved surface or a light has an empty cover.
+// Only planar, non-emissive surfaces at least 2 s wide each way are tested; a curved surface, a light or a
+// narrower surface has an empty cover.
 #pragma once
 
 #include <array>
