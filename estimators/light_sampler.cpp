@@ -42,6 +42,10 @@ LightSampler::LightSampler(const Scene& scene, const std::vector<Light>& lights,
     for (const Point3& corner : shape.corners) shape.radius = std::max(shape.radius, Length(corner - shape.centroid));
     shape.radius *= 1.0001f;  // rounding must not shrink it
     shape.power = Luminance(light.radiance) * light.area;
+    const LightBounds cone = BoundsOf(shape, light);
+    shape.axis = cone.axis, shape.spread = cone.spread, shape.lo = cone.lo, shape.hi = cone.hi;
+    shape.nearest = INFINITY;
+    for (const Point3& corner : shape.corners) shape.nearest = std::min(shape.nearest, Dot(corner - Point3{0, 0, 0}, shape.axis));
     shapes_.push_back(std::move(shape));
   }
   if (areas_.size() < treeFrom) return;
@@ -73,12 +77,34 @@ LightBounds LightSampler::BoundsOf(const LightShape& shape, const Light& light) 
 }
 
 bool LightSampler::CanReach(const LightShape& shape, const Light& light, Point3 p, Normal3 n) const {
+  if (light.triangles.size() > kExactReachTriangles) return MayReach(shape, p, n);
   const bool inFrontOfX = std::any_of(shape.corners.begin(), shape.corners.end(),
                                       [&](Point3 c) { return Dot(c - p, n) > 0; });
   if (!inFrontOfX) return false;
   return std::any_of(light.triangles.begin(), light.triangles.end(), [&](uint32_t t) {
     return Dot(p - scene_.PointAt(t, 0, 0), scene_.FrontNormal(t)) > 0;
   });
+}
+
+// Conservative: false only when the light's box lies wholly behind p's plane, or when no triangle can face p, by
+// either of two bounds on the largest dot(p - y, n_t) over the light's points y and front normals n_t:
+//  - its sphere and cone: |p - c| cos(max(0, psi - theta_o)) + r, with psi the angle between p - c and the axis;
+//  - its planes: dot(p, a) - min_y dot(y, a) + (|p - c| + r) 2 sin(theta_o / 2), exact for a flat light.
+bool LightSampler::MayReach(const LightShape& shape, Point3 p, Normal3 n) {
+  float front = -Dot(p - Point3{0, 0, 0}, n);  // the box's farthest corner along n, less p's
+  for (int k = 0; k < 3; ++k) {
+    const float nk = k == 0 ? n.x : k == 1 ? n.y : n.z;
+    const float lo = k == 0 ? shape.lo.x : k == 1 ? shape.lo.y : shape.lo.z, hi = k == 0 ? shape.hi.x : k == 1 ? shape.hi.y : shape.hi.z;
+    front += std::max(lo * nk, hi * nk);
+  }
+  if (!(front > 0)) return false;
+  const Vector3 d = p - shape.centroid;
+  const float distance = Length(d);
+  const float tilt = (distance + shape.radius) * 2 * std::sin(0.5f * std::min(shape.spread, kPi));
+  if (!(Dot(p - Point3{0, 0, 0}, shape.axis) - shape.nearest + tilt > 0)) return false;
+  if (!(distance > shape.radius) || shape.spread >= kPi) return true;
+  const float psi = std::acos(std::clamp(Dot(d, shape.axis) / distance, -1.0f, 1.0f));
+  return distance * std::cos(std::max(0.0f, psi - shape.spread)) + shape.radius > 0;
 }
 
 std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
@@ -106,13 +132,9 @@ std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
 
 Rgb LightSampler::SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const {
   const Light& light = lights_[areas_[area]];
-  if (cache.lights.empty()) {
-    const auto seen = SubtendedAt(area, p, cache.triangles);
-    return seen ? SampleBySolidAngle(light, *seen, p, n, u) : SampleByArea(light, p, n, u);
-  }
-  auto& seen = cache.lights[area];
-  if (!seen) seen = SubtendedAt(area, p, cache.triangles);
-  return *seen ? SampleBySolidAngle(light, **seen, p, n, u) : SampleByArea(light, p, n, u);
+  auto [entry, first] = cache.lights.try_emplace(uint32_t(area));
+  if (first) entry->second = SubtendedAt(area, p, cache.triangles);
+  return entry->second ? SampleBySolidAngle(light, *entry->second, p, n, u) : SampleByArea(light, p, n, u);
 }
 
 std::optional<LightSampler::Subtended> LightSampler::SubtendedAt(size_t area, Point3 p, size_t triangles) const {
@@ -195,7 +217,6 @@ DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples,
   const std::vector<uint32_t> cells = Shuffled(side * side, rng);
   StratifiedMean mean(side);
   SubtendedCache cache{std::max<size_t>(kSolidAngleTriangles, samples / 4), {}};
-  if (areas_.size() <= kCachedLights) cache.lights.resize(areas_.size());
   for (uint32_t j = 0; j < samples; ++j) {
     const auto pick = PickLight(cdf, p, n, std::min((float(j) + rng.Uniform()) / float(samples), 0x1.fffffep-1f));
     const uint32_t cell = cells[j];

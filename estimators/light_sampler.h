@@ -12,7 +12,7 @@
 // Omega_i that it subtends instead (estimators/warps.h, Arvo 1995: a triangle in proportion to its solid angle,
 // then a direction in it), weighed Ke V cos(theta_x) Omega_i / p_i: the 1 / d^2 and cos(theta_y) factors, which
 // vary most over a near light, leave the estimate. A point computes a light's spherical triangles once, the first
-// time a sample picks it (with up to kCachedLights area lights; with more, per sample), and only for a light of at most
+// time a sample picks it, and only for a light of at most
 // S / 4 triangles (S samples; at least 4), so that this stays a small part of the point's cost: a path tracer's
 // one sample per vertex would otherwise pay for every triangle of a gridded light (7x its time on the 25 mm box). p_i is 90% in proportion to an unoccluded guess of the light's share at x
 // (its power over the squared distance to its centroid, floored at its area), 10% uniform over the lights that
@@ -37,6 +37,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 #include "estimators/light_tree.h"
@@ -92,15 +93,16 @@ class StratifiedMean {
 
 class LightSampler {
  public:
-  // From this many area lights on, the light tree chooses them (below it, the exact guess over every light):
-  // where the two cost about the same per point at 64 samples (build/bench_direct).
-  static constexpr size_t kTreeLights = 1024;
+  // From this many area lights on, the light tree chooses them (below it, the exact guess over every light, which
+  // costs O(lights) per point): the sports car's 374 LED lamps spent most of their direct light in the guess.
+  static constexpr size_t kTreeLights = 64;
+  // Lights of more triangles than this are tested in O(1) whether they can reach a point, conservatively (MayReach:
+  // their box, planes and cone of normals); smaller ones triangle by triangle, exactly.
+  static constexpr size_t kExactReachTriangles = 8;
   // Lights of at most max(this, samples / 4) triangles that subtend at least kSolidAngleFrom [sr] at a point are
   // sampled by solid angle there (see the top).
   static constexpr size_t kSolidAngleTriangles = 4;
   static constexpr double kSolidAngleFrom = 0.01;
-  // Up to this many area lights, a point keeps each light's spherical triangles for its later samples.
-  static constexpr size_t kCachedLights = 64;
 
   // All three must outlive the sampler. treeFrom: the number of area lights from which the tree chooses them;
   // solidAngleFrom: the solid angle [sr] from which a light is sampled by it (infinity: always by area).
@@ -132,10 +134,15 @@ class LightSampler {
     double power = 0;  // luminance of Ke times the area [W/sr]
     float radius = 0;  // of the sphere about the centroid that holds every corner [m]
     std::vector<Point3> corners;
+    Vector3 axis{0, 0, 1};  // the cone that holds every triangle's front normal (BoundsOf's)
+    float spread = 0;       // its half-angle [rad]
+    Point3 lo, hi;          // the box that holds every corner [m]
+    float nearest = 0;      // the least dot(corner, axis) over the corners [m]
   };
   // Light selection probabilities at p (summing to 1), as a CDF; empty when no light can reach p.
   std::vector<double> SelectionCdf(Point3 p, Normal3 n) const;
   bool CanReach(const LightShape& light, const Light& area, Point3 p, Normal3 n) const;
+  static bool MayReach(const LightShape& light, Point3 p, Normal3 n);
   // The solid angle that a light's triangles subtend at p, each triangle whose front faces p, with the CDF that
   // picks one in proportion to its part.
   struct Subtended {
@@ -146,11 +153,11 @@ class LightSampler {
   };
   // None where the light is sampled by area at p: more than `triangles` triangles, or too small a solid angle.
   std::optional<Subtended> SubtendedAt(size_t area, Point3 p, size_t triangles) const;
-  // Area light `area` (an index into areas_) seen from p, computed at most once per point in `lights` (one entry
-  // per area light, or none above kCachedLights lights).
+  // Area lights (indices into areas_) seen from p, each computed at most once per point, when a sample first picks
+  // it.
   struct SubtendedCache {
     size_t triangles = kSolidAngleTriangles;  // the most a light sampled by solid angle may have
-    std::vector<std::optional<std::optional<Subtended>>> lights;
+    std::unordered_map<uint32_t, std::optional<Subtended>> lights;  // by area light, once it is first picked
   };
   Rgb SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const;
   Rgb SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u) const;

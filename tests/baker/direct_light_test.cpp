@@ -16,6 +16,7 @@
 //  - over a black floor it is Lambert's direct light within 5 of its standard errors (mean z^2 near 1);
 //  - inside a closed grey sphere around a small light it finds every bounce: E = Phi / (A (1 - rho));
 //  - on the box it agrees with the photons on each facing's mean.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -83,6 +84,69 @@ TEST(Direct, SampledMatchesLambertWithinItsPredictedNoise) {
     EXPECT_GE(s.meanZ2, 0.1) << samples << " samples: the predicted error is far above the true one";
     EXPECT_LE(std::fabs(s.meanError), 5 * s.standardError) << samples;
   }
+}
+
+// A light of many triangles is tested in O(1) whether it can reach a point (LightSampler::MayReach: its box, its
+// planes and its cone of normals, conservatively). A roof-shaped light, two 1 x 0.5 m panels each tilted 18
+// degrees from facing down (one light: their normals differ by less than the 40 degree crease), each cut into
+// 4 x 4 quads (64 triangles), 0.6 m over a black floor. At 80 floor points under both panels the sampled E
+// matches Lambert's formula over both within 5 standard errors, and the mean error is within 5 of its standard
+// error; at 20 points that one panel faces (the other, edge-on, shades it by a few percent) E is within 10% below
+// Lambert's for that panel. Fails if a light that can reach a point is ruled out (the point would read low).
+TEST(Direct, ALightOfManyTrianglesIsRuledOutOnlyWhereItCannotReach) {
+  const std::string dir = test::TempDirectory("direct-roof");
+  const double c = std::cos(M_PI / 10), s = std::sin(M_PI / 10), top = 0.6 + 0.5 * s;
+  // Panel k (k = 0: x < 0, 1: x > 0) from the ridge (0, top, z) down to (-+0.5 c, top - 0.5 s, z), facing down
+  // and inward, as a roof's underside: floor points beyond |x| = 2.32 m see one panel only.
+  std::vector<std::vector<test::V3>> panels;
+  std::string obj = "mtllib r.mtl\n", faces = "usemtl lamp\n";
+  int vertex = 1;
+  for (int k = 0; k < 2; ++k) {
+    const double sign = k == 0 ? -1 : 1;
+    panels.push_back({{0, top, -0.5}, {sign * 0.5 * c, top - 0.5 * s, -0.5}, {sign * 0.5 * c, top - 0.5 * s, 0.5}, {0, top, 0.5}});
+    for (int j = 0; j <= 4; ++j)
+      for (int i = 0; i <= 4; ++i)
+        obj += fmt::format("v {} {} {}\n", sign * 0.5 * c * i / 4, top - 0.5 * s * i / 4, -0.5 + j / 4.0);
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const int a = vertex + j * 5 + i, b = a + 1, d = a + 5, e = a + 6;
+        // Counter-clockwise seen from below and inside.
+        faces += k == 0 ? fmt::format("f {} {} {} {}\n", a, d, e, b) : fmt::format("f {} {} {} {}\n", a, b, e, d);
+      }
+    vertex += 25;
+  }
+  obj += fmt::format("v -3 0 -3\nv -3 0 3\nv 3 0 3\nv 3 0 -3\n") + faces + "usemtl black\n" +
+         fmt::format("f {} {} {} {}\n", vertex, vertex + 1, vertex + 2, vertex + 3);
+  test::WriteText(dir + "/r.mtl", "newmtl lamp\nKd 0 0 0\nKe 1 1 1\nnewmtl black\nKd 0 0 0\n");
+  test::WriteText(dir + "/r.obj", obj);
+  const test::TracedScene prepared(dir + "/r.obj");
+  ASSERT_EQ(prepared.lights.size(), 1u);
+  ASSERT_GT(prepared.lights[0].triangles.size(), LightSampler::kExactReachTriangles);
+  const LightSampler sampler(prepared.scene, prepared.lights, *prepared.rays);
+  double errors = 0, variance = 0;
+  int points = 0;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) {
+      const double x = -2.7 + 5.4 * (i + 0.5) / 10, z = -0.9 + 1.8 * (j + 0.5) / 10;
+      double exact = 0;
+      for (int k = 0; k < 2; ++k) {
+        const double sign = k == 0 ? -1 : 1;  // panel k faces down and inward, (-sign s, -c, 0)
+        const test::V3 corner = panels[k][1];
+        if (-sign * s * (x - corner.x) - c * (0 - corner.y) > 0) exact += test::LambertPolygonIrradiance({x, 0, z}, {0, 1, 0}, panels[k], 1.0);
+      }
+      Rng rng(11, uint64_t(i * 10 + j));
+      const DirectSample e = sampler.Irradiance({float(x), 0, float(z)}, {0, 1, 0}, 256, rng);
+      const double sigma = e.relativeNoise * e.irradiance.g;
+      if (std::fabs(x) > 2.32) {  // one panel faces the point; the other, edge-on beyond, shades a few percent of it
+        EXPECT_GT(e.irradiance.g, 0.9 * exact) << x << ", " << z;
+        EXPECT_LT(e.irradiance.g, exact + 5 * sigma) << x << ", " << z;
+        continue;
+      }
+      EXPECT_NEAR(e.irradiance.g, exact, 5 * sigma) << x << ", " << z;
+      errors += e.irradiance.g / exact - 1, variance += std::pow(sigma / exact, 2), ++points;
+    }
+  EXPECT_EQ(points, 80);
+  EXPECT_LE(std::fabs(errors / points), 5 * std::sqrt(variance) / points);
 }
 
 // Solid-angle sampling (Arvo 1995) where the light is near: 0.1 m under the 1 x 1 m light, where 1 / d^2 varies
