@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include "baker/progress.h"
 #include "mesh/errors.h"
 #include "mesh/color.h"
 
@@ -74,7 +75,21 @@ SurfaceRegions BuildCoveredRegions(const std::vector<SurfaceCover>& covers) {
   return regions;
 }
 
-PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock, const CoverSettings& cover) {
+namespace {
+
+// The covers' progress on `log`, from the first surface done (when the total is known).
+CoverProgress ShowCovers(const Log* log, std::unique_ptr<Progress>& progress) {
+  if (log == nullptr) return {};
+  return [log, &progress](uint64_t triangles, uint64_t total) {
+    if (!progress) progress = std::make_unique<Progress>(*log, "find covers", total);
+    progress->Advance(triangles);
+  };
+}
+
+}  // namespace
+
+PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock, const CoverSettings& cover,
+                           const Log* log) {
   PreparedScene p{std::move(scene)};
   if (p.scene.Recentred()) p.warnings.push_back(RecentringNote(p.scene));
   p.surfaces = clock.Time("surfaces", [&] { return BuildSurfaces(p.scene); });
@@ -82,21 +97,24 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
   RequireLight(p.scene, p.lights);
   p.plan = clock.Time("plan", [&] { return PlanTransport(p.scene, p.surfaces, p.lights, effects); });
   p.rays = clock.Time("bvh", [&] { return std::make_unique<RayScene>(p.scene); });
-  p.covers = clock.Time("covers", [&] { return FindCovers(p.scene, p.surfaces, *p.rays, cover); });
+  p.covers = clock.Time("covers", [&] {
+    std::unique_ptr<Progress> progress;
+    return FindCovers(p.scene, p.surfaces, *p.rays, cover, ShowCovers(log, progress));
+  });
   p.regions = clock.Time("regions", [&] { return BuildRegions(p.surfaces, p.covers); });
   p.coveredRegions = BuildCoveredRegions(p.covers);
   return p;
 }
 
 
-PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock) {
+PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock, const Log* log) {
   LoadedScene loaded = clock.Time("load", [&] {
     LoadedScene l = LoadScene(settings.path, {settings.scale, settings.luminousEfficacy});
     AddLightsFile(l.scene, settings.lightsPath);
     return l;
   });
   try {
-    PreparedScene p = PrepareScene(std::move(loaded.scene), settings.effects, clock, settings.cover);
+    PreparedScene p = PrepareScene(std::move(loaded.scene), settings.effects, clock, settings.cover, log);
     p.warnings.insert(p.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
     return p;
   } catch (const InputError& e) {

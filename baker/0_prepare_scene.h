@@ -21,6 +21,8 @@
 
 namespace pb {
 
+class Log;  // baker/progress.h
+
 // Each surface's region in its chart, by surface index: the surface less what covers it.
 using SurfaceRegions = std::vector<std::unique_ptr<SurfaceRegion>>;
 SurfaceRegions BuildRegions(const SurfaceSet& surfaces, const std::vector<SurfaceCover>& covers);
@@ -52,9 +54,10 @@ struct PreparedScene {
 // Loads and prepares the scene, timing each part on `clock` ("load", "surfaces", "lights", "plan", "bvh", "covers",
 // "regions").
 // InputError for a bad file (with file:line), a scene with no light, or no light that reaches a receiver.
-PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock);
+// With a log, the covers' progress is shown (baker/progress.h).
+PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock, const Log* log = nullptr);
 // The same from a scene already loaded (tests that build scenes in memory).
 PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock,
-                           const CoverSettings& cover = {});
+                           const CoverSettings& cover = {}, const Log* log = nullptr);
 
 }  // namespace pb

@@ -300,7 +300,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   Journal journal;
   StageClock clock(journal.stageSeconds);
 
-  const PreparedScene scene = PrepareScene(SceneOf(o), clock);
+  const PreparedScene scene = PrepareScene(SceneOf(o), clock, &log);
   RequireDistinctFiles(OutputFilesOf(o), scene.scene.InputFiles());
   journal.Warn(scene.warnings, log);
   if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions, threads.Count());
@@ -366,7 +366,7 @@ void TraceShareOfBake(const BakeOptions& o, const Log& log, const Distribution& 
   const ThreadScope threads(o.threads);
   std::vector<std::pair<std::string, double>> seconds;
   StageClock clock(seconds);
-  const PreparedScene scene = PrepareScene(SceneOf(o), clock);
+  const PreparedScene scene = PrepareScene(SceneOf(o), clock, &log);
   const InterruptScope interrupt;
   Lit lit;
   lit.photons = EmptyPhotonStore(scene.lights);

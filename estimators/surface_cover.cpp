@@ -686,7 +686,7 @@ double SurfaceCover::Area() const {
 }
 
 std::vector<SurfaceCover> FindCovers(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays,
-                                     const CoverSettings& settings) {
+                                     const CoverSettings& settings, const CoverProgress& advance) {
   std::vector<SurfaceCover> covers(surfaces.surfaces.size());
   if (!(settings.spacing > 0)) return covers;
   CoverSettings scaled = settings;
@@ -697,10 +697,16 @@ std::vector<SurfaceCover> FindCovers(const Scene& scene, const SurfaceSet& surfa
     const double diagonal = scene.positions.empty() ? 0 : double(Length(hi - lo));
     if (diagonal > 0) scaled.spacing = float(std::min(double(settings.spacing), settings.maxSpacingPerDiagonal * diagonal));
   }
+  const auto tested = [&](const Surface& surface) {
+    return surface.planar && !scene.materials[surface.material].IsEmissive();
+  };
+  uint64_t total = 0;
+  for (const Surface& surface : surfaces.surfaces) total += tested(surface) ? surface.triangles.size() : 0;
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
-    if (!surface.planar || scene.materials[surface.material].IsEmissive()) continue;
+    if (!tested(surface)) continue;
     covers[s] = CoverBuilder(scene, surfaces, rays, s, scaled).Build();
+    if (advance) advance(surface.triangles.size(), total);
   }
   return covers;
 }

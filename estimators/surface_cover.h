@@ -41,6 +41,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -113,8 +114,10 @@ class SurfaceCover {
   uint64_t probed_ = 0;
 };
 
-// One cover per surface of `surfaces`.
+// One cover per surface of `surfaces`. `advance`, when given, is told after each tested surface its number of
+// triangles, and the number of all tested surfaces' triangles [count].
+using CoverProgress = std::function<void(uint64_t triangles, uint64_t total)>;
 std::vector<SurfaceCover> FindCovers(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays,
-                                     const CoverSettings& settings);
+                                     const CoverSettings& settings, const CoverProgress& advance = {});
 
 }  // namespace pb
