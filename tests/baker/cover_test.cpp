@@ -110,15 +110,21 @@ TEST(Cover, AOneSidedTableTopOverTheFloorCoversNothing) {
   EXPECT_TRUE(FloorCover(p).Empty());
 }
 
+// OBJ statements `obj` with materials grey (Kd 0.5) and lamp (Ke 10), prepared.
+PreparedScene PrepareGreyUnderLamp(const std::string& name, const std::string& obj) {
+  const std::string dir = test::TempDirectory(name);
+  test::WriteText(dir + "/c.mtl", "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
+  test::WriteText(dir + "/c.obj", "mtllib c.mtl\n" + obj);
+  return Prepare(dir + "/c.obj");
+}
+
 // A 20 x 20 m floor with nothing on it: its lattice (s = 25 mm) has 646,416 points, but rays are cast only in the
 // band along its outline (4 x 800 cells, 4 points wide: about 13,000 points). Fails if the whole lattice is probed.
 TEST(Cover, AFloorWithNothingOnItProbesOnlyItsOutline) {
-  const std::string dir = test::TempDirectory("cover-empty-floor");
-  test::WriteText(dir + "/c.mtl", "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
-  test::WriteText(dir + "/c.obj", "mtllib c.mtl\nv -0.25 1 -0.25\nv 0.25 1 -0.25\nv 0.25 1 0.25\nv -0.25 1 0.25\n"
-                                  "usemtl lamp\nf 1 2 3 4\nv -10 0 -10\nv -10 0 10\nv 10 0 10\nv 10 0 -10\n"
-                                  "usemtl grey\nf 5 6 7 8\n");
-  const PreparedScene p = Prepare(dir + "/c.obj");
+  const PreparedScene p = PrepareGreyUnderLamp("cover-empty-floor",
+                                               "v -0.25 1 -0.25\nv 0.25 1 -0.25\nv 0.25 1 0.25\nv -0.25 1 0.25\n"
+                                               "usemtl lamp\nf 1 2 3 4\nv -10 0 -10\nv -10 0 10\nv 10 0 10\n"
+                                               "v 10 0 -10\nusemtl grey\nf 5 6 7 8\n");
   uint32_t floor = 0;
   for (uint32_t s = 0; s < p.surfaces.surfaces.size(); ++s)
     if (p.surfaces.surfaces[s].area > 399) floor = s;
@@ -132,12 +138,11 @@ TEST(Cover, AFloorWithNothingOnItProbesOnlyItsOutline) {
 // covered. Each side is cut by about 1 cm / tan(10 deg) = 57 mm, less the spiral's azimuths allow: at most
 // (1.2 - 0) x 0.3 m, at least (1.2 - 0.12) x (0.3 - 0.12) m. Fails when the lamp is not found within reach.
 TEST(Cover, ALampJustUnderACeilingCoversTheCeilingBehindIt) {
-  const std::string dir = test::TempDirectory("cover-lamp");
-  test::WriteText(dir + "/c.mtl", "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
-  test::WriteText(dir + "/c.obj", "mtllib c.mtl\nv -0.6 2.99 -0.15\nv 0.6 2.99 -0.15\nv 0.6 2.99 0.15\nv -0.6 2.99 0.15\n"
-                                  "usemtl lamp\nf 1 2 3 4\nv -2 3 -2\nv 2 3 -2\nv 2 3 2\nv -2 3 2\n"
-                                  "usemtl grey\nf 5 6 7 8\nv -2 0 -2\nv -2 0 2\nv 2 0 2\nv 2 0 -2\nf 9 10 11 12\n");
-  const PreparedScene p = Prepare(dir + "/c.obj");
+  const PreparedScene p = PrepareGreyUnderLamp("cover-lamp",
+                                               "v -0.6 2.99 -0.15\nv 0.6 2.99 -0.15\nv 0.6 2.99 0.15\nv -0.6 2.99 0.15\n"
+                                               "usemtl lamp\nf 1 2 3 4\nv -2 3 -2\nv 2 3 -2\nv 2 3 2\nv -2 3 2\n"
+                                               "usemtl grey\nf 5 6 7 8\nv -2 0 -2\nv -2 0 2\nv 2 0 2\nv 2 0 -2\n"
+                                               "f 9 10 11 12\n");
   double ceiling = -1;
   for (uint32_t s = 0; s < p.surfaces.surfaces.size(); ++s)
     if (p.surfaces.surfaces[s].chart.frame.n.y < -0.99f) ceiling = p.covers[s].Area();
