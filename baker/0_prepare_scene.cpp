@@ -26,6 +26,21 @@ std::string RecentringNote(const Scene& scene) {
                      scene.path, scene.origin[0], scene.origin[1], scene.origin[2]);
 }
 
+// A hint when the scene's size suggests it was modelled in other units than metres: over 500 m or under 5 mm
+// across (the diagonal of its box), with the --scale that millimetres, centimetres or inches would need. Empty
+// when its size is plausible in metres.
+std::string UnitsNote(const Scene& scene) {
+  Point3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const Point3& q : scene.positions)
+    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)}, hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+  const double across = scene.positions.empty() ? 0 : double(Length(hi - lo));
+  if (!(across > 500 || (across > 0 && across < 5e-3))) return {};
+  return fmt::format("{}: warning: the scene is {:.3g} m across; lengths are read as metres (and --h is in metres): "
+                     "if it was modelled in millimetres, centimetres or inches, bake with --scale 0.001, 0.01 or "
+                     "0.0254 (it would be {:.3g}, {:.3g} or {:.3g} m across)",
+                     scene.path, across, across * 1e-3, across * 1e-2, across * 0.0254);
+}
+
 // Largest flux of one light [W]: float ends at 3.4e38, and fluxes are summed over lights and multiplied by
 // exposures, so a light must leave room below it.
 constexpr double kMaxLightFlux = 1e30;
@@ -92,6 +107,7 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
                            const Log* log) {
   PreparedScene p{std::move(scene)};
   if (p.scene.Recentred()) p.warnings.push_back(RecentringNote(p.scene));
+  if (const std::string note = UnitsNote(p.scene); !note.empty()) p.warnings.push_back(note);
   p.surfaces = clock.Time("surfaces", [&] { return BuildSurfaces(p.scene); });
   p.lights = clock.Time("lights", [&] { return CollectLights(p.scene, p.surfaces); });
   RequireLight(p.scene, p.lights);

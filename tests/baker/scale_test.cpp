@@ -9,6 +9,7 @@
 #include <cmath>
 #include <string>
 
+#include "baker/0_prepare_scene.h"
 #include "baker/bake.h"
 #include "tests/test_scenes.h"
 
@@ -38,6 +39,18 @@ TEST(Scale, TheBoxReadsTheSameLightInMillimetresMetresAndKilometres) {
     for (const double scale : {1e-3, 1e3})
       EXPECT_NEAR(MeanScaledIrradiance(scale, direct) / metres, 1.0, 0.01) << "scale " << scale << ", direct "
                                                                            << int(direct);
+  }
+}
+
+// A scene far from a room's size in metres (the box at --scale 1e3 is 1.7 km across, at 1e-3 1.7 mm) is told
+// which --scale millimetres, centimetres or inches would need; at 1 it is not.
+TEST(Scale, AKilometreOrAMillimetreAcrossIsToldAboutUnits) {
+  for (const float scale : {1e-3f, 1.0f, 1e3f}) {
+    StageClock clock;
+    const PreparedScene p = PrepareScene(SceneSettings{PB_SOURCE_DIR "/data/box/box.obj", scale, {}}, clock);
+    bool told = false;
+    for (const std::string& w : p.warnings) told |= w.find("--scale 0.001, 0.01 or 0.0254") != std::string::npos;
+    EXPECT_EQ(told, scale != 1.0f) << scale;
   }
 }
 
