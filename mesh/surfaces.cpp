@@ -123,7 +123,11 @@ Vector3 AreaVectorSum(const Scene& scene, const std::vector<uint32_t>& triangles
 }
 
 bool IsPlanar(const Scene& scene, const std::vector<uint32_t>& triangles, float planarDegrees) {
-  const Normal3 mean = NormalFrom(AreaVectorSum(scene, triangles));
+  // No mean normal: a closed group of slivers (a tiny box whose every triangle's normal rounding can turn) has
+  // area vectors that sum to nothing, and no plane.
+  const Vector3 sum = AreaVectorSum(scene, triangles);
+  if (!(Length(sum) > 0) || !std::isfinite(Length(sum))) return false;
+  const Normal3 mean = NormalFrom(sum);
   const float minCos = CosDegrees(planarDegrees), sinPlanar = std::sin(planarDegrees * kPi / 180.0f);
   return std::all_of(triangles.begin(), triangles.end(), [&](uint32_t t) {
     return !NormalIsReliable(scene, t, sinPlanar) || Dot(scene.FrontNormal(t), mean) >= minCos;

@@ -1,6 +1,7 @@
 // The OBJ/MTL loader: what it reads, and how it refuses bad input (message names file:line).
 #include "mesh/obj_loader.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -223,6 +224,27 @@ TEST(Surfaces, SliversOfAHugePolygonJoinItsPlanarSurface) {
   ASSERT_EQ(set.surfaces.size(), 2u);  // the floor and the lamp
   EXPECT_EQ(set.CurvedCount(), 0u);
   EXPECT_NEAR(set.surfaces[0].area, 20000 * std::sin(2 * M_PI / 40000), 1e-4);
+}
+
+// A closed box 30 micrometres wide 100 m from the origin, beside a 200 m floor (as the conference room's tiny
+// boxes at --scale 0.003): float rounding there can turn each of its triangles' normals by degrees, so none votes
+// on planarity, and their area vectors sum to nothing. It must not become a "planar" surface with a NaN normal: every chart's normal is finite.
+TEST(Surfaces, ATinyClosedBoxOfSliversHasNoNaNNormal) {
+  const std::string dir = test::TempDirectory("surfaces-tiny-box");
+  std::string obj = "mtllib b.mtl\nusemtl grey\n";
+  for (int k = 0; k < 8; ++k)
+    obj += fmt::format("v {} {} {}\n", 100 + 3e-5 * (k & 1), 100 + 3e-5 * ((k >> 1) & 1), 100 + 3e-5 * ((k >> 2) & 1));
+  obj += "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  obj += "usemtl floor\nv -100 0 -100\nv -100 0 100\nv 100 0 100\nv 100 0 -100\nf 9 10 11 12\n";
+  test::WriteText(dir + "/b.mtl", "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl floor\nKd 0.5 0.5 0.5\n");
+  test::WriteText(dir + "/b.obj", obj);
+  const Scene scene = LoadObj(dir + "/b.obj").scene;
+  const SurfaceSet set = BuildSurfaces(scene);
+  ASSERT_FALSE(set.surfaces.empty());
+  for (const Surface& s : set.surfaces) {
+    const Normal3 n = s.chart.frame.n;
+    EXPECT_TRUE(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z));
+  }
 }
 
 TEST(Surfaces, ConformalMapRefusesAPatchWithoutArea) {
