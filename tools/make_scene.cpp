@@ -6,10 +6,12 @@
 //              baseline that the ceiling's bake time is measured against.
 //   grid-room: the one-light room with its six faces cut into a grid of about --triangles triangles in all
 //              (squares of side sqrt(2 A / N) over the faces' area A), for the front end's scaling.
+//   --light-triangles N cuts the one light (one-light, grid-room) into a grid of about N triangles.
 //   lit-copy:  a copy of the OBJ --from (a real asset that has no light of its own) with its material libraries
 //              named by absolute path, and one emissive quad added: as wide as the model's bounding box in x and z,
 //              facing down (y up) a tenth of the box's height above it, of radiance 10 W/(m^2 sr).
-// Usage: make-scene led-room|one-light|grid-room|lit-copy [--lamps N] [--triangles N] [--from OBJ] --out DIR;
+// Usage: make-scene led-room|one-light|grid-room|lit-copy [--lamps N] [--triangles N] [--light-triangles N]
+// [--from OBJ] --out DIR;
 // prints the OBJ's path.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -123,6 +125,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"led-room", "one-light", "grid-room", "lit-copy"}));
   app.add_option("--triangles", triangles, "grid-room: triangles of the room's faces")->capture_default_str();
   app.add_option("--lamps", lamps, "lamps of the LED ceiling (one-light: whose flux it carries)")->capture_default_str();
+  uint64_t lightTriangles = 2;
+  app.add_option("--light-triangles", lightTriangles, "one-light, grid-room: triangles of the light")->capture_default_str();
   std::string from;
   app.add_option("--from", from, "lit-copy: the OBJ to copy");
   app.add_option("--out", out, "folder for room.obj and room.mtl")->capture_default_str();
@@ -146,8 +150,14 @@ int main(int argc, char** argv) {
   for (uint64_t lamp = 0; lamp < lamps; ++lamp) flux += LevelRadiance(LampLevel(lamp)) * kLeg * kLeg / 2;
   if (kind != "led-room") {
     mtl += fmt::format("newmtl light\nKd 0 0 0\nKe {0} {0} {0}\n", flux);  // 1 m^2
-    obj += fmt::format("usemtl light\nv -0.5 {0} -0.5\nv 0.5 {0} -0.5\nv 0.5 {0} 0.5\nv -0.5 {0} 0.5\n"
-                       "f {1} {2} {3} {4}\n", y, first, first + 1, first + 2, first + 3);
+    if (lightTriangles <= 2) {
+      obj += fmt::format("usemtl light\nv -0.5 {0} -0.5\nv 0.5 {0} -0.5\nv 0.5 {0} 0.5\nv -0.5 {0} 0.5\n"
+                         "f {1} {2} {3} {4}\n", y, first, first + 1, first + 2, first + 3);
+    } else {  // the same square cut into about lightTriangles triangles, facing down
+      const double corner[3] = {-0.5, y, -0.5}, a[3] = {1, 0, 0}, b[3] = {0, 0, 1};
+      obj += "usemtl light\n";
+      GridFace(obj, first, corner, a, b, std::sqrt(2.0 / double(lightTriangles)));
+    }
   } else {
     for (int level = 0; level < kLevels; ++level)
       mtl += fmt::format("newmtl lamp_{0}\nKd 0 0 0\nKe {1} {1} {1}\n", level, LevelRadiance(level));
