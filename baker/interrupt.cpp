@@ -1,5 +1,7 @@
 #include "baker/interrupt.h"
 
+#include <unistd.h>
+
 #include <atomic>
 #include <csignal>
 
@@ -8,9 +10,16 @@ namespace {
 
 std::atomic<bool> requested{false};
 
+// Said at once, so that a Ctrl-C during a stage that does not stop early (the estimate, the outputs) is not taken
+// for ignored. write(2) is async-signal-safe; its result is of no use here.
+constexpr char kSaid[] =
+    "\nCtrl-C: tracing stops and the bake finishes with the photons it has (estimate and outputs); "
+    "Ctrl-C again stops at once and leaves any earlier output as it was\n";
+
 extern "C" void OnInterrupt(int) {
   requested.store(true, std::memory_order_relaxed);
   std::signal(SIGINT, SIG_DFL);  // the second Ctrl-C is the user's emergency exit
+  [[maybe_unused]] const ssize_t written = write(STDERR_FILENO, kSaid, sizeof(kSaid) - 1);
 }
 
 }  // namespace
