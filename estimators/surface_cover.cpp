@@ -374,17 +374,18 @@ class CoverBuilder {
     return true;
   }
 
-  // The band's lattice points: the corners of the marked cells grown by one cell, sorted.
+  // The band's lattice points: the corners of the marked cells, sorted. A point that is not one has no marked cell
+  // about it; every lattice edge that a footprint touches is a side of a cell that MarkPolygon marks, so the edges
+  // from such a point touch none, and its class is its neighbours'.
   std::vector<uint64_t> BandPoints(std::vector<uint64_t> marked) const {
     std::sort(marked.begin(), marked.end());
     marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
     std::vector<uint64_t> points;
-    points.reserve(marked.size() * 16);
+    points.reserve(marked.size() * 4);
     for (uint64_t cell : marked) {
       const int i = int(cell % uint64_t(c_.nu_)), j = int(cell / uint64_t(c_.nu_));
-      for (int dj = -1; dj <= 2; ++dj)
-        for (int di = -1; di <= 2; ++di)
-          if (i + di >= 0 && i + di < c_.nu_ && j + dj >= 0 && j + dj < c_.nv_) points.push_back(Key(i + di, j + dj));
+      for (int dj = 0; dj <= 1; ++dj)
+        for (int di = 0; di <= 1; ++di) points.push_back(Key(i + di, j + dj));  // cells stop one short of the rim
     }
     std::sort(points.begin(), points.end());
     points.erase(std::unique(points.begin(), points.end()), points.end());

@@ -119,7 +119,8 @@ PreparedScene PrepareGreyUnderLamp(const std::string& name, const std::string& o
 }
 
 // A 20 x 20 m floor with nothing on it: its lattice (s = 25 mm) has 646,416 points, but rays are cast only in the
-// band along its outline (4 x 800 cells, 4 points wide: about 13,000 points). Fails if the whole lattice is probed.
+// band along its outline (4 x 800 cells, the corners of each: about 6,400 points). Fails if the whole lattice is
+// probed.
 TEST(Cover, AFloorWithNothingOnItProbesOnlyItsOutline) {
   const PreparedScene p = PrepareGreyUnderLamp("cover-empty-floor",
                                                "v -0.25 1 -0.25\nv 0.25 1 -0.25\nv 0.25 1 0.25\nv -0.25 1 0.25\n"
@@ -129,8 +130,8 @@ TEST(Cover, AFloorWithNothingOnItProbesOnlyItsOutline) {
   for (uint32_t s = 0; s < p.surfaces.surfaces.size(); ++s)
     if (p.surfaces.surfaces[s].area > 399) floor = s;
   EXPECT_TRUE(p.covers[floor].Empty());
-  EXPECT_GT(p.covers[floor].ProbedPoints(), 4u * 800 * 2);  // the outline is probed
-  EXPECT_LT(p.covers[floor].ProbedPoints(), 4u * 800 * 6);
+  EXPECT_GE(p.covers[floor].ProbedPoints(), 4u * 800);  // the outline is probed
+  EXPECT_LT(p.covers[floor].ProbedPoints(), 4u * 800 * 3);
 }
 
 // A one-sided lamp (1.2 x 0.3 m) hanging 1 cm under a ceiling, facing down, as the offices' lamps do: the
