@@ -8,6 +8,7 @@
 #include "mesh/color.h"
 
 #include <algorithm>
+#include <optional>
 #include "mesh/gltf_loader.h"
 
 namespace pb {
@@ -75,10 +76,13 @@ InputError WithLoaderWarnings(const InputError& e, const std::vector<std::string
 
 }  // namespace
 
-SurfaceRegions BuildRegions(const SurfaceSet& surfaces, const std::vector<SurfaceCover>& covers) {
+SurfaceRegions BuildRegions(const SurfaceSet& surfaces, const std::vector<SurfaceCover>& covers, const Log* log) {
   SurfaceRegions regions(surfaces.surfaces.size());
+  std::optional<Progress> progress;
+  if (log != nullptr) progress.emplace(*log, "surface regions", regions.size());
   tbb::parallel_for(size_t(0), regions.size(), [&](size_t s) {
     regions[s] = std::make_unique<SurfaceRegion>(ChartTriangles(surfaces, surfaces.surfaces[s]), covers[s].Pieces());
+    if (progress) progress->Advance(1);
   });
   return regions;
 }
@@ -117,7 +121,7 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
     std::unique_ptr<Progress> progress;
     return FindCovers(p.scene, p.surfaces, *p.rays, cover, ShowCovers(log, progress));
   });
-  p.regions = clock.Time("regions", [&] { return BuildRegions(p.surfaces, p.covers); });
+  p.regions = clock.Time("regions", [&] { return BuildRegions(p.surfaces, p.covers, log); });
   p.coveredRegions = BuildCoveredRegions(p.covers);
   return p;
 }

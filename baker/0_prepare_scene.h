@@ -25,7 +25,9 @@ class Log;  // baker/progress.h
 
 // Each surface's region in its chart, by surface index: the surface less what covers it.
 using SurfaceRegions = std::vector<std::unique_ptr<SurfaceRegion>>;
-SurfaceRegions BuildRegions(const SurfaceSet& surfaces, const std::vector<SurfaceCover>& covers);
+// With a log, its progress is shown.
+SurfaceRegions BuildRegions(const SurfaceSet& surfaces, const std::vector<SurfaceCover>& covers,
+                            const Log* log = nullptr);
 // The covered part's region of each surface that something covers; null for the others.
 SurfaceRegions BuildCoveredRegions(const std::vector<SurfaceCover>& covers);
 
