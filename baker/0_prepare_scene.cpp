@@ -31,10 +31,7 @@ std::string RecentringNote(const Scene& scene) {
 // across (the diagonal of its box), with the --scale that millimetres, centimetres or inches would need. Empty
 // when its size is plausible in metres.
 std::string UnitsNote(const Scene& scene) {
-  Point3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (const Point3& q : scene.positions)
-    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)}, hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
-  const double across = scene.positions.empty() ? 0 : double(Length(hi - lo));
+  const double across = scene.Diagonal();
   if (!(across > 500 || (across > 0 && across < 5e-3))) return {};
   return fmt::format("{}: warning: the scene is {:.3g} m across; lengths are read as metres (and --h is in metres): "
                      "if it was modelled in millimetres, centimetres or inches, bake with --scale 0.001, 0.01 or "

@@ -692,10 +692,7 @@ std::vector<SurfaceCover> FindCovers(const Scene& scene, const SurfaceSet& surfa
   if (!(settings.spacing > 0)) return covers;
   CoverSettings scaled = settings;
   if (settings.maxSpacingPerDiagonal > 0) {
-    Point3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-    for (const Point3& p : scene.positions)
-      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)}, hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    const double diagonal = scene.positions.empty() ? 0 : double(Length(hi - lo));
+    const double diagonal = scene.Diagonal();
     if (diagonal > 0) scaled.spacing = float(std::min(double(settings.spacing), settings.maxSpacingPerDiagonal * diagonal));
   }
   const auto tested = [&](const Surface& surface) {

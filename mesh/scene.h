@@ -158,6 +158,14 @@ struct Scene {
     for (const Point3& p : positions) largest = std::max(largest, MaxAbsComponent(p));
     return largest;
   }
+  // The diagonal of the vertices' bounding box [m]: the scene's size; 0 without vertices.
+  double Diagonal() const {
+    if (positions.empty()) return 0;
+    Point3 lo = positions.front(), hi = lo;
+    for (const Point3& p : positions)
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)}, hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    return double(Length(hi - lo));
+  }
 };
 
 }  // namespace pb
