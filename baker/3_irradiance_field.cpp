@@ -144,8 +144,11 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
 IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins, const FieldSettings& settings,
                                      StageClock& clock) {
   const EstimatorSettings& estimator = settings.estimator;
-  std::vector<float> bandwidths = clock.Time(
-      "bandwidth", [&] { return SurfaceBandwidths(scene.regions, bins, estimator, settings.automaticBandwidth); });
+  std::vector<float> bandwidths = clock.Time("bandwidth", [&] {
+    return settings.heldBandwidths.empty()
+               ? SurfaceBandwidths(scene.regions, bins, estimator, settings.automaticBandwidth)
+               : settings.heldBandwidths;
+  });
   IrradianceField field = clock.Time("estimators", [&] {
     return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, estimator, std::move(bandwidths)));
   });

@@ -18,6 +18,7 @@
 #include "baker/atomic_file.h"
 #include "baker/distribution.h"
 #include "baker/interrupt.h"
+#include "baker/memory_budget.h"
 #include "baker/progressive.h"
 #include "baker/stage_clock.h"
 #include "baker/threads.h"
@@ -75,18 +76,23 @@ struct Journal {
   }
 };
 
-// Warns about each surface whose h is below half its mean photon spacing sqrt(A / hits): most of its vertices see
-// no photon within h, so H there reads 0 between photons. knn adapts its radius and is never warned about.
-std::vector<std::string> BandwidthWarnings(const IrradianceField& field, const SurfaceBins& bins, EstimatorKind kind) {
+// Warns about each surface whose h is below half its mean photon spacing sqrt(A / hits), A the area that no other
+// geometry covers (where H is 0 in truth): most of its vertices see no photon within h, so the photons' H there
+// reads 0 between them. knn adapts its radius, and --h auto keeps 20 photons within h wherever a surface has
+// photons enough to choose from (one with a handful, a table leg's end, is too small to matter): neither is
+// warned about.
+std::vector<std::string> BandwidthWarnings(const IrradianceField& field, const SurfaceBins& bins, const BakeOptions& o) {
   const PreparedScene& p = field.Prepared();
   std::vector<std::string> warnings;
-  if (kind == EstimatorKind::kNearest) return warnings;
+  if (o.estimator.kind == EstimatorKind::kNearest || o.autoBandwidth) return warnings;
   for (uint32_t s = 0; s < p.surfaces.surfaces.size(); ++s) {
-    if (bins.FrontHits(s) == 0) continue;
-    const double spacing = std::sqrt(p.surfaces.surfaces[s].area / double(bins.FrontHits(s)));
+    const double area = p.surfaces.surfaces[s].area;
+    const double open = area - (p.coveredRegions[s] ? p.coveredRegions[s]->Area() : 0.0);
+    if (bins.FrontHits(s) == 0 || open <= 0.01 * area) continue;
+    const double spacing = std::sqrt(open / double(bins.FrontHits(s)));
     if (field.Bandwidth(s) >= 0.5 * spacing) continue;
     warnings.push_back(fmt::format("{}: warning: surface {} ({}): h = {:.3g} m is below the photon spacing "
-                                   "({:.3g} m): most vertices see no photon and read H = 0; raise --h or --photons",
+                                   "({:.3g} m): most vertices see no photon and the photons' H reads 0 there; raise --h or --photons",
                                    p.scene.path, s, p.scene.materials[p.surfaces.surfaces[s].material].name,
                                    field.Bandwidth(s), spacing));
   }
@@ -144,10 +150,11 @@ struct Lit {
   BakedMesh baked;
   ProgressiveReport progress;
   double noise = 0;  // the bake's predicted noise (BakeNoise)
+  std::vector<float> heldBandwidths;  // --h auto's choice in the first round of --target-noise, held after it
 };
 
-FieldSettings FieldSettingsOf(const BakeOptions& o) {
-  return {o.estimator, o.autoBandwidth, o.direct, o.referencePaths, o.seed, o.gaps};
+FieldSettings FieldSettingsOf(const BakeOptions& o, const std::vector<float>& heldBandwidths) {
+  return {o.estimator, o.autoBandwidth, heldBandwidths, o.direct, o.referencePaths, o.seed, o.gaps};
 }
 
 // Stages 2 and 3 from the photons in `lit` (and those `binner` binned while they were traced), with each vertex's
@@ -166,7 +173,7 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
 void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, const BinningPlan& plan,
                    PhotonBinner* binner, const Distribution* d, StageClock& clock, const Log& log) {
   lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons, log, plan, binner); });
-  lit.field.emplace(BuildIrradianceField(scene, lit.bins, FieldSettingsOf(o), clock));
+  lit.field.emplace(BuildIrradianceField(scene, lit.bins, FieldSettingsOf(o, lit.heldBandwidths), clock));
   const auto owns = [d](size_t chunk) { return d == nullptr || d->TakesChunk(chunk); };
   lit.baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true, owns);
@@ -253,29 +260,71 @@ void TraceRound(RoundTrace& round, Lit& lit, uint64_t photons, const PreparedSce
   if (binner != nullptr && !round.complete) RefuseInterruptedBinning(o, lit.photons);
 }
 
+// When a round began: the bake's wall time and its tracing time then [s].
+struct RoundStart {
+  double elapsed = 0, traced = 0;
+  explicit RoundStart(const StageClock& clock) : elapsed(clock.Elapsed()), traced(clock.Seconds("trace")) {}
+};
+
+// Where the rounds of --target-noise stand after one (baker/progressive.h).
+RoundState StateAfterRound(const Lit& lit, uint64_t photons, const BakeOptions& round, const StageClock& clock,
+                           const RoundStart& start) {
+  const bool sampled = round.direct.mode == DirectLight::kSampled;
+  const double emitted = double(std::max<uint64_t>(lit.photons.stats.emitted, 1));
+  return {.photons = photons,
+          .shadowRays = sampled ? round.direct.samples : 0,
+          .raiseShadowRays = sampled && !round.direct.fixedSamples && round.direct.noise == 0,
+          .elapsed = clock.Elapsed(),
+          .traceSeconds = clock.Seconds("trace"),
+          .estimateSeconds = clock.Elapsed() - start.elapsed - (clock.Seconds("trace") - start.traced),
+          .bytesPerPhoton = double(lit.photons.StoredHits() * sizeof(PhotonHit)) / emitted};
+}
+
+// The photon store may take this share of the machine's memory: the estimate needs about as much again.
+constexpr double kStoreMemoryShare = 0.4;
+
+// Ends the rounds (true) when the target is met, Ctrl-C came or the next round cannot help or fit; else sets the
+// next round's photons and shadow rays in `round`.
+bool LastRound(Lit& lit, uint64_t& photons, BakeOptions& round, const StageClock& clock, const RoundStart& start,
+               const Log& log) {
+  const RoundState state = StateAfterRound(lit, photons, round, clock, start);
+  lit.progress.rounds.push_back({photons, lit.photons.stats.emitted, state.shadowRays, lit.noise, state.elapsed});
+  log.Info(fmt::format("round {}: {} photons, {} shadow rays per point, noise {:.4f} (target {:.4f}), {:.1f} s",
+                       lit.progress.rounds.size(), lit.photons.stats.emitted, state.shadowRays, lit.noise,
+                       *round.targetNoise, state.elapsed));
+  if (lit.noise <= *round.targetNoise || lit.progress.interrupted) return true;
+  if (round.maxRounds > 0 && lit.progress.rounds.size() >= round.maxRounds) {
+    lit.progress.stoppedBy = fmt::format("--max-rounds {}", round.maxRounds);
+    return true;
+  }
+  if (InterruptRequested()) {  // Ctrl-C came after this round's tracing: no further round
+    lit.progress.interrupted = true;
+    log.Warning("interrupted: no further rounds; the bake goes on with the photons it has");
+    return true;
+  }
+  const NextRound next = PlanNextRound(lit.baked, state, {*round.targetNoise, round.maxPhotons, round.maxSeconds,
+                                                          kStoreMemoryShare * PhysicalMemoryBytes()});
+  lit.progress.stoppedBy = next.stop;
+  if (!next.stop.empty()) return true;
+  photons = next.photons, round.direct.samples = std::max(next.shadowRays, 1u);
+  return false;
+}
+
 // Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/progressive.h); then --save-photons.
 Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs, StageClock& clock,
                      const Log& log, const Distribution* distribution) {
   const InterruptScope interrupt;
   Lit lit;
   lit.photons = clock.Time("trace", [&] { return OpenPhotonStore(o, scene, lit.progress); });
+  BakeOptions round = o;  // the rounds may raise the shadow rays
   // --reference traces none: the field gathers all of H at the points.
   for (uint64_t photons = o.referencePaths > 0 ? 0 : std::max(o.photons, lit.progress.resumedPhotons);;) {
-    RoundTrace round;
-    TraceRound(round, lit, photons, scene, o, distribution, clock, log);
-    EstimateLight(lit, scene, o, round.plan, round.binner ? &*round.binner : nullptr, distribution, clock, log);
-    if (!o.targetNoise) break;
-    const double noise = lit.noise;
-    lit.progress.rounds.push_back({photons, lit.photons.stats.emitted, noise});
-    log.Info(fmt::format("round {}: {} photons, noise {:.4f} (target {:.4f})", lit.progress.rounds.size(),
-                         lit.photons.stats.emitted, noise, *o.targetNoise));
-    if (noise <= *o.targetNoise || photons >= o.maxPhotons || lit.progress.interrupted) break;
-    if (InterruptRequested()) {  // Ctrl-C came after this round's tracing: no further round
-      lit.progress.interrupted = true;
-      log.Warning("interrupted: no further rounds; the bake goes on with the photons it has");
-      break;
-    }
-    photons = NextRoundPhotons(photons, noise, *o.targetNoise, o.maxPhotons);
+    const RoundStart start(clock);
+    RoundTrace trace;
+    TraceRound(trace, lit, photons, scene, round, distribution, clock, log);
+    EstimateLight(lit, scene, round, trace.plan, trace.binner ? &*trace.binner : nullptr, distribution, clock, log);
+    if (!o.targetNoise || LastRound(lit, photons, round, clock, start, log)) break;
+    if (round.autoBandwidth && lit.heldBandwidths.empty()) lit.heldBandwidths = lit.field->Photons().Bandwidths();
   }
   clock.Time("save photons", [&] { SavePhotonStore(outputs, lit.photons, o, scene, lit.progress); });
   return lit;
@@ -309,7 +358,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   const IrradianceField& field = *lit.field;
   if (o.referencePaths == 0) {  // warnings about the photons
     journal.Warn(UnlitLightWarnings(scene, lit.photons, o.direct.mode == DirectLight::kSampled), log);
-    journal.Warn(BandwidthWarnings(field, lit.bins, o.estimator.kind), log);
+    journal.Warn(BandwidthWarnings(field, lit.bins, o), log);
   }
   journal.Warn(VisibleNoiseWarnings(o, lit), log);
   const float exposure = DisplayExposure(lit.baked, o.exposure);

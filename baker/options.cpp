@@ -84,10 +84,20 @@ void BakeOptions::Validate() const {
   Require(!targetNoise || maxPhotons >= photons, "--max-photons",
           "must be at least --photons, the first round of --target-noise");
   Require(maxPhotons <= (uint64_t(1) << 40), "--max-photons", "must be at most 2^40");
+  Require(Within(maxSeconds, 1, 1e7), "--max-seconds", "must lie in [1, 1e7] seconds");
+  Require(maxRounds <= 1000, "--max-rounds", "must lie in [0, 1000]");
   if (targetNoise) RequireReachableNoise(estimator, *targetNoise);
   Require(luminousEfficacy >= 1 && luminousEfficacy <= 683, "--luminous-efficacy", "must lie in [1, 683] lm/W");
   Require(!asciiPly || !HasGltfExtension(outputPath), "--ascii", "writes ASCII PLY; -o names a glTF file");
   ParseEffectOverrides(effectsText);
+}
+
+void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given) {
+  o.direct.fixedSamples = o.direct.fixedSamples || given.shadowRays;
+  if (o.estimator.kind == EstimatorKind::kNearest) return;
+  if (!given.bandwidth) o.autoBandwidth = true;
+  if (!given.photons && !o.targetNoise && o.referencePaths == 0 && o.resumePath.empty())
+    o.targetNoise = kDefaultTargetNoise;
 }
 
 }  // namespace pb

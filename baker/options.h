@@ -33,6 +33,9 @@ struct DirectSettings {
   // this relative standard error of its direct light, up to `samples` (LightSampler::AdaptiveIrradiance);
   // 0: every point takes `samples`. Range 0 or [1e-4, 1], typical 0.005-0.02.
   double noise = 0;
+  // --direct-samples or --direct-noise given: the rounds of --target-noise keep the shadow rays as they are
+  // (otherwise they raise them where the points' own noise holds the bake's; baker/progressive.h).
+  bool fixedSamples = false;
 };
 
 // Gathering in narrow gaps, with --direct sampled (baker/3_gap_gather.h).
@@ -115,9 +118,30 @@ struct BakeOptions {
   std::string savePhotonsPath;    // --save-photons: write the photon store here; may equal resumePath.
   std::optional<float> targetNoise;  // --target-noise: trace in rounds until the noise is at most this; (0, 1).
   uint64_t maxPhotons = 100'000'000;  // --max-photons: --target-noise's budget over all lights.
+  // --max-seconds: --target-noise's time budget [s]: no round starts that is expected to end after this much of the
+  // bake's wall time; range [1, 1e7]. The one setting whose outcome depends on the machine (the summary gives the
+  // options that repeat the bake's bytes).
+  double maxSeconds = 60;
+  uint32_t maxRounds = 0;  // --max-rounds: --target-noise's rounds at most; 0: no limit. Repeats a bake on any machine.
 
   // InputError naming the option when any value lies outside its range (or --effects does not parse).
   void Validate() const;
 };
+
+// The noise the defaults aim at: the 95th percentile of the displayed light's predicted relative error at 3%
+// (baker/progressive.h; README, "Defaults that suit the scene").
+constexpr float kDefaultTargetNoise = 0.03f;
+
+// Which of the options that the defaults choose were given on the command line (or by --quality).
+struct GivenOptions {
+  bool bandwidth = false;   // --h
+  bool photons = false;     // --photons
+  bool shadowRays = false;  // --direct-samples or --direct-noise
+};
+// `bake`'s defaults that suit the scene, for what was not given: h chosen per surface from its photons (--h auto),
+// and photons and shadow rays raised in rounds to kDefaultTargetNoise within --max-seconds (--target-noise). The
+// kernel and histogram estimators only (knn has no h, and its noise is set by k); not with --reference (no
+// photons) or --resume (which continues to --photons).
+void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given);
 
 }  // namespace pb

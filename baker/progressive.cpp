@@ -131,12 +131,16 @@ double BakeNoise(const BakedMesh& baked, double photonScale, double pointScale) 
   return VertexNoise(baked).Percentile(photonScale, pointScale);
 }
 
-NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples) {
+constexpr double kPointShare = 0.6;
+
+NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
+                           bool raisePoints) {
   const VertexNoise vertices(baked);
   NoiseRemedy remedy{photons, pointSamples};
-  // The points' own noise first, with room left for the photons'.
-  if (pointSamples > 0 && vertices.Percentile(0, 1) > 0.9 * target) {
-    const double s = LargestScaleWithin(0.7 * target, [&](double k) { return vertices.Percentile(0, k); });
+  // The points' own noise first, to 60% of the target where it is more, which leaves 80% to the photons': raising
+  // the photons instead where the points hold most of the target costs them a square of what is left (at 90%, 5x).
+  if (raisePoints && pointSamples > 0 && vertices.Percentile(0, 1) > kPointShare * target) {
+    const double s = LargestScaleWithin(kPointShare * target, [&](double k) { return vertices.Percentile(0, k); });
     if (s > 0) remedy.pointSamples = uint32_t(std::min(std::ceil(pointSamples / s), 1e6));
   }
   const double pointScale = double(pointSamples) / double(std::max(remedy.pointSamples, 1u));
@@ -145,10 +149,50 @@ NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photo
   return remedy;
 }
 
-uint64_t NextRoundPhotons(uint64_t photons, double noise, float target, uint64_t maxPhotons) {
-  const double ratio = noise / double(target);
-  const double next = std::max(1.25, 1.1 * ratio * ratio) * double(photons);
-  return uint64_t(std::min(next, double(maxPhotons)));
+namespace {
+
+// The smallest square at least n, at most 1000^2: stratified shadow rays lie on a sqrt(n) x sqrt(n) grid.
+uint32_t SquareAtLeast(double n) {
+  const double side = std::min(std::ceil(std::sqrt(n)), 1000.0);
+  return uint32_t(side * side);
+}
+
+// The predicted seconds of a round that takes the photons to n and the shadow rays to s: the new photons at the
+// rate traced so far, and the estimate again, grown with the photons or the rays, whichever grows more.
+double RoundSeconds(const RoundState& state, uint64_t n, uint32_t s) {
+  const double photons = double(std::max<uint64_t>(state.photons, 1));
+  const double growth = std::max(double(n) / photons, state.shadowRays > 0 ? double(s) / state.shadowRays : 1.0);
+  return state.traceSeconds / photons * double(n - state.photons) + state.estimateSeconds * growth;
+}
+
+// Why no photon count helps, or what caps it.
+std::string StopReason(const NoiseRemedy& remedy, const RoundState& state, const RoundLimits& limits) {
+  if (remedy.photons <= state.photons)
+    return state.raiseShadowRays || state.shadowRays == 0
+               ? "the points' own noise (shadow rays or gathered paths), which more photons cannot lower"
+               : "the points' own noise, which more photons cannot lower (raise --direct-samples)";
+  if (state.photons >= limits.maxPhotons) return fmt::format("--max-photons {}", limits.maxPhotons);
+  return fmt::format("memory (the photon store would pass {:.1f} GB)", limits.maxStoreBytes / 1e9);
+}
+
+}  // namespace
+
+NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits) {
+  const NoiseRemedy remedy =
+      RemedyForNoise(baked, limits.target, state.photons, state.shadowRays, state.raiseShadowRays);
+  NextRound next{state.photons, state.shadowRays, ""};
+  if (remedy.pointSamples > state.shadowRays) next.shadowRays = SquareAtLeast(remedy.pointSamples);
+  double photons = remedy.photons > state.photons ? std::max(1.25, 1.1 * remedy.photons / double(state.photons)) * double(state.photons)
+                                                  : double(state.photons);
+  photons = std::min(photons, double(limits.maxPhotons));
+  if (state.bytesPerPhoton > 0) photons = std::min(photons, limits.maxStoreBytes / state.bytesPerPhoton);
+  next.photons = std::max(state.photons, uint64_t(photons));
+  const auto worthARound = [&](uint64_t n, uint32_t s) {
+    return double(n) >= 1.25 * double(state.photons) || (s > state.shadowRays && double(s) >= 1.25 * state.shadowRays);
+  };
+  if (!worthARound(next.photons, next.shadowRays)) return {state.photons, state.shadowRays, StopReason(remedy, state, limits)};
+  if (state.elapsed + RoundSeconds(state, next.photons, next.shadowRays) <= limits.maxSeconds) return next;
+  return {state.photons, state.shadowRays, fmt::format("the time budget (--max-seconds {:g})", limits.maxSeconds)};
 }
 
 }  // namespace pb

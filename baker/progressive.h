@@ -30,7 +30,9 @@ struct BakeOptions;
 struct RoundReport {
   uint64_t requested = 0;  // the round's --photons: a bake with this many gives the same bytes
   uint64_t photons = 0;    // emitted by the end of the round, over all lights
+  uint32_t shadowRays = 0; // the round's --direct-samples (0 with --direct photons)
   double noise = 0;        // the bake's noise after it
+  double seconds = 0;      // the bake's wall time at the round's end [s]
 };
 
 struct ProgressiveReport {
@@ -40,6 +42,7 @@ struct ProgressiveReport {
   bool interrupted = false;     // Ctrl-C stopped tracing early
   std::optional<float> target;  // --target-noise
   std::vector<RoundReport> rounds;  // --target-noise's rounds, in order
+  std::string stoppedBy;            // why the rounds ended short of the target (NextRound::stop), or ""
   bool TargetMet() const { return target && !rounds.empty() && rounds.back().noise <= *target; }
 };
 
@@ -65,13 +68,40 @@ void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeO
 double BakeNoise(const BakedMesh& baked, double photonScale = 1, double pointScale = 1);
 
 // What would bring the bake's noise to `target`: the photon count, and the samples per point (shadow rays or
-// --reference paths) when the points' own noise alone comes within 90% of it (else the current count).
+// --reference paths) when the points' own noise alone passes 60% of it and `raisePoints` (to 60%; else the current
+// count). photons is the current count when no photon count reaches the target (the points' noise holds it).
 struct NoiseRemedy {
   uint64_t photons = 0;
   uint32_t pointSamples = 0;
 };
-NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples);
-// Photons for the next round: n (noise / target)^2 with 10% to spare, at least 1.25 n, at most maxPhotons.
-uint64_t NextRoundPhotons(uint64_t photons, double noise, float target, uint64_t maxPhotons);
+NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
+                           bool raisePoints = true);
+
+// Where a bake with --target-noise stands after a round, and what bounds the next.
+struct RoundState {
+  uint64_t photons = 0;        // requested so far over all lights
+  uint32_t shadowRays = 0;     // per point (--direct sampled), else 0
+  bool raiseShadowRays = false;  // the rounds may raise them (--direct-samples and --direct-noise not given)
+  double elapsed = 0;          // the bake's wall time so far [s]
+  double traceSeconds = 0;     // spent tracing all photons so far [s]
+  double estimateSeconds = 0;  // the last round's binning and estimate [s]
+  double bytesPerPhoton = 0;   // the photon store's bytes per emitted photon
+};
+struct RoundLimits {
+  float target = 0;           // --target-noise
+  uint64_t maxPhotons = 0;    // --max-photons
+  double maxSeconds = 0;      // --max-seconds: no round starts that is expected to end the bake's rounds later
+  double maxStoreBytes = 0;   // the photon store's share of the machine's memory
+};
+// The next round: photons n (noise / target)^2 with 10% to spare and at least 1.25 n, from the photons' share of
+// the noise (RemedyForNoise), with shadow rays raised (to a square, their stratification) where the points' own
+// noise holds it; within --max-photons and the store's memory. stop names what ends the rounds instead ("" when a
+// round follows): nothing to gain, or a round whose time, predicted from this one's, would pass --max-seconds.
+struct NextRound {
+  uint64_t photons = 0;
+  uint32_t shadowRays = 0;
+  std::string stop;
+};
+NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits);
 
 }  // namespace pb

@@ -41,10 +41,26 @@ double StageSeconds(const BakeReport& r, const std::string& stage) {
 
 nlohmann::json ProgressiveJson(const ProgressiveReport& p) {
   nlohmann::json rounds = nlohmann::json::array();
-  for (const RoundReport& r : p.rounds) rounds.push_back({{"requested", r.requested}, {"photons", r.photons}, {"noise", r.noise}});
+  for (const RoundReport& r : p.rounds)
+    rounds.push_back({{"requested", r.requested}, {"photons", r.photons}, {"shadow_rays", r.shadowRays},
+                      {"noise", r.noise}, {"seconds", r.seconds}});
   return {{"resumed_from", p.resumedFrom}, {"resumed_photons", p.resumedPhotons}, {"saved_to", p.savedTo},
           {"interrupted", p.interrupted}, {"target_noise", p.target ? nlohmann::json(*p.target) : nlohmann::json()},
-          {"target_met", p.TargetMet()}, {"rounds", rounds}};
+          {"target_met", p.TargetMet()}, {"stopped_by", p.stoppedBy}, {"rounds", rounds}};
+}
+
+// The rounds of --target-noise, how they ended, and the options that repeat the bake's bytes without rounds.
+std::string RoundLines(const ProgressiveReport& p) {
+  std::string s = fmt::format("  rounds    {} to target noise {:.4f}:", p.rounds.size(), *p.target);
+  for (const RoundReport& r : p.rounds)
+    s += fmt::format(" {} photons{} -> {:.4f} ({:.1f} s) |", r.requested,
+                     r.shadowRays ? fmt::format(", {} shadow rays", r.shadowRays) : "", r.noise, r.seconds);
+  s += p.TargetMet() ? " met\n"
+       : p.stoppedBy.empty() ? " NOT met\n"
+                             : fmt::format(" NOT met: stopped by {}\n", p.stoppedBy);
+  if (p.stoppedBy.rfind("the time budget", 0) != 0) return s;
+  return s + fmt::format("  repeat    the time budget, so this machine's speed, chose the last round: --max-rounds {} "
+                         "gives these bytes on any machine\n", p.rounds.size());
 }
 
 // The progressive lines of the summary: what was resumed and saved, the rounds, an interruption.
@@ -53,11 +69,7 @@ std::string ProgressiveLines(const ProgressiveReport& p, uint64_t emitted) {
   if (!p.resumedFrom.empty())
     s += fmt::format("  resumed   {} photons from {}; {} traced now\n", p.resumedPhotons, p.resumedFrom,
                      emitted - p.resumedPhotons);
-  if (p.target) {
-    s += fmt::format("  rounds    {} to target noise {:.4f}:", p.rounds.size(), *p.target);
-    for (const RoundReport& r : p.rounds) s += fmt::format(" {} photons -> {:.4f} |", r.photons, r.noise);
-    s += p.TargetMet() ? " met\n" : " NOT met (raise --max-photons)\n";
-  }
+  if (p.target) s += RoundLines(p);
   if (p.interrupted) s += "  INTERRUPTED: Ctrl-C stopped the tracing early; the outputs are valid, with fewer photons\n";
   if (!p.savedTo.empty()) s += fmt::format("  photons   saved to {} (add more with --resume)\n", p.savedTo);
   return s;

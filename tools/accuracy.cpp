@@ -614,6 +614,7 @@ int main(int argc, char** argv) {
   one.direct.mode = pb::DirectLight::kSampled;
   app.add_option("--photons", one.photons, "box, office: measure only --direct sampled with this many photons");
   app.add_option("--h", one.estimator.bandwidth, "with --photons: h [m]")->capture_default_str();
+  app.add_flag("--h-auto", one.autoBandwidth, "with --photons: h chosen per surface from its photons (bake --h auto)");
   app.add_option("--direct-samples", one.direct.samples, "with --photons: shadow rays per point (with --direct-noise: at most)")
       ->capture_default_str();
   app.add_option("--direct-noise", one.direct.noise, "with --photons: the points' noise target (0: fixed --direct-samples)")

@@ -16,7 +16,7 @@ namespace pb::tools {
 namespace {
 
 
-void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& automatic) {
+void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& automatic, bool sceneDefaults) {
   pb::tools::AddNamedOption(app, "--estimator", e.kind, pb::ParseEstimator, pb::EstimatorName, pb::EstimatorNames(), "estimator",
                  "density estimator (the paper's three classes)");
   pb::tools::AddNamedOption(app, "--kernel", e.kernel, pb::ParseKernel, pb::KernelName, pb::KernelNames(), "kernel",
@@ -28,7 +28,8 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
            if (!automatic) e.bandwidth = float(pb::tools::ParseNumber(text));
          },
          "bandwidth h [m]: kernel support radius, or histogram bucket side, in the surface; range 1e-6 to 1e4, typical "
-         "0.02-0.1 for a room-sized scene; or 'auto': chosen per surface from its photons (README, 'Automatic h')")
+         "0.02-0.1 for a room-sized scene; or 'auto': chosen per surface from its photons (README, 'Automatic h'), "
+         "the default where the scene chooses (README, 'Defaults that suit the scene')")
       ->check(CLI::Validator(
           [](const std::string& text) {
             float value = 0;
@@ -36,7 +37,7 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
                                                                             : "expects a length in metres or 'auto'";
           },
           "FLOAT|auto", "length"))
-      ->default_str(fmt::format("{}", e.bandwidth));
+      ->default_str(sceneDefaults ? "auto" : fmt::format("{}", e.bandwidth));
   app.add_option("--k", e.neighbours, "photons per estimate of --estimator knn; range 2-1e6, typical 20-200")
       ->capture_default_str();
   app.add_flag("!--renormalise-edges", e.localLinear,
@@ -47,7 +48,7 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
                                                          "bucket or disc that lies on the surface (edges darken)");
 }
 
-CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
+CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
   app.add_option("scene", o.scenePath, "OBJ scene (with MTL) or glTF 2.0 (.gltf, .glb). Kd = diffuse albedo in [0,1]; Ke = emitted radiance "
                                        "[W/(m^2 sr)], one-sided along the counter-clockwise normal")
       ->required();
@@ -58,10 +59,13 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
                                           "default SCENE.lights.json where it exists");
   app.add_option("--luminous-efficacy", o.luminousEfficacy, "lm/W that turn glTF's candela and lux into watts; "
                                                           "range [1, 683], default 683");
-  DefineEstimatorOptions(app, o.estimator, o.autoBandwidth);
-  app.add_option("--photons", o.photons, "photons emitted over all lights, split by power (N_i = n Phi_i / Phi); "
-                                         "range 1 to 2^40, typical 1e6-1e7")
-      ->capture_default_str();
+  DefineEstimatorOptions(app, o.estimator, o.autoBandwidth, sceneDefaults);
+  app.add_option("--photons", o.photons,
+                 fmt::format("photons emitted over all lights, split by power (N_i = n Phi_i / Phi); range 1 to 2^40, "
+                             "typical 1e6-1e7{}", sceneDefaults ? "; default: rounds from 1,000,000 until the noise is 3% "
+                                                                  "(--target-noise 0.03), within --max-seconds"
+                                                                : ""))
+      ->default_str(sceneDefaults ? "auto" : std::to_string(o.photons));
   app.add_flag("!--no-cover", o.findCovers, "do not find where other geometry covers a surface (a block on a floor); "
                                            "light then bleeds under objects and is lost beside them");
   app.add_option("--seed", o.seed, "random seed; any integer. Same seed, same bytes, for any --threads")
@@ -151,6 +155,14 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o) {
                  "trace in rounds, the first of --photons, until the 95th percentile of the vertices' relative noise "
                  "(luminance- and area-weighted) is at most this; range (0, 1), typical 0.01-0.05");
   app.add_option("--max-photons", o.maxPhotons, "--target-noise's photon budget over all lights")->capture_default_str();
+  app.add_option("--max-seconds", o.maxSeconds,
+                 "--target-noise's time budget: no round starts that would end after this many seconds of the bake; "
+                 "range 1-1e7; the one limit that makes a bake depend on the machine (the summary says when it did)")
+      ->capture_default_str();
+  app.add_option("--max-rounds", o.maxRounds,
+                 "--target-noise's rounds at most; 0 = no limit; repeats on any machine a bake that --max-seconds "
+                 "stopped")
+      ->capture_default_str();
   app.add_option("--report", o.reportPath, "write the summary figures as JSON to this file");
   app.add_flag("--report-all", o.reportAll,
                "list every surface and light in --report's JSON; by default the 1,000 largest surfaces and 1,000 "
@@ -175,7 +187,7 @@ void ApplyQuality(const CLI::App& app, const std::string& quality, pb::BakeOptio
 }  // namespace
 
 void DefineBakeCommandLine(CLI::App& app, BakeCommandLine& c) {
-  DefineOptions(app, c.options);
+  DefineOptions(app, c.options, c.sceneDefaults);
   app.add_option("--quality", c.quality, "photons, h and shadow rays together, from the box's measured error against "
                                          "time: " + pb::QualityNames() + " (README, 'Quality presets'); options given "
                                          "explicitly win");
@@ -183,6 +195,12 @@ void DefineBakeCommandLine(CLI::App& app, BakeCommandLine& c) {
 
 void ApplyBakeCommandLine(const CLI::App& app, BakeCommandLine& c) {
   ApplyQuality(app, c.quality, c.options);
+  const bool preset = !c.quality.empty();
+  const pb::GivenOptions given{.bandwidth = preset || app.count("--h") > 0,
+                               .photons = preset || app.count("--photons") > 0,
+                               .shadowRays = preset || app.count("--direct-samples") + app.count("--direct-noise") > 0};
+  if (c.sceneDefaults) pb::ApplySceneDefaults(c.options, given);
+  c.options.direct.fixedSamples = c.options.direct.fixedSamples || given.shadowRays;
   c.options.Validate();
 }
 

@@ -189,6 +189,7 @@ int main(int argc, char** argv) {
   pb::SayWhenMpirunEndsTheJob(distribution.Root());
   CLI::App app{"bake-mpi: bake, shared among the processes of mpirun (photonbake)"};
   pb::tools::BakeCommandLine c;
+  c.sceneDefaults = false;
   pb::tools::DefineBakeCommandLine(app, c);
   int status = 0;
   try {

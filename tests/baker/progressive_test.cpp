@@ -92,6 +92,66 @@ TEST(Progressive, TargetNoiseRoundsStopAtTheTargetAndEqualOneBakeOfTheFinalCount
   EXPECT_EQ(capped.progressive.rounds.back().requested, 100'000u);
 }
 
+// ---- the rounds' plan (PlanNextRound) ----
+
+// One lit triangle whose vertices read relative noise `noise`, the photons' share of its variance `photonShare`.
+BakedMesh NoisyTriangle(double noise, double photonShare) {
+  BakedMesh b;
+  for (Point3 p : {Point3{0, 0, 0}, Point3{1, 0, 0}, Point3{0, 0, 1}}) b.mesh.AddVertex(p, {0, 1, 0}, {p.x, p.z}, {}, 0, 1);
+  b.mesh.faces.push_back({0, 1, 2});
+  b.irradiance.assign(3, Rgb{1, 1, 1}), b.albedo.assign(3, Rgb{0.5f, 0.5f, 0.5f}), b.emitted.assign(3, Rgb{});
+  b.irradianceNoise.assign(3, noise), b.photonVarianceShare.assign(3, photonShare);
+  return b;
+}
+
+RoundState Round(uint32_t rays, bool raise) {
+  return {.photons = 1'000'000, .shadowRays = rays, .raiseShadowRays = raise, .elapsed = 1, .traceSeconds = 1,
+          .estimateSeconds = 1, .bytesPerPhoton = 40};
+}
+const RoundLimits kLimits{.target = 0.03f, .maxPhotons = 100'000'000, .maxSeconds = 60, .maxStoreBytes = 1e12};
+
+// 6% noise, 80% of its variance the shadow rays': the plan raises the rays (to a square, their stratified grid)
+// and the photons together, and the noise it predicts for them is within the target; raising the photons alone
+// could never get there.
+TEST(RoundPlan, RaisesTheShadowRaysWhereThePointsHoldTheNoise) {
+  const BakedMesh baked = NoisyTriangle(0.06, 0.2);
+  const NextRound next = PlanNextRound(baked, Round(256, true), kLimits);
+  ASSERT_EQ(next.stop, "");
+  EXPECT_GT(next.shadowRays, 256u);
+  const uint32_t side = uint32_t(std::lround(std::sqrt(double(next.shadowRays))));
+  EXPECT_EQ(side * side, next.shadowRays);
+  EXPECT_GE(next.photons, 1'250'000u);
+  EXPECT_LE(BakeNoise(baked, 1e6 / double(next.photons), 256.0 / next.shadowRays), 0.03);
+  EXPECT_GT(BakeNoise(baked, 1e-9, 1), 0.03) << "photons alone would have reached it";
+}
+
+// The same bake with --direct-samples given: the rays stay, no photon count helps, and the rounds end saying so.
+TEST(RoundPlan, StopsWhenOnlyTheGivenShadowRaysCouldLowerTheNoise) {
+  const NextRound next = PlanNextRound(NoisyTriangle(0.06, 0.2), Round(256, false), kLimits);
+  EXPECT_NE(next.stop.find("raise --direct-samples"), std::string::npos) << next.stop;
+  EXPECT_EQ(next.shadowRays, 256u);
+}
+
+// Photons' noise only: n (noise / target)^2 with 10% to spare; within --max-photons, the store's memory and the
+// time budget, each of which ends the rounds when it leaves no step of 1.25 n.
+TEST(RoundPlan, GrowsThePhotonsWithinEveryLimit) {
+  const BakedMesh baked = NoisyTriangle(0.06, 1.0);
+  const NextRound next = PlanNextRound(baked, Round(0, false), kLimits);
+  ASSERT_EQ(next.stop, "");
+  EXPECT_NEAR(double(next.photons), 1.1 * 4e6, 0.02 * 4.4e6);
+  RoundLimits photons = kLimits;
+  photons.maxPhotons = 1'000'000;
+  EXPECT_EQ(PlanNextRound(baked, Round(0, false), photons).stop, "--max-photons 1000000");
+  RoundLimits memory = kLimits;
+  memory.maxStoreBytes = 40 * 1.2e6;  // room for 1.2M photons of 40 bytes
+  EXPECT_NE(PlanNextRound(baked, Round(0, false), memory).stop.find("memory"), std::string::npos);
+  RoundState late = Round(0, false);
+  late.elapsed = 55;  // the next round's 3.4 s of tracing and ~4.4 s of estimate would end past 60 s
+  EXPECT_EQ(PlanNextRound(baked, late, kLimits).stop, "the time budget (--max-seconds 60)");
+  late.elapsed = 50;
+  EXPECT_EQ(PlanNextRound(baked, late, kLimits).stop, "");
+}
+
 // ---- the photon file ----
 
 struct SavedStore {

@@ -224,7 +224,7 @@ TEST(BakeCli, NoiseIsInEverySummaryAndItsRemedyWorks) {
     return std::pair{run.output, nlohmann::json::parse(test::ReadBytes(dir + "/r.json")).at("noise").get<double>()};
   };
   const std::regex advice(R"(the bake's noise is [0-9.]+%.* about (--[a-z-]+) ([0-9]+) would bring it under 2%)");
-  for (const std::string mode : {"--direct photons --photons 20000", "--direct sampled --direct-samples 4"}) {
+  for (const std::string mode : {"--direct photons --photons 20000", "--direct sampled --photons 1000000 --direct-samples 4"}) {
     const auto [output, noise] = bake(mode);
     EXPECT_GT(noise, 0.02) << mode;
     EXPECT_NE(output.find(fmt::format("noise     {:.2f}% predicted", 100 * noise)), std::string::npos) << output;
@@ -238,13 +238,42 @@ TEST(BakeCli, NoiseIsInEverySummaryAndItsRemedyWorks) {
   }
 }
 
+// With no --h and no --photons the scene chooses (README, "Defaults that suit the scene"): h per surface, and
+// rounds to 3% noise, which the summary and the report state; the same bytes on 1 and 2 threads. Given options
+// mean exactly what they say: one round of --photons at the given h.
+TEST(BakeCli, WithoutHOrPhotonsTheSceneChoosesAndSaysSo) {
+  const std::string dir = test::TempDirectory("cli-scene-defaults");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 2.0f, 20, 0.5f);
+  const auto bake = [&](const std::string& name, const std::string& args) {
+    const BakeRun run = RunBake(scene + " -o " + dir + "/" + name + ".ply --report " + dir + "/" + name + ".json " + args);
+    EXPECT_EQ(run.status, 0) << run.output;
+    return std::pair{run.output, nlohmann::json::parse(test::ReadBytes(dir + "/" + name + ".json"))};
+  };
+  const auto [summary, report] = bake("one", "--threads 1");
+  EXPECT_EQ(report.at("options").at("h_m"), "auto");
+  EXPECT_FLOAT_EQ(report.at("progressive").at("target_noise").get<float>(), 0.03f);
+  const nlohmann::json& rounds = report.at("progressive").at("rounds");
+  ASSERT_GE(rounds.size(), 1u);
+  EXPECT_TRUE(report.at("progressive").at("target_met").get<bool>()) << summary;
+  EXPECT_LE(report.at("noise").get<double>(), 0.03);
+  EXPECT_NE(summary.find("to target noise 0.0300"), std::string::npos) << summary;
+  bake("two", "--threads 2");
+  EXPECT_TRUE(test::ReadBytes(dir + "/one.ply") == test::ReadBytes(dir + "/two.ply"));
+
+  const auto [given, fixed] = bake("given", "--h 0.05 --photons 50000");
+  EXPECT_FLOAT_EQ(fixed.at("options").at("h_m").get<float>(), 0.05f);
+  EXPECT_TRUE(fixed.at("progressive").at("rounds").empty());
+  EXPECT_GE(fixed.at("photons").at("emitted").get<uint64_t>(), 49'999u);  // n Phi_l / Phi rounded down per light
+  for (const nlohmann::json& surface : fixed.at("surfaces")) EXPECT_FLOAT_EQ(surface.at("h_m").get<float>(), 0.05f);
+}
+
 // With --direct-noise the points' count follows their target, so the remedy names a lower target, and following it
 // brings the noise under 2%.
 TEST(BakeCli, WithADirectNoiseTargetTheRemedyIsALowerTarget) {
   const std::string dir = test::TempDirectory("cli-direct-noise");
   const std::string scene = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 2.0f, 20, 0.5f);
   const auto bake = [&](const std::string& args) {
-    const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply --h 0.1 --direct-samples 65536 --report " + dir +
+    const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply --h 0.1 --photons 1000000 --direct-samples 65536 --report " + dir +
                                 "/r.json " + args);
     EXPECT_EQ(run.status, 0) << run.output;
     return std::pair{run.output, nlohmann::json::parse(test::ReadBytes(dir + "/r.json")).at("noise").get<double>()};

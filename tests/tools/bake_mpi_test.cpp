@@ -47,7 +47,8 @@ size_t Count(const std::string& text, const std::string& what) {
 TEST(BakeMpi, ThreeRanksWriteTheBytesOfOneProcess) {
   REQUIRE_BAKE_MPI();
   const std::string dir = test::TempDirectory("bake-mpi");
-  const std::string common = kBox + " -q --photons 600000 --direct-samples 4";
+  // bake-mpi keeps a fixed h (it bins while tracing), where bake would choose one per surface.
+  const std::string common = kBox + " -q --photons 600000 --h 0.05 --direct-samples 4";
   const test::ToolRun single = test::RunTool(PB_BAKE_EXE, common + " -o " + dir + "/one.ply --report " + dir + "/one.json");
   ASSERT_EQ(single.status, 0) << single.output;
   for (const char* threads : {"1", "2"}) {
