@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <optional>
 
@@ -333,12 +334,15 @@ Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFil
 // The scene as the options describe it. Covered parts are found on a lattice of spacing h / 2, at most 1/175 of
 // the scene's diagonal (10 mm on the box, whose 1.74 m includes the light behind the camera), so that a block's
 // corner is kept past the vertices of a mesh finer than h, and the lattice scales with the scene (README,
-// "Covered parts").
-constexpr double kMaxCoverSpacingPerDiagonal = 1.0 / 175;
+// "Covered parts"). With --h auto, whose h is known only from the photons, 1/290 of the diagonal: 25 mm on the
+// office, as its default h gave, and the same lattice for a scene in any unit.
+constexpr double kMaxCoverSpacingPerDiagonal = 1.0 / 175, kAutoCoverSpacingPerDiagonal = 1.0 / 290;
 SceneSettings SceneOf(const BakeOptions& o) {
-  const float h = o.autoBandwidth ? EstimatorSettings{}.bandwidth : o.estimator.bandwidth;
-  return {o.scenePath, o.scale, ParseEffectOverrides(o.effectsText), {.spacing = o.findCovers ? h / 2 : 0.0f, .maxSpacingPerDiagonal = kMaxCoverSpacingPerDiagonal},
-          o.lightsPath, o.luminousEfficacy};
+  const CoverSettings covers = !o.findCovers ? CoverSettings{.spacing = 0}
+                               : o.autoBandwidth
+                                   ? CoverSettings{.spacing = FLT_MAX, .maxSpacingPerDiagonal = kAutoCoverSpacingPerDiagonal}
+                                   : CoverSettings{.spacing = o.estimator.bandwidth / 2, .maxSpacingPerDiagonal = kMaxCoverSpacingPerDiagonal};
+  return {o.scenePath, o.scale, ParseEffectOverrides(o.effectsText), covers, o.lightsPath, o.luminousEfficacy};
 }
 
 }  // namespace

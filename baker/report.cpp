@@ -30,7 +30,7 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
           {"max_vertices", o.refine.maxVertices}, {"subdivide", o.refine.subdivide}, {"resume", o.resumePath},
           {"save_photons", o.savePhotonsPath},
           {"target_noise", o.targetNoise ? nlohmann::json(*o.targetNoise) : nlohmann::json()},
-          {"max_photons", o.maxPhotons}};
+          {"max_photons", o.maxPhotons}, {"max_seconds", o.maxSeconds}, {"max_rounds", o.maxRounds}};
 }
 
 double StageSeconds(const BakeReport& r, const std::string& stage) {
@@ -92,6 +92,25 @@ nlohmann::json TraceJson(const TraceStats& t, uint64_t storedHits) {
           {"power_absorbed_W", Json(t.fluxAbsorbed)},
           {"power_escaped_W", Json(t.fluxEscaped)},
           {"power_forbidden_W", Json(t.fluxForbidden)}};
+}
+
+// What --h auto chose (the default without --h): the range of the surfaces' h and its area-weighted median.
+std::string AutomaticBandwidthLine(const std::vector<SurfaceReport>& surfaces) {
+  std::vector<std::pair<double, double>> h;  // (h, area) of the surfaces with photons
+  for (const SurfaceReport& sr : surfaces)
+    if (sr.frontHits > 0) h.emplace_back(sr.bandwidth, sr.area);
+  if (h.empty()) return "";
+  std::sort(h.begin(), h.end());
+  double total = 0, below = 0;
+  for (const auto& [bandwidth, area] : h) total += area;
+  double median = h.back().first;
+  for (const auto& [bandwidth, area] : h)
+    if ((below += area) >= total / 2) {
+      median = bandwidth;
+      break;
+    }
+  return fmt::format("  h         per surface from its photons (--h auto): {:.3g} to {:.3g} m, area-weighted median "
+                     "{:.3g} m\n", h.front().first, h.back().first, median);
 }
 
 // The chart counts, then one row per surface, up to kRows rows.
@@ -228,6 +247,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
                    "  (balance {:+.3f}%)\n", t.fluxEmitted.Mean(), t.fluxAbsorbed.Mean(), t.fluxEscaped.Mean(),
                    t.fluxForbidden.Mean(), 100.0 * balance);
   s += ProgressiveLines(r.progressive, t.emitted);
+  if (r.options.autoBandwidth) s += AutomaticBandwidthLine(r.surfaces);
   s += fmt::format("  noise     {:.2f}% predicted (95th percentile over the vertices, by luminance x area, of the "
                    "displayed light's relative standard error; smoothing bias not included)\n", 100 * r.noise);
   s += SurfaceTable(r);

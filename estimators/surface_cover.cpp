@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -695,6 +696,7 @@ std::vector<SurfaceCover> FindCovers(const Scene& scene, const SurfaceSet& surfa
     const double diagonal = scene.Diagonal();
     if (diagonal > 0) scaled.spacing = float(std::min(double(settings.spacing), settings.maxSpacingPerDiagonal * diagonal));
   }
+  if (!(scaled.spacing < FLT_MAX)) return covers;  // a scene of no extent, whose spacing only the diagonal set
   const auto tested = [&](const Surface& surface) {
     return surface.planar && !scene.materials[surface.material].IsEmissive();
   };

@@ -42,6 +42,38 @@ TEST(Scale, TheBoxReadsTheSameLightInMillimetresMetresAndKilometres) {
   }
 }
 
+// At the defaults (no h given: --h auto, and the cover lattice from the scene's diagonal) the box in millimetres
+// and kilometres is the box in metres: each surface's h and covered area scale with it (h within 1%: the photons'
+// positions differ by float rounding; covered areas within 2% of the floor's), and its mean H agrees as above.
+TEST(Scale, AtTheDefaultsHAndCoversScaleWithTheScene) {
+  const auto bake = [](double scale) {
+    BakeOptions o;
+    o.scenePath = PB_SOURCE_DIR "/data/box/box.obj";
+    o.outputPath = test::TempDirectory("scale-defaults") + "/out.ply";
+    o.photons = 200'000;
+    o.scale = float(scale);
+    o.direct.samples = 64;
+    ApplySceneDefaults(o, {.photons = true});
+    return BakeMesh(o, Log(true));
+  };
+  const BakeResult metres = bake(1);
+  ASSERT_TRUE(metres.report.options.autoBandwidth);
+  const double floor = metres.report.surfaces[0].area;
+  for (const double scale : {1e-3, 1e3}) {
+    const BakeResult scaled = bake(scale);
+    ASSERT_EQ(scaled.report.surfaces.size(), metres.report.surfaces.size());
+    for (size_t s = 0; s < metres.report.surfaces.size(); ++s) {
+      const SurfaceReport &m = metres.report.surfaces[s], &x = scaled.report.surfaces[s];
+      EXPECT_NEAR(x.bandwidth / scale / m.bandwidth, 1.0, 0.01) << "surface " << s << ", scale " << scale;
+      EXPECT_NEAR(x.coveredArea / (scale * scale), m.coveredArea, 0.02 * floor) << "surface " << s << ", scale " << scale;
+    }
+    double sumM = 0, sumX = 0;
+    for (size_t v = 0; v < metres.mesh.irradiance.size(); ++v)
+      sumM += metres.mesh.irradiance[v].g, sumX += scaled.mesh.irradiance[v].g;
+    EXPECT_NEAR(sumX / sumM, 1.0, 0.01) << "scale " << scale;
+  }
+}
+
 // A scene far from a room's size in metres (the box at --scale 1e3 is 1.7 km across, at 1e-3 1.7 mm) is told
 // which --scale millimetres, centimetres or inches would need; at 1 it is not.
 TEST(Scale, AKilometreOrAMillimetreAcrossIsToldAboutUnits) {

@@ -257,6 +257,7 @@ TEST(BakeCli, WithoutHOrPhotonsTheSceneChoosesAndSaysSo) {
   EXPECT_TRUE(report.at("progressive").at("target_met").get<bool>()) << summary;
   EXPECT_LE(report.at("noise").get<double>(), 0.03);
   EXPECT_NE(summary.find("to target noise 0.0300"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("per surface from its photons (--h auto)"), std::string::npos) << summary;
   bake("two", "--threads 2");
   EXPECT_TRUE(test::ReadBytes(dir + "/one.ply") == test::ReadBytes(dir + "/two.ply"));
 
