@@ -272,12 +272,13 @@ RoundState StateAfterRound(const Lit& lit, uint64_t photons, const BakeOptions& 
                            const RoundStart& start) {
   const bool sampled = round.direct.mode == DirectLight::kSampled;
   const double emitted = double(std::max<uint64_t>(lit.photons.stats.emitted, 1));
+  const double elapsed = clock.Elapsed(), traced = clock.Seconds("trace");
   return {.photons = photons,
           .shadowRays = sampled ? round.direct.samples : 0,
           .raiseShadowRays = sampled && !round.direct.fixedSamples && round.direct.noise == 0,
-          .elapsed = clock.Elapsed(),
-          .traceSeconds = clock.Seconds("trace"),
-          .estimateSeconds = clock.Elapsed() - start.elapsed - (clock.Seconds("trace") - start.traced),
+          .elapsed = elapsed,
+          .traceSeconds = traced,
+          .estimateSeconds = elapsed - start.elapsed - (traced - start.traced),
           .bytesPerPhoton = double(lit.photons.StoredHits() * sizeof(PhotonHit)) / emitted};
 }
 

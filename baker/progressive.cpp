@@ -30,22 +30,21 @@ std::vector<double> VertexAreas(const SplitMesh& mesh) {
   return area;
 }
 
-// The smallest x such that the vertices of noise <= x carry at least `fraction` of the total weight.
-double WeightedPercentile(const std::vector<double>& noise, const std::vector<double>& weight, double fraction) {
-  std::vector<size_t> order(noise.size());
+}  // namespace
+
+double WeightedPercentile(const std::vector<double>& value, const std::vector<double>& weight, double fraction) {
+  std::vector<size_t> order(value.size());
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return noise[a] < noise[b]; });
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return value[a] < value[b]; });
   const double total = std::accumulate(weight.begin(), weight.end(), 0.0);
   if (!(total > 0)) return 0.0;
   double below = 0;
   for (size_t v : order) {
     below += weight[v];
-    if (below >= fraction * total) return noise[v];
+    if (below >= fraction * total) return value[v];
   }
-  return noise[order.back()];
+  return value[order.back()];
 }
-
-}  // namespace
 
 PhotonStore OpenPhotonStore(const BakeOptions& o, const PreparedScene& scene, ProgressiveReport& report) {
   report.target = o.targetNoise;

@@ -61,6 +61,10 @@ bool GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& op
 void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeOptions& options, const PreparedScene& scene,
                      ProgressiveReport& report);
 
+// The smallest of `value` such that the values at or below it carry at least `fraction` of the total weight (0 when
+// the weights sum to none).
+double WeightedPercentile(const std::vector<double>& value, const std::vector<double>& weight, double fraction);
+
 // The bake's noise: the weighted 95th percentile above, from each vertex's sigma_H / H (BakedMesh::irradianceNoise,
 // which EstimateIrradiance gives with withNoise); 0 for a mesh with no lit vertex. With the scales, the noise it
 // would have if the photons' variance were multiplied by photonScale and the points' samples' by pointScale

@@ -96,21 +96,13 @@ nlohmann::json TraceJson(const TraceStats& t, uint64_t storedHits) {
 
 // What --h auto chose (the default without --h): the range of the surfaces' h and its area-weighted median.
 std::string AutomaticBandwidthLine(const std::vector<SurfaceReport>& surfaces) {
-  std::vector<std::pair<double, double>> h;  // (h, area) of the surfaces with photons
+  std::vector<double> h, area;  // of the surfaces with photons
   for (const SurfaceReport& sr : surfaces)
-    if (sr.frontHits > 0) h.emplace_back(sr.bandwidth, sr.area);
+    if (sr.frontHits > 0) h.push_back(sr.bandwidth), area.push_back(sr.area);
   if (h.empty()) return "";
-  std::sort(h.begin(), h.end());
-  double total = 0, below = 0;
-  for (const auto& [bandwidth, area] : h) total += area;
-  double median = h.back().first;
-  for (const auto& [bandwidth, area] : h)
-    if ((below += area) >= total / 2) {
-      median = bandwidth;
-      break;
-    }
   return fmt::format("  h         per surface from its photons (--h auto): {:.3g} to {:.3g} m, area-weighted median "
-                     "{:.3g} m\n", h.front().first, h.back().first, median);
+                     "{:.3g} m\n", *std::min_element(h.begin(), h.end()), *std::max_element(h.begin(), h.end()),
+                     WeightedPercentile(h, area, 0.5));
 }
 
 // The chart counts, then one row per surface, up to kRows rows.

@@ -199,8 +199,7 @@ void ApplyBakeCommandLine(const CLI::App& app, BakeCommandLine& c) {
   const pb::GivenOptions given{.bandwidth = preset || app.count("--h") > 0,
                                .photons = preset || app.count("--photons") > 0,
                                .shadowRays = preset || app.count("--direct-samples") + app.count("--direct-noise") > 0};
-  if (c.sceneDefaults) pb::ApplySceneDefaults(c.options, given);
-  c.options.direct.fixedSamples = c.options.direct.fixedSamples || given.shadowRays;
+  if (c.sceneDefaults) pb::ApplySceneDefaults(c.options, given);  // bake-mpi has no rounds, whose rays it fixes
   c.options.Validate();
 }
 
