@@ -60,33 +60,81 @@ TEST(Polygon, ConvexPolygonsAreCutAsAFan) {
   for (uint32_t i = 0; i < 4; ++i) EXPECT_EQ(cut.triangles[i], (std::array<uint32_t, 3>{0, i + 1, i + 2}));
 }
 
-// Random star-shaped polygons (a corner at every angle, at a random radius: concave almost everywhere), in random
-// planes and far from the origin, wound either way.
+// A random star-shaped polygon of n corners (a corner at every angle, at a random radius: concave almost
+// everywhere), in a random plane, `offset` from the origin, wound either way; and its area [m^2].
+std::pair<std::vector<PolygonCorner>, double> RandomStar(std::mt19937& rng, int n, double offset, bool clockwise) {
+  std::uniform_real_distribution<double> u(0, 1);
+  const PolygonCorner axis = Unit({u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5});
+  // An orthonormal frame (t, b) of the plane normal to `axis`.
+  const PolygonCorner helper = std::abs(axis[0]) < 0.9 ? PolygonCorner{1, 0, 0} : PolygonCorner{0, 1, 0};
+  const PolygonCorner t = Unit({axis[1] * helper[2] - axis[2] * helper[1], axis[2] * helper[0] - axis[0] * helper[2],
+                                axis[0] * helper[1] - axis[1] * helper[0]});
+  const PolygonCorner b{axis[1] * t[2] - axis[2] * t[1], axis[2] * t[0] - axis[0] * t[2], axis[0] * t[1] - axis[1] * t[0]};
+  std::vector<PolygonCorner> polygon;
+  double area = 0;
+  std::vector<double> radius(static_cast<size_t>(n));
+  for (double& r : radius) r = 0.2 + u(rng);
+  for (int i = 0; i < n; ++i) {
+    const double angle = 2 * M_PI * i / n * (clockwise ? -1 : 1);
+    const double x = radius[size_t(i)] * std::cos(angle), y = radius[size_t(i)] * std::sin(angle);
+    polygon.push_back({offset + x * t[0] + y * b[0], offset + x * t[1] + y * b[1], offset + x * t[2] + y * b[2]});
+    const int j = (i + 1) % n;
+    area += 0.5 * radius[size_t(i)] * radius[size_t(j)] * std::sin(2 * M_PI / n);
+  }
+  return {polygon, area};
+}
+
 TEST(Polygon, RandomStarPolygonsInAnyPlaneTileTheirArea) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0, 1);
   for (int trial = 0; trial < 200; ++trial) {
-    const int n = 4 + int(u(rng) * 60);
-    const PolygonCorner axis = Unit({u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5});
-    // An orthonormal frame (t, b) of the plane normal to `axis`.
-    const PolygonCorner helper = std::abs(axis[0]) < 0.9 ? PolygonCorner{1, 0, 0} : PolygonCorner{0, 1, 0};
-    const PolygonCorner t = Unit({axis[1] * helper[2] - axis[2] * helper[1], axis[2] * helper[0] - axis[0] * helper[2],
-                                  axis[0] * helper[1] - axis[1] * helper[0]});
-    const PolygonCorner b{axis[1] * t[2] - axis[2] * t[1], axis[2] * t[0] - axis[0] * t[2], axis[0] * t[1] - axis[1] * t[0]};
-    const double offset = trial % 2 ? 1e4 : 0;
-    std::vector<PolygonCorner> polygon;
-    double area = 0;
-    std::vector<double> radius(static_cast<size_t>(n));
-    for (double& r : radius) r = 0.2 + u(rng);
-    for (int i = 0; i < n; ++i) {
-      const double angle = 2 * M_PI * i / n * (trial % 3 ? 1 : -1);
-      const double x = radius[size_t(i)] * std::cos(angle), y = radius[size_t(i)] * std::sin(angle);
-      polygon.push_back({offset + x * t[0] + y * b[0], offset + x * t[1] + y * b[1], offset + x * t[2] + y * b[2]});
-      const int j = (i + 1) % n;
-      area += 0.5 * radius[size_t(i)] * radius[size_t(j)] * std::sin(2 * M_PI / n);
-    }
+    const auto [polygon, area] = RandomStar(rng, 4 + int(u(rng) * 60), trial % 2 ? 1e4 : 0, trial % 3 == 0);
     ExpectTiles(polygon, area, "star " + std::to_string(trial));
   }
+}
+
+// Above 64 corners a simple polygon is cut by constrained Delaunay triangulation in O(n log n): a star of 65,536
+// corners (half of them reflex) took ear clipping over 100 s, and now takes a fraction of a second.
+TEST(Polygon, LargeConcavePolygonsAreCutInNLogN) {
+  std::mt19937 rng(11);
+  for (const int n : {65, 300, 4096, 65536}) {
+    const auto [polygon, area] = RandomStar(rng, n, n % 2 ? 1e3 : 0, n == 300);
+    ExpectTiles(polygon, area, "star of " + std::to_string(n));
+    EXPECT_TRUE(TriangulatePolygon(polygon).concave);
+  }
+}
+
+// A large polygon that touches itself (a square with a square hole, joined by a bridge walked both ways, as CAD
+// exports write holes) repeats corners, which the Delaunay cut cannot keep apart; it is ear-clipped.
+TEST(Polygon, LargePolygonsThatTouchThemselvesAreEarClipped) {
+  std::vector<PolygonCorner> keyhole;
+  const int side = 30;  // corners per side of each square: 242 corners, within what is ear-clipped
+  const auto square = [&](double half, bool clockwise) {
+    for (int i = 0; i <= 4 * side; ++i) {
+      const int k = clockwise ? 4 * side - i : i;
+      const int s = (k / side) % 4, f = k % side;
+      const double a = -half + 2 * half * f / side;
+      const PolygonCorner p = s == 0 ? PolygonCorner{a, -half, 0} : s == 1 ? PolygonCorner{half, a, 0}
+                              : s == 2 ? PolygonCorner{-a, half, 0} : PolygonCorner{-half, -a, 0};
+      keyhole.push_back(p);
+    }
+  };
+  square(2, false);  // the outer square, closed back at its first corner (-2, -2)
+  square(1, true);   // the hole, from (-1, -1) round and back, clockwise
+  ASSERT_GT(keyhole.size(), 64u);
+  ExpectTiles(keyhole, 16 - 4, "a square with a hole");
+}
+
+// A large polygon whose edges cross has no triangulation of its corners; it is cut as a fan (in linear time) and
+// the loader warns.
+TEST(Polygon, LargeSelfCrossingPolygonsAreCutAsAFan) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<PolygonCorner> scribble;
+  for (int i = 0; i < 65536; ++i) scribble.push_back({u(rng), u(rng), 0});
+  const PolygonTriangulation cut = TriangulatePolygon(scribble);
+  EXPECT_TRUE(cut.irregular);
+  ASSERT_EQ(cut.triangles.size(), scribble.size() - 2);
 }
 
 // Corners on a straight line (a rectangle with a corner in the middle of a side, as exporters write T-junctions).
