@@ -17,7 +17,7 @@ void RequireMemory(const std::string& option, double bytes, const std::string& w
   const double memory = PhysicalMemoryBytes();
   if (memory <= 0 || bytes <= kUsable * memory) return;
   throw InputError(option, 0, fmt::format("{} needs about {:.1f} GB, more than the {:.0f}% of this machine's {:.1f} GB "
-                                          "a bake may use", what, bytes / 1e9, 100 * kUsable, memory / 1e9));
+                                          "a run may use", what, bytes / 1e9, 100 * kUsable, memory / 1e9));
 }
 
 }  // namespace pb

@@ -10,6 +10,7 @@
 #include "baker/0_prepare_scene.h"
 #include "baker/json_file.h"
 #include "baker/memory_budget.h"
+#include "baker/option_ranges.h"
 #include "baker/stage_clock.h"
 #include "baker/threads.h"
 #include "baker/tone_map.h"
@@ -17,6 +18,8 @@
 
 namespace pb {
 namespace {
+
+constexpr uint32_t kMostSamplesPerPixel = 1u << 24;
 
 std::string WithSuffix(const std::string& exrPath, const std::string& suffix, const std::string& extension) {
   const bool exr = exrPath.size() > 4 && exrPath.compare(exrPath.size() - 4, 4, ".exr") == 0;
@@ -42,29 +45,36 @@ std::vector<std::pair<std::string, std::string>> OutputFilesOf(const RenderOptio
   return files;
 }
 
-void ValidateOptions(const RenderOptions& o) {
-  if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
-    throw InputError("--size", 0, "width and height must lie in [1, 16384] pixels");
-  if (o.spp < 1) throw InputError("--spp", 0, "must be at least 1");
-  for (uint32_t s : o.sppSweep)
-    if (s < 1) throw InputError("--spp-sweep", 0, "every count must be at least 1");
-  if (o.path.neighbours < 1) throw InputError("--neighbours", 0, "must be at least 1");
-  if (!(o.path.floorFraction >= 0 && o.path.floorFraction <= 1)) throw InputError("--floor", 0, "must lie in [0, 1]");
+}  // namespace
+
+void RenderOptions::Validate() const {
+  RequireImageSize(width, height, "--size", 16384);
+  RequireOption(spp >= 1 && spp <= kMostSamplesPerPixel, "--spp", "must lie in [1, 2^24]");
+  for (uint32_t s : sppSweep)
+    RequireOption(s >= 1 && s <= kMostSamplesPerPixel, "--spp-sweep", "every count must lie in [1, 2^24]");
+  RequireOption(path.neighbours >= 1 && path.neighbours <= 1'000'000, "--neighbours", "must lie in [1, 1000000]");
+  RequireOption(Within(path.floorFraction, 0, 1), "--floor", "must lie in [0, 1]");
   const auto powerOfTwo = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
-  if (o.path.thetaRegions < 1 || o.path.phiRegions < 1 || int64_t(o.path.thetaRegions) * o.path.phiRegions > 65536)
-    throw InputError("--regions", 0, "needs ROWSxCOLS with 1 <= ROWS x COLS <= 65536");
-  if (o.path.warp == ImportanceWarp::kMipmap && !(powerOfTwo(o.path.thetaRegions) && powerOfTwo(o.path.phiRegions)))
-    throw InputError("--regions", 0, "--warp mipmap needs power-of-two ROWS and COLS (use --warp inversion otherwise)");
-  if (o.photons == 0 && o.path.sampling == DirectionSampling::kPhotons) throw InputError("--photons", 0, "must be at least 1");
-  if (!(o.scale > 0) || !std::isfinite(o.scale)) throw InputError("--scale", 0, "must be a finite number > 0");
-  if (o.exposure && !(*o.exposure > 0)) throw InputError("--exposure", 0, "must be > 0");
+  RequireOption(path.thetaRegions >= 1 && path.phiRegions >= 1 && int64_t(path.thetaRegions) * path.phiRegions <= 65536,
+                "--regions", "needs ROWSxCOLS with 1 <= ROWS x COLS <= 65536");
+  RequireOption(path.warp != ImportanceWarp::kMipmap || (powerOfTwo(path.thetaRegions) && powerOfTwo(path.phiRegions)),
+                "--regions", "--warp mipmap needs power-of-two ROWS and COLS (use --warp inversion otherwise)");
+  RequirePhotons(photons, "--photons");
+  RequireThreads(threads);
+  RequireScale(scale);
+  RequireExposure(exposure);
   // Each image kept until written: mean RGB and variance (16 bytes a pixel), and the PNG's 8-bit copy.
-  const double images = o.sppSweep.empty() ? 1.0 : double(o.sppSweep.size()) + 1.0;
-  RequireMemory("--size", images * double(o.width) * double(o.height) * 19.0,
-                fmt::format("{} image(s) of {}x{} pixels", int(images), o.width, o.height));
-  for (const auto& [option, path] : OutputFilesOf(o)) RequireWritableLocation(path);
-  RequireDistinctFiles(OutputFilesOf(o), {{"the scene", o.scenePath}, {"--camera", o.cameraPath}});
+  const double images = sppSweep.empty() ? 1.0 : double(sppSweep.size()) + 1.0;
+  RequireMemory("--size", images * double(width) * double(height) * 19.0,
+                fmt::format("{} image(s) of {}x{} pixels", int(images), width, height));
+  // The photon map holds every stored hit twice (the store, then the map); a photon in a closed scene is stored
+  // at least once.
+  if (path.sampling == DirectionSampling::kPhotons)
+    RequireMemory("--photons", double(photons) * double(sizeof(PhotonHit) + sizeof(MapPhoton)),
+                  fmt::format("a photon map of {} photons (one hit each at least)", photons));
 }
+
+namespace {
 
 // Accumulates one pixel's samples: the mean, and the variance of the mean's luminance.
 struct PixelMoments {
@@ -179,7 +189,9 @@ RenderedImage RenderImage(const PathTracer& tracer, const PathSettings& settings
 }
 
 RenderReport Render(const RenderOptions& o, const Log& log) {
-  ValidateOptions(o);
+  o.Validate();
+  for (const auto& [option, path] : OutputFilesOf(o)) RequireWritableLocation(path);
+  RequireDistinctFiles(OutputFilesOf(o), {{"the scene", o.scenePath}, {"--camera", o.cameraPath}});
   const ThreadScope threads(o.threads);
   RenderReport report{o, threads.Count()};
   StageClock clock(report.stageSeconds);

@@ -32,6 +32,10 @@ struct RenderOptions {
   float scale = 1.0f;             // metres per scene unit
   std::optional<float> exposure;  // PNG exposure; unset = automatic
   bool quiet = false;
+
+  // Checks every range, and that the images and the photon map fit in this machine's memory, before any work
+  // (InputError naming the option; the ranges bake shares are in baker/option_ranges.h).
+  void Validate() const;
 };
 
 // One image: the per-pixel mean radiance, and the variance of each pixel mean's luminance (the sample variance

@@ -37,6 +37,7 @@
 
 #include "baker/bake.h"
 #include "baker/atomic_file.h"
+#include "baker/option_ranges.h"
 #include "tests/lambert.h"
 #include "tests/test_scenes.h"
 #include "tools/cli_options.h"
@@ -147,7 +148,7 @@ struct Sample {
   double seconds = 0, trace = 0, estimate = 0;
 };
 
-pb::BakeResult BakeMesh(const std::string& scene, const Config& c, uint64_t seed, unsigned threads) {
+pb::BakeOptions OptionsOf(const std::string& scene, const Config& c, uint64_t seed, unsigned threads) {
   pb::BakeOptions o;
   o.scenePath = scene;
   o.direct = c.direct;
@@ -158,7 +159,11 @@ pb::BakeResult BakeMesh(const std::string& scene, const Config& c, uint64_t seed
   o.photons = c.photons;
   o.seed = seed;
   o.threads = threads;
-  return pb::BakeMesh(o, pb::Log(true));
+  return o;
+}
+
+pb::BakeResult BakeMesh(const std::string& scene, const Config& c, uint64_t seed, unsigned threads) {
+  return pb::BakeMesh(OptionsOf(scene, c, seed, threads), pb::Log(true));
 }
 
 Sample BakeOnce(const std::string& scene, const Truth& truth, const Config& c, uint64_t seed, unsigned threads) {
@@ -615,9 +620,11 @@ int main(int argc, char** argv) {
   app.add_option("--photons", one.photons, "box, office: measure only --direct sampled with this many photons");
   app.add_option("--h", one.estimator.bandwidth, "with --photons: h [m]")->capture_default_str();
   app.add_flag("--h-auto", one.autoBandwidth, "with --photons: h chosen per surface from its photons (bake --h auto)");
-  app.add_option("--direct-samples", one.direct.samples, "with --photons: shadow rays per point (with --direct-noise: at most)")
+  app.add_option("--direct-samples", one.direct.samples,
+                 "with --photons: shadow rays per point (with --direct-noise: at most)")
       ->capture_default_str();
-  app.add_option("--direct-noise", one.direct.noise, "with --photons: the points' noise target (0: fixed --direct-samples)")
+  app.add_option("--direct-noise", one.direct.noise,
+                 "with --photons: the points' noise target (0: fixed --direct-samples)")
       ->capture_default_str();
   app.add_option("--gap-paths", one.gaps.paths, "with --photons: paths gathered in narrow gaps")->capture_default_str();
   app.add_option("--gap-noise", one.gaps.noise, "with --photons: the gathered points' noise target (0: --gap-paths)")
@@ -626,7 +633,13 @@ int main(int argc, char** argv) {
   app.add_option("--gap-reach", one.gaps.reach, "with --photons: the gaps' probe reach, in h")->capture_default_str();
   app.add_option("--gap-small-area", one.gaps.smallArea, "with --photons: surfaces below this many h^2 are gathered")
       ->capture_default_str();
-  return pb::tools::RunTool(app, argc, argv, [] {}, [&] {
+  const auto validate = [&] {  // with bake's ranges (baker/option_ranges.h)
+    pb::RequireThreads(threads);
+    pb::RequireOption(truthPaths >= 1 && truthPaths <= 10'000'000, "--truth-paths",
+                      "must lie in [1, 10000000] paths per point");
+    if (one.photons > 0) OptionsOf(sceneName, one, 1, threads).Validate();
+  };
+  return pb::tools::RunTool(app, argc, argv, validate, [&] {
     std::filesystem::create_directories(out);
     const Bench bench = ParseBench(sceneName);
     const std::string scene = ScenePath(bench, out);
@@ -639,11 +652,13 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < configs.size(); ++i) {
       runs.push_back(Measure(scene, truth, configs[i], threads));
       const Run& r = runs.back();
-      fmt::print(stderr, "[{}/{}] {:<32} {:>9} photons  {:7.3f} s  RMSE {:6.2f}% (noise {:.2f}%, bias {:.2f}%)  {:.0f} MiB{}\n",
-                 i + 1, configs.size(), r.config.Label(), r.config.referencePaths > 0 ? 0 : r.config.photons, r.seconds, 100 * r.error.rmse,
-                 100 * r.error.noise, 100 * r.error.systematic, r.peakMiB,
-                 closedForm ? std::string() : fmt::format("  edges {:+.2f}%, covered {:.2f}%", 100 * r.error.edgeBias,
-                                                          100 * r.error.coveredMean));
+      fmt::print(stderr,
+                 "[{}/{}] {:<32} {:>9} photons  {:7.3f} s  RMSE {:6.2f}% (noise {:.2f}%, bias {:.2f}%)  {:.0f} MiB{}\n",
+                 i + 1, configs.size(), r.config.Label(), r.config.referencePaths > 0 ? 0 : r.config.photons, r.seconds,
+                 100 * r.error.rmse, 100 * r.error.noise, 100 * r.error.systematic, r.peakMiB,
+                 closedForm ? std::string()
+                            : fmt::format("  edges {:+.2f}%, covered {:.2f}%", 100 * r.error.edgeBias,
+                                          100 * r.error.coveredMean));
     }
     WriteCsv(out + "/accuracy.csv", runs);
     WriteSvg(out + "/accuracy.svg", runs, bench);

@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
   CLI::App app{"render: importance-driven path tracing with the photon map (photonbake)"};
   pb::RenderOptions options;
   DefineOptions(app, options);
-  return pb::tools::RunTool(app, argc, argv, [] {}, [&] {
+  return pb::tools::RunTool(app, argc, argv, [&] { options.Validate(); }, [&] {
     const pb::Log log(options.quiet);
     pb::PrintRenderSummary(pb::Render(options, log), log);
   });

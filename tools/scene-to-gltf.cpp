@@ -23,9 +23,11 @@
 #include "baker/atomic_file.h"
 #include "baker/gltf_buffers.h"
 #include "baker/json_file.h"
+#include "baker/option_ranges.h"
 #include "mesh/errors.h"
 #include "mesh/gltf_loader.h"
 #include "mesh/light_file.h"
+#include "tools/cli_options.h"
 
 namespace {
 
@@ -248,11 +250,14 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", outputPath, "glTF to write: .glb (binary) or .gltf (buffer as a data URI)")->required();
   app.add_option("--lights", lightsPath, "lights file; default SCENE.lights.json where it exists");
   app.add_option("--without", without, "leave out the faces of this material (repeatable)");
-  app.add_option("--scale", scale, "metres per scene unit")->check(CLI::Range(1e-6, 1e6));
-  app.add_option("--luminous-efficacy", efficacy, "lm/W for the lights' candela and lux")->check(CLI::Range(1.0, 683.0));
-  CLI11_PARSE(app, argc, argv);
-  try {
+  app.add_option("--scale", scale, "metres per scene unit; [1e-6, 1e6]")->capture_default_str();
+  app.add_option("--luminous-efficacy", efficacy, "lm/W for the lights' candela and lux; [1, 683]")->capture_default_str();
+  const auto validate = [&] {  // with bake's ranges (baker/option_ranges.h)
+    pb::RequireScale(scale);
+    pb::RequireLuminousEfficacy(efficacy);
     if (!pb::HasGltfExtension(outputPath)) throw pb::InputError(outputPath, 0, "the output must end in .glb or .gltf");
+  };
+  return pb::tools::RunTool(app, argc, argv, validate, [&] {
     pb::LoadedScene loaded = pb::LoadScene(scenePath, {scale, efficacy});
     pb::AddLightsFile(loaded.scene, lightsPath);
     for (const std::string& w : loaded.warnings) std::fprintf(stderr, "%s\n", w.c_str());
@@ -265,9 +270,5 @@ int main(int argc, char** argv) {
     outputs.Commit();
     std::printf("scene-to-gltf: %s -> %s (%zu meshes, %zu materials, %zu lights)\n", scenePath.c_str(),
                 outputPath.c_str(), model.meshes.size(), model.materials.size(), model.lights.size());
-    return 0;
-  } catch (const pb::InputError& e) {
-    std::fprintf(stderr, "%s\n", e.what());
-    return 1;
-  }
+  });
 }

@@ -57,11 +57,11 @@ TEST(RenderCli, RefusesBadOptionsAndBadInput) {
   EXPECT_EQ(RunRender(kBox + " -o " + dir + "/o.exr --sampling guess").status, 2);
   EXPECT_EQ(RunRender(kBox + " -o " + dir + "/o.exr --regions 8by16").status, 2);
   const test::ToolRun odd = RunRender(kBox + " -o " + dir + "/o.exr --regions 6x10 --warp mipmap");
-  EXPECT_EQ(odd.status, 1);
+  EXPECT_EQ(odd.status, 2);
   EXPECT_NE(odd.output.find("power-of-two"), std::string::npos) << odd.output;
   // 65536 x 65536 regions once overflowed int inside their own check (issue 16).
   const test::ToolRun huge = RunRender(kBox + " -o " + dir + "/o.exr --regions 65536x65536");
-  EXPECT_EQ(huge.status, 1);
+  EXPECT_EQ(huge.status, 2);
   EXPECT_NE(huge.output.find("--regions: error: needs ROWSxCOLS with 1 <= ROWS x COLS <= 65536"), std::string::npos)
       << huge.output;
   test::WriteText(dir + "/bad.camera.json", "{\"position_m\": [0, 0, 0],\n \"look_at_m\": [0, 0],\n}");
