@@ -69,6 +69,7 @@ class PhotonTracer {
         return;
       }
       attenuation = attenuation * s.weight;
+      if (attenuation.Max() > kMostPhotonAttenuation) break;  // truncated
       if (!Allowed(s.event)) return Forbid(attenuation, block.stats);
       Count(s.event, block.stats);
       origin = rays_.SpawnPoint(scene_.PointAt(hit->triangle, hit->b1, hit->b2), s.transmitted ? -side : side);

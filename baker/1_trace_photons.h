@@ -67,7 +67,8 @@ struct TraceSettings {
   uint64_t photons = 0;  // n, over all lights
   uint64_t seed = 1;
   // Scattering events a photon may undergo after its first hit: 0 stores direct light only. A photon still going
-  // after its last allowed event is truncated; its flux is tallied with the forbidden flux.
+  // after its last allowed event, or carrying more than kMostPhotonAttenuation, is truncated; its flux is tallied
+  // with the forbidden flux.
   uint32_t maxBounces = kDefaultMaxBounces;
   // Whether a photon's first hit, straight from its light, is stored: false when the direct light is sampled at
   // the points instead (--direct sampled, estimators/light_sampler.h). Later hits are stored either way.

@@ -175,18 +175,21 @@ void CheckBlockStats(const std::string& path, const BlockRange& range, uint64_t 
   uint64_t ended = 0;
   for (uint64_t e : ends) ended = e > photons - std::min(photons, ended) ? ~uint64_t(0) : ended + e;
   if (ended != photons) Corrupt(path, "a block's photons do not each end once");
+  // Each photon's flux sums to at most kMostPhotonAttenuation per channel in each tally.
+  const double most = double(photons) * kMostPhotonAttenuation;
   bool finite = true;
   for (const RgbSum* sum : {&s.fluxEmitted, &s.fluxAbsorbed, &s.fluxEscaped, &s.fluxForbidden})
-    for (double c : {sum->r, sum->g, sum->b}) finite = finite && std::isfinite(c) && c >= 0;
-  if (!finite) Corrupt(path, "a block's flux sums are not finite and non-negative");
+    for (double c : {sum->r, sum->g, sum->b}) finite = finite && c >= 0 && c <= most;  // false for NaN
+  if (!finite) Corrupt(path, "a block's flux sums are not finite and non-negative, or more than its photons carry");
 }
 
-// A record names a triangle of this scene, with a finite non-negative attenuation and barycentrics inside it
-// (to float rounding).
+// A record names a triangle of this scene, with an attenuation the tracer can give (in [0, kMostPhotonAttenuation]
+// per channel) and barycentrics inside it (to float rounding).
 bool ValidHit(const PhotonHit& hit, size_t triangles) {
   constexpr float kSlack = 1e-4f;
   const Rgb& a = hit.attenuation;
-  const bool attenuation = std::isfinite(a.r) && std::isfinite(a.g) && std::isfinite(a.b) && a.r >= 0 && a.g >= 0 && a.b >= 0;
+  const auto traceable = [](float c) { return c >= 0 && c <= kMostPhotonAttenuation; };  // false for NaN
+  const bool attenuation = traceable(a.r) && traceable(a.g) && traceable(a.b);
   const bool inside = hit.b1 >= -kSlack && hit.b2 >= -kSlack && hit.b1 + hit.b2 <= 1 + kSlack;  // false for NaN
   return hit.Triangle() < triangles && attenuation && inside;
 }

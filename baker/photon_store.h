@@ -37,6 +37,13 @@ struct PhotonHit {
 };
 static_assert(sizeof(PhotonHit) == 28, "the compact photon record of issue 3");
 
+// The most a photon carries, per channel, as a fraction of its emitted flux. An event's weight is a colour over
+// the probability of its lobe (estimators/scatter.h), so a photon carrying A in some channel took lobe choices of
+// probability at most 1/A; only a mirror whose diffuse and mirror colours peak in different channels has weights
+// above 1 (up to 2). The tracer truncates a photon that would pass this bound (its flux is tallied as forbidden),
+// and a photon file with a record beyond it is refused, so that sums of hits stay far inside float's range.
+inline constexpr float kMostPhotonAttenuation = 65536;
+
 // The hits of one block of photons, in photon order, in huge-page memory (baker/huge_pages.h).
 using HitBlock = std::vector<PhotonHit, HugePageAllocator<PhotonHit>>;
 

@@ -51,7 +51,9 @@ Rgb BinnedPhotons::Flux(size_t n) const {
   return {float(double(s[0]) * unit_), float(double(s[1]) * unit_), float(double(s[2]) * unit_)};
 }
 
-float BinnedPhotons::Squares(size_t n) const { return float(double(sums_[n][3]) * squareUnit_); }
+float BinnedPhotons::Squares(size_t n, double unit) const {
+  return float(double(sums_[n][3]) * squareUnit_ / (unit * unit));
+}
 
 void FluxTally::Add(Rgb flux, double fluxUnit) {
   const double unit = fluxUnit / BinnedPhotons::kUnitsPerFlux;

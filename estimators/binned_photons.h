@@ -63,9 +63,11 @@ class BinnedPhotons {
   void Prefetch(Point2 uv) const;
   const NodeLattice& Lattice() const { return lattice_; }
   uint64_t Photons() const { return photons_.load(std::memory_order_relaxed); }
-  // Node n's flux [W] and the sum of its shares of the photons' squared luminance [W^2].
+  // Node n's flux [W], and the sum of its shares of the photons' squared luminance in units of `unit`^2 (a power
+  // of two near the photons' flux keeps it within float's range, where W^2 overflows above 10^19 W a photon).
   Rgb Flux(size_t n) const;
-  float Squares(size_t n) const;
+  float Squares(size_t n, double unit = 1) const;
+  double FluxUnit() const { return unit_ * kUnitsPerFlux; }  // F [W]
 
   static constexpr double kUnitsPerFlux = 67108864.0;  // 2^26
 

@@ -29,6 +29,10 @@ double BrightestChannel(std::span<const Rgb> flux) {
   for (const Rgb& f : flux) brightest = std::max(brightest, f.Max());
   return brightest > 0 ? brightest : 1.0;
 }
+
+// The power of two at or below `flux` [W], within 2^+-100 so that its inverse is a float too: scaling by it is
+// exact.
+double PowerOfTwoBelow(double flux) { return std::ldexp(1.0, std::clamp(std::ilogb(flux), -100, 100)); }
 }  // namespace
 
 std::optional<NodeLattice> KernelEstimator::WideLattice(Kernel kernel, const SurfaceRegion& region, float h) {
@@ -74,6 +78,7 @@ KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb
   }
   for (size_t c = 1; c < cellStart_.size(); ++c) cellStart_[c] += cellStart_[c - 1];
   std::vector<uint32_t> cursor(cellStart_.begin(), cellStart_.end() - 1);
+  noiseUnit_ = PowerOfTwoBelow(BrightestChannel(flux));
   uv_.resize(uv.size());
   photonFlux_.resize(uv.size());
   for (size_t i = 0; i < uv.size(); ++i) {
@@ -105,7 +110,9 @@ void KernelEstimator::TakeNodes(const BinnedPhotons& binned) {
   lo_ = lattice.lo, spacing_ = lattice.spacing, nodesU_ = lattice.nodesU, nodesV_ = lattice.nodesV;
   nodeFlux_.resize(lattice.Count());
   nodeSquares_.resize(lattice.Count());
-  for (size_t n = 0; n < lattice.Count(); ++n) nodeFlux_[n] = binned.Flux(n), nodeSquares_[n] = binned.Squares(n);
+  noiseUnit_ = PowerOfTwoBelow(binned.FluxUnit());
+  for (size_t n = 0; n < lattice.Count(); ++n)
+    nodeFlux_[n] = binned.Flux(n), nodeSquares_[n] = binned.Squares(n, noiseUnit_);
 }
 
 // The coverage mask, binned like the photons: the surface's area in each cell of a grid of side spacing / 2 (exact,
@@ -213,7 +220,9 @@ DensityEstimator::WithNoise KernelEstimator::EvaluateBinned(Point2 x, Profile pr
   const bool edge = corrected && localLinear_ && NearEdge(x);
   const NodeSums s = edge ? SumNodes<kNoise, true>(x, profile, partial) : SumNodes<kNoise, false>(x, profile, partial);
   const Rgb flux = s.flux.ToRgb();
-  const auto noiseOf = [&](double sum, double squares) { return kNoise && sum > 0 ? std::sqrt(std::max(squares, 0.0)) / sum : 0.0; };
+  const auto noiseOf = [&](double sum, double squares) {  // sum [W], squares [noiseUnit_^2]
+    return kNoise && sum > 0 ? std::sqrt(std::max(squares, 0.0)) / (sum / noiseUnit_) : 0.0;
+  };
   if (!corrected) return {flux * float(inverseH2), noiseOf(Luminance(flux), s.squares[0])};
   const std::array<double, 6>& m = s.mass;  // times h^2
   const double det = m[3] * m[5] - m[4] * m[4];
@@ -310,7 +319,7 @@ Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile, NoiseSums& noise, Lin
       if constexpr (kLinear) k *= 1.0f - (fit.cu * (uv_[i].u - x.u) + fit.cv * (uv_[i].v - x.v)) * inverseH;
       cell += photonFlux_[i] * k;
       if constexpr (kNoise) {
-        const float w = Luminance(photonFlux_[i]) * k;
+        const float w = Luminance(photonFlux_[i]) * k * float(1 / noiseUnit_);  // in noiseUnit_
         cellSum += w;
         cellSquares += w * w;
       }

@@ -141,7 +141,10 @@ class KernelEstimator final : public DensityEstimator {
   float spacing_ = 0;
   int nodesU_ = 0, nodesV_ = 0;
   std::vector<Rgb> nodeFlux_;        // [W]
-  std::vector<float> nodeSquares_;   // sum of the bilinear share times luminance(phi_j)^2 [W^2]
+  std::vector<float> nodeSquares_;   // sum of the bilinear share times luminance(phi_j)^2 [noiseUnit_^2]
+  // The noise sums' unit [W]: a power of two near the brightest photon, so that the sums of squared flux stay
+  // within float's range at any light power (10^30 W: 10^48 W^2), and their ratios keep every bit.
+  double noiseUnit_ = 1;
   std::vector<float> nodeArea_;      // A_n [m^2]: the surface's area binned to node n (with a correction)
   std::vector<uint32_t> partialTable_;  // summed-area table of the nodes not wholly on the surface, (nu+1) x (nv+1)
 };

@@ -268,7 +268,9 @@ TEST(PhotonFile, HostileFilesWithAValidCrcAreRefused) {
   std::string triangle = bytes;
   Poke(triangle, at.Record(5) + 16, uint32_t(999'999) | PhotonHit::kFrontBit);
   EXPECT_TRUE(Contains(refusal(triangle), "a hit on triangle 999999 of")) << "a triangle out of range";
-  for (const float bad : {NAN, INFINITY, -1.0f}) {
+  // 1e34 is finite, but 220 of the PLY's values were not once it was resumed (issue 39): beyond what the tracer
+  // carries (kMostPhotonAttenuation), it is refused.
+  for (const float bad : {NAN, INFINITY, -1.0f, 1e34f, 65537.0f}) {
     std::string attenuation = bytes;
     Poke(attenuation, at.Record(7) + 4, bad);
     EXPECT_TRUE(Contains(refusal(attenuation), "photon file is corrupt: a hit on triangle")) << bad;
@@ -287,6 +289,8 @@ TEST(PhotonFile, HostileFilesWithAValidCrcAreRefused) {
   std::string flux = bytes;
   Poke(flux, at.Stat(0, 11), double(NAN));
   EXPECT_TRUE(Contains(refusal(flux), "flux sums are not finite")) << "NaN flux statistics";
+  Poke(flux, at.Stat(0, 11), 1e300);
+  EXPECT_TRUE(Contains(refusal(flux), "more than its photons carry")) << "a flux sum beyond its photons";
   EXPECT_EQ(refusal(bytes), "") << "the intact file, its CRC recomputed";
 }
 

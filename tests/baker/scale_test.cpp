@@ -74,6 +74,34 @@ TEST(Scale, AtTheDefaultsHAndCoversScaleWithTheScene) {
   }
 }
 
+// The same scene lit 10^28 times brighter reads 10^28 times the light with the same relative noise: its photons
+// carry 10^22 W each, whose squares (10^44 W^2) overflowed the float noise sums, and the bake read noise NaN and
+// traced to --max-photons (issue 39). With photons alone (so that the kernel's noise is the bake's), kernel
+// estimator binned and not (--h auto, or h 0.1 m), the ratios agree to float rounding.
+TEST(Scale, AFaintAndABlindingLightReadTheSameRelativeNoise) {
+  const auto bake = [](float radiance, bool autoBandwidth) {
+    BakeOptions o;
+    o.scenePath = test::WriteSquareLightOverFloor(test::TempDirectory("blinding"), 0.5f, radiance, 1.0f, 4.0f, 20, 0.5f);
+    o.outputPath = test::TempDirectory("blinding-out") + "/out.ply";
+    o.photons = 100'000;
+    o.direct.mode = DirectLight::kPhotons;
+    o.autoBandwidth = autoBandwidth;
+    o.estimator.bandwidth = 0.1f;
+    return BakeMesh(o, Log(true));
+  };
+  for (const bool autoBandwidth : {false, true}) {
+    const BakeResult faint = bake(1, autoBandwidth), blinding = bake(1e28f, autoBandwidth);
+    ASSERT_GT(faint.report.noise, 0);
+    EXPECT_NEAR(blinding.report.noise / faint.report.noise, 1.0, 1e-4) << "auto h " << autoBandwidth;
+    double sumFaint = 0, sumBlinding = 0;
+    for (size_t v = 0; v < faint.mesh.irradiance.size(); ++v) {
+      ASSERT_TRUE(std::isfinite(blinding.mesh.irradiance[v].g));
+      sumFaint += faint.mesh.irradiance[v].g, sumBlinding += blinding.mesh.irradiance[v].g;
+    }
+    EXPECT_NEAR(sumBlinding / sumFaint / 1e28, 1.0, 1e-4) << "auto h " << autoBandwidth;
+  }
+}
+
 // A scene far from a room's size in metres (the box at --scale 1e3 is 1.7 km across, at 1e-3 1.7 mm) is told
 // which --scale millimetres, centimetres or inches would need; at 1 it is not.
 TEST(Scale, AKilometreOrAMillimetreAcrossIsToldAboutUnits) {
