@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -18,6 +20,23 @@ namespace pb {
 namespace {
 
 std::string ErrnoText() { return std::strerror(errno); }
+
+// PB_FAIL_WRITES_AFTER in bytes, or -1 for no limit.
+int64_t WriteLimit() {
+  const char* limit = std::getenv("PB_FAIL_WRITES_AFTER");
+  return limit ? std::max<int64_t>(std::strtoll(limit, nullptr, 10), 0) : int64_t(-1);
+}
+
+// ::write, failing with ENOSPC once the process has written PB_FAIL_WRITES_AFTER bytes.
+ssize_t WriteSome(int fd, const char* data, size_t size) {
+  static const int64_t limit = WriteLimit();
+  static std::atomic<int64_t> left{limit};
+  if (limit >= 0 && left.fetch_sub(int64_t(size)) < int64_t(size)) {
+    errno = ENOSPC;
+    return -1;
+  }
+  return ::write(fd, data, size);
+}
 
 // An output stream buffer over a file descriptor, so that the file opened with O_EXCL | O_NOFOLLOW is the one
 // written (std::ofstream would open the path again).
@@ -47,7 +66,7 @@ class DescriptorBuffer : public std::streambuf {
  private:
   bool Drain() {
     for (char* p = pbase(); p < pptr();) {
-      const ssize_t n = ::write(fd_, p, size_t(pptr() - p));
+      const ssize_t n = WriteSome(fd_, p, size_t(pptr() - p));
       if (n < 0 && errno == EINTR) continue;
       if (n <= 0) return false;
       p += n;

@@ -7,6 +7,10 @@
 // over its path, in the order staged, once all of them are complete, and syncs their directories. Destroying
 // an OutputFiles that was not committed removes its temporaries, and the folders MakeDirectory created that are
 // still empty. An InputError names the path that failed.
+//
+// Fault injection (tests/tools/full_disk_test.cpp): with the environment variable PB_FAIL_WRITES_AFTER=BYTES, the
+// process's output writes fail with ENOSPC ("No space left on device") once BYTES have been written in all, as a
+// disk that fills at that byte would.
 #pragma once
 
 #include <functional>

@@ -1,5 +1,6 @@
 #include "baker/image_io.h"
 
+#include <IexBaseExc.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -26,6 +27,8 @@ class ExrStream : public Imf::OStream {
     out_.write(c, n);
     if (!out_) throw InputError(fileName(), 0, "write failed");
   }
+  // Never throws: OpenEXR's destructor asks outside its own try block. A failed stream answers -1, which OpenEXR
+  // turns into an errno exception (WriteExr names the file).
   uint64_t tellp() override { return uint64_t(out_.tellp()); }
   void seekp(uint64_t pos) override { out_.seekp(std::streamoff(pos)); }
 
@@ -62,9 +65,13 @@ void WriteExr(OutputFiles& outputs, const std::string& path, const Image& image,
       frame.insert("A", Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(alpha->data())),
                                    sizeof(float), sizeof(float) * size_t(image.width)));
     ExrStream stream(out, path);
-    Imf::OutputFile file(stream, header);
-    file.setFrameBuffer(frame);
-    file.writePixels(image.height);
+    try {
+      Imf::OutputFile file(stream, header);
+      file.setFrameBuffer(frame);
+      file.writePixels(image.height);
+    } catch (const Iex::BaseExc& e) {  // OpenEXR's own (a full disk once aborted the bake from a worker thread)
+      throw InputError(path, 0, std::string("cannot write the image: ") + e.what());
+    }
   });
 }
 

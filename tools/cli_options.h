@@ -1,6 +1,7 @@
 // Command-line helpers shared by the tools (bake, render): options that take one of a fixed set of names, and
-// the common exit-status contract: 0 on success, 1 for bad input (InputError, message names file:line), 2 for a
-// bad command line (CLI11's message).
+// the common exit-status contract: 0 on success, 1 for bad input (InputError, message names file:line) or any
+// other failure (out of memory, a library's exception: caught, so that no temporary output is left), 2 for a bad
+// command line (CLI11's message).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -8,6 +9,8 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
+#include <new>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -77,6 +80,12 @@ int RunTool(CLI::App& app, int argc, char** argv, Validate&& validate, Work&& wo
     return 0;
   } catch (const InputError& e) {
     fmt::print(stderr, "{}\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {  // caught, so that the outputs' temporaries are removed as the stack unwinds
+    fmt::print(stderr, "error: out of memory; nothing was written\n");
+    return 1;
+  } catch (const std::exception& e) {  // a library's own exception that no stage turned into an InputError
+    fmt::print(stderr, "error: {}\n", e.what());
     return 1;
   }
 }

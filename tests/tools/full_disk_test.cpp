@@ -1,0 +1,53 @@
+// A disk that fills at any byte of a bake's outputs (PB_FAIL_WRITES_AFTER, baker/atomic_file.h): the PLY, the
+// maps, the report, the photon file and the preview. Wherever the writes stop, the bake exits 1 naming the file
+// and the cause, leaves no temporary, and every output of the earlier run keeps its bytes. A full disk during
+// --maps once aborted the bake (OpenEXR's exception, thrown on a worker thread) and left three temporaries.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "tests/ply_reader.h"
+#include "tests/run_tool.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Every file under `dir`, by its path, with its bytes.
+std::map<std::string, std::string> Snapshot(const std::string& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.is_regular_file()) files[entry.path().string()] = test::ReadBytes(entry.path().string());
+  return files;
+}
+
+TEST(FullDisk, ABakeThatRunsOutOfSpaceAnywhereChangesNothing) {
+  const std::string dir = test::TempDirectory("full-disk");
+  const std::string bake = PB_BAKE_EXE " " PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/box.ply --maps " + dir +
+                           "/maps --texel 0.02 --report " + dir + "/report.json --save-photons " + dir +
+                           "/photons.bin --preview " + dir + "/preview.png --preview-size 32x32 --photons 20000 "
+                           "--h 0.05 --direct-samples 16 -q";
+  const test::ToolRun first = test::RunTool(bake, "--seed 1");
+  ASSERT_EQ(first.status, 0) << first.output;
+  const std::map<std::string, std::string> before = Snapshot(dir);
+  ASSERT_EQ(before.size(), 4u + 17u);  // the PLY, report, photons and preview, and a map per surface
+  size_t total = 0;
+  for (const auto& [path, bytes] : before) total += bytes.size();
+  std::vector<size_t> limits = {0, 1, 4095, 65536, total - 1};
+  for (size_t k = 1; k < 16; ++k) limits.push_back(total * k / 16);
+  for (const size_t limit : limits) {
+    const test::ToolRun run = test::RunTool("PB_FAIL_WRITES_AFTER=" + std::to_string(limit) + " " + bake, "--seed 2");
+    EXPECT_EQ(run.status, 1) << "full after " << limit << " of " << total << " bytes:\n" << run.output;
+    EXPECT_NE(run.output.find("No space left on device"), std::string::npos) << limit << ":\n" << run.output;
+    EXPECT_TRUE(Snapshot(dir) == before) << "full after " << limit << " bytes: an output changed or a temporary is left";
+  }
+  const test::ToolRun roomy = test::RunTool("PB_FAIL_WRITES_AFTER=" + std::to_string(2 * total) + " " + bake, "--seed 2");
+  EXPECT_EQ(roomy.status, 0) << "room for every byte: " << roomy.output;
+}
+
+}  // namespace
+}  // namespace pb
