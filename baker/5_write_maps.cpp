@@ -87,6 +87,12 @@ void CheckMapTexels(float texel, const SurfaceRegions& regions, unsigned threads
   RequireMemory("--texel", MapMemoryBytes(texel, regions, threads), fmt::format("maps of {} m texels", texel));
 }
 
+std::vector<std::string> MapPaths(const std::string& directory, size_t surfaces) {
+  std::vector<std::string> paths;
+  for (size_t s = 0; s < surfaces; ++s) paths.push_back(fmt::format("{}/surface_{}.exr", directory, s));
+  return paths;
+}
+
 MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,
                                 const SplitMesh& base, const Log& log) {
   const PreparedScene& prepared = field.Prepared();
@@ -94,11 +100,10 @@ MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directo
   const SurfaceRegions& regions = prepared.regions;
   RequireWritableLocation(directory + "/surface_0.exr");
   CheckMapTexels(texel, regions, 1);
-  MapsWritten written;
+  MapsWritten written{MapPaths(directory, surfaces.surfaces.size())};
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const auto [nu, nv] = TexelGrid(regions[s]->Bounds(), texel);
     written.texels += size_t(nu) * size_t(nv);
-    written.paths.push_back(fmt::format("{}/surface_{}.exr", directory, s));
   }
   const SurfacePointSampler sampler(prepared.scene, surfaces, base);
   Progress progress(log, "irradiance maps", surfaces.surfaces.size());

@@ -27,8 +27,9 @@ struct MapsWritten {
   size_t texels = 0;
 };
 
-// One file per surface, "DIR/surface_<index>.exr". InputError if DIR is not a writable folder or a chart would
-// need more than 8192 texels on a side.
+// One file per surface, "DIR/surface_<index>.exr" (MapPaths). InputError if DIR is not a writable folder or a chart
+// would need more than 8192 texels on a side.
+std::vector<std::string> MapPaths(const std::string& directory, size_t surfaces);
 // InputError("--texel") when a surface's chart would need more than 8192 texels on a side, or when the maps being
 // written at once (one per thread, the largest first) would need more memory than the machine has, at about 40
 // bytes per texel (H, coverage, overlap area and OpenEXR's buffers): checked before any photon is traced.

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <optional>
 #include <streambuf>
+#include <unordered_map>
 
 #include "mesh/errors.h"
 
@@ -106,7 +107,10 @@ void SyncDirectory(const std::string& directory) {
 struct FileIdentity {
   std::optional<std::pair<dev_t, ino_t>> node;
   std::string resolved;
-  bool operator==(const FileIdentity& o) const { return node || o.node ? node == o.node : resolved == o.resolved; }
+  // Equal keys name the same file: the node where the file exists, else the resolved path.
+  std::string Key() const {
+    return node ? "node " + std::to_string(node->first) + ":" + std::to_string(node->second) : "path " + resolved;
+  }
 };
 FileIdentity IdentityOf(const std::string& path) {
   FileIdentity id;
@@ -194,16 +198,19 @@ void RequireWritableLocation(const std::string& path) {
 
 void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>& outputs,
                           const std::vector<std::pair<std::string, std::string>>& inputs) {
-  std::vector<std::pair<std::string, FileIdentity>> seen;  // (option, identity) of outputs so far
+  // By identity, hashed, so that thousands of --maps files against hundreds of textures cost one stat each.
+  std::unordered_map<std::string, std::pair<std::string, std::string>> inputAt;  // identity -> (input, path)
+  for (const auto& [input, path] : inputs)
+    if (!path.empty()) inputAt.emplace(IdentityOf(path).Key(), std::pair{input, path});
+  std::unordered_map<std::string, std::string> outputAt;  // identity -> option
   for (const auto& [option, path] : outputs) {
     if (path.empty()) continue;
-    const FileIdentity id = IdentityOf(path);
-    for (const auto& [other, otherId] : seen)
-      if (otherId == id) throw InputError(path, 0, option + " and " + other + " name the same file");
-    for (const auto& [input, inputPath] : inputs)
-      if (!inputPath.empty() && IdentityOf(inputPath) == id)
-        throw InputError(path, 0, option + " would overwrite the input " + input + " (" + inputPath + ")");
-    seen.emplace_back(option, id);
+    const std::string key = IdentityOf(path).Key();
+    if (const auto it = outputAt.find(key); it != outputAt.end())
+      throw InputError(path, 0, option + " and " + it->second + " name the same file");
+    if (const auto it = inputAt.find(key); it != inputAt.end())
+      throw InputError(path, 0, option + " would overwrite the input " + it->second.first + " (" + it->second.second + ")");
+    outputAt.emplace(key, option);
   }
 }
 

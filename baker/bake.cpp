@@ -37,6 +37,15 @@ std::vector<std::pair<std::string, std::string>> OutputFilesOf(const BakeOptions
           {"--preview", o.previewPath}};
 }
 
+// Every output, each --maps file named, once the scene's surfaces are known (-o DIR/surface_0.exr --maps DIR
+// would have written one over the other).
+std::vector<std::pair<std::string, std::string>> OutputsWithMaps(const BakeOptions& o, size_t surfaces) {
+  std::vector<std::pair<std::string, std::string>> files = OutputFilesOf(o);
+  if (!o.mapsDirectory.empty())
+    for (std::string& path : MapPaths(o.mapsDirectory, surfaces)) files.emplace_back("--maps", std::move(path));
+  return files;
+}
+
 // The --preview camera, read before any work: --camera, or the scene's sidecar.
 std::optional<Camera> PreviewCamera(const BakeOptions& o) {
   if (o.previewPath.empty()) return std::nullopt;
@@ -355,7 +364,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   StageClock clock(journal.stageSeconds);
 
   const PreparedScene scene = PrepareScene(SceneOf(o), clock, &log);
-  RequireDistinctFiles(OutputFilesOf(o), scene.scene.InputFiles());
+  RequireDistinctFiles(OutputsWithMaps(o, scene.surfaces.surfaces.size()), scene.scene.InputFiles());
   journal.Warn(scene.warnings, log);
   if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions, threads.Count());
   if (o.refine.subdivide > 0) CheckSubdivisionMemory(scene.scene.triangles.size(), o.refine.subdivide);

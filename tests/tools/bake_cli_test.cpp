@@ -521,6 +521,19 @@ TEST(BakeCli, CollidingOrNonRegularOutputsAreRefusedAtOnce) {
   }
   EXPECT_TRUE(test::ReadBytes(dir + "/scene.mtl") == mtlBytes && test::ReadBytes(texture) == textureBytes);
   EXPECT_FALSE(std::filesystem::exists(dir + "/o.ply"));
+  // So are the --maps files, once the surfaces are known: -o maps/surface_0.exr --maps maps was accepted, and the
+  // map and the PLY were written over each other (issue 39).
+  ASSERT_EQ(RunBake(scene + " -q -o " + dir + "/m.ply --photons 2000 --maps " + dir + "/maps").status, 0);
+  const std::string mapBytes = test::ReadBytes(dir + "/maps/surface_0.exr");
+  for (const Case& c : std::vector<Case>{{"-o " + dir + "/maps/surface_0.exr --maps " + dir + "/maps", "--maps and -o name the same file"},
+                                         {"-o " + dir + "/o.ply --report " + dir + "/maps/./surface_1.exr --maps " + dir + "/maps",
+                                          "--maps and --report name the same file"}}) {
+    const BakeRun run = RunBake(scene + " --photons 400000000 " + c.arguments);
+    EXPECT_EQ(run.status, 1) << c.arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find(c.expected), std::string::npos) << c.arguments << "\n" << run.output;
+  }
+  EXPECT_TRUE(test::ReadBytes(dir + "/maps/surface_0.exr") == mapBytes);
+  EXPECT_TRUE(NoTemporariesIn(dir + "/maps"));
 }
 
 // A planted symlink at a temporary file's name is never followed: the temporary is created with O_EXCL |
