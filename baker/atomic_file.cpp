@@ -1,6 +1,7 @@
 #include "baker/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -182,6 +183,41 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
   OutputFiles file;
   file.Write(path, write);
   file.Commit();
+}
+
+namespace {
+
+// The pid of a temporary's name "<output>.tmp-<pid>-<n>", with the output's name; nothing for any other name.
+std::optional<std::pair<std::string, pid_t>> TemporaryOf(const std::string& name) {
+  const size_t mark = name.rfind(".tmp-");
+  if (mark == std::string::npos || mark == 0) return std::nullopt;
+  const std::string rest = name.substr(mark + 5);
+  const size_t dash = rest.find('-');
+  const auto digits = [](const std::string& t) {
+    return !t.empty() && t.size() <= 18 && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if (dash == std::string::npos || !digits(rest.substr(0, dash)) || !digits(rest.substr(dash + 1))) return std::nullopt;
+  return std::pair{name.substr(0, mark), pid_t(std::stoll(rest.substr(0, dash)))};
+}
+
+bool Running(pid_t pid) { return pid > 0 && (::kill(pid, 0) == 0 || errno != ESRCH); }
+
+}  // namespace
+
+std::vector<std::pair<std::string, long>> RemoveStaleTemporaries(
+    const std::string& directory, const std::function<bool(const std::string& name)>& isOutput) {
+  std::vector<std::pair<std::string, long>> removed;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(directory, error)) {
+    const std::string name = entry.path().filename().string();
+    const auto temporary = TemporaryOf(name);
+    if (!temporary || !isOutput(temporary->first) || Running(temporary->second)) continue;
+    if (!entry.is_regular_file(error) || entry.is_symlink(error)) continue;
+    if (std::remove(entry.path().c_str()) == 0)
+      removed.emplace_back(entry.path().string(), long(temporary->second));
+  }
+  std::sort(removed.begin(), removed.end());
+  return removed;
 }
 
 void RequireWritableLocation(const std::string& path) {

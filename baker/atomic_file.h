@@ -4,7 +4,10 @@
 // OutputFiles::Write stages one output: its bytes go to a new temporary file "<path>.tmp-<pid>-<n>" in the
 // output's own directory, created with O_CREAT | O_EXCL | O_NOFOLLOW (a file or symlink planted at that name is
 // never followed or overwritten), written through the descriptor and fsync'ed. Commit() renames every staged file
-// over its path, in the order staged, once all of them are complete, and syncs their directories. Destroying
+// over its path, in the order staged, once all of them are complete, and syncs their directories. A process killed
+// between two renames (microseconds) leaves the outputs staged before new and the rest old; the bake stages its
+// photon file, maps, preview, then -o, then --report, so a new report (or, without one, a new -o) means all are
+// new. The next run removes the temporaries a killed run left (RemoveStaleTemporaries) and says so. Destroying
 // an OutputFiles that was not committed removes its temporaries, and the folders MakeDirectory created that are
 // still empty. An InputError names the path that failed.
 //
@@ -44,6 +47,13 @@ class OutputFiles {
   std::vector<Staged> staged_;
   std::vector<std::string> createdDirectories_;  // outermost first
 };
+
+// Removes the temporaries "<name>.tmp-<pid>-<n>" in `directory` that a process no longer running here left (it
+// was killed before it could remove them), for the output names `isOutput` accepts; returns the paths removed, with
+// the pid of the run that left each. A temporary of a process that still runs is left alone (as is one of a
+// process on another machine sharing the folder, when its pid is in use here).
+std::vector<std::pair<std::string, long>> RemoveStaleTemporaries(
+    const std::string& directory, const std::function<bool(const std::string& name)>& isOutput);
 
 // One file as a transaction of its own.
 void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);

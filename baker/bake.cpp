@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <filesystem>
+#include <functional>
 #include <optional>
 
 #include "baker/0_prepare_scene.h"
@@ -56,6 +58,25 @@ std::optional<Camera> PreviewCamera(const BakeOptions& o) {
     if (!o.cameraPath.empty() || e.line() > 0) throw;
     throw InputError(e.file(), 0, e.message() + "; --preview needs a camera: give --camera FILE or write " + path);
   }
+}
+
+// The temporaries that killed runs left beside this run's outputs (baker/atomic_file.h), removed, as warnings.
+std::vector<std::string> RemoveKilledRunsTemporaries(const BakeOptions& o) {
+  std::vector<std::string> notes;
+  const auto remove = [&](const std::string& directory, const std::function<bool(const std::string&)>& isOutput) {
+    for (const auto& [path, pid] : RemoveStaleTemporaries(directory, isOutput))
+      notes.push_back(fmt::format("{}: warning: removed this temporary file, left by a run (pid {}) that was killed "
+                                  "before it finished", path, pid));
+  };
+  for (const auto& [option, path] : OutputFilesOf(o)) {
+    if (path.empty()) continue;
+    const std::filesystem::path p(path);
+    remove(p.has_parent_path() ? p.parent_path().string() : ".",
+           [name = p.filename().string()](const std::string& n) { return n == name; });
+  }
+  if (!o.mapsDirectory.empty())
+    remove(o.mapsDirectory, [](const std::string& n) { return n.rfind("surface_", 0) == 0 && n.ends_with(".exr"); });
+  return notes;
 }
 
 // Each output can be written, none names another or an input (--save-photons may name the --resume file). The
@@ -405,6 +426,7 @@ BakeReport Bake(const BakeOptions& o, const Log& log, const Distribution* distri
   o.Validate();
   OutputFiles outputs;
   ValidateOutputs(o, outputs);
+  for (const std::string& note : RemoveKilledRunsTemporaries(o)) log.Warning(note);
   const std::optional<Camera> camera = PreviewCamera(o);
   BakeResult result = BakeMesh(o, log, outputs, distribution);
   BakeReport& report = result.report;

@@ -1,8 +1,11 @@
 // A disk that fills at any byte of a bake's outputs (PB_FAIL_WRITES_AFTER, baker/atomic_file.h): the PLY, the
 // maps, the report, the photon file and the preview. Wherever the writes stop, the bake exits 1 naming the file
 // and the cause, leaves no temporary, and every output of the earlier run keeps its bytes. A full disk during
-// --maps once aborted the bake (OpenEXR's exception, thrown on a worker thread) and left three temporaries.
+// --maps once aborted the bake (OpenEXR's exception, thrown on a worker thread) and left three temporaries. And the
+// temporaries a killed run leaves are removed by the next run beside them, which says so.
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 
 #include <filesystem>
 #include <map>
@@ -47,6 +50,29 @@ TEST(FullDisk, ABakeThatRunsOutOfSpaceAnywhereChangesNothing) {
   }
   const test::ToolRun roomy = test::RunTool("PB_FAIL_WRITES_AFTER=" + std::to_string(2 * total) + " " + bake, "--seed 2");
   EXPECT_EQ(roomy.status, 0) << "room for every byte: " << roomy.output;
+}
+
+// A run killed outright cannot remove its temporaries; the next run removes those of its own outputs whose pid no
+// longer runs, and names each. Another output's, or a running process's, are left alone.
+TEST(FullDisk, TheTemporariesOfAKilledRunAreRemovedByTheNext) {
+  const std::string dir = test::TempDirectory("killed-run");
+  const test::ToolRun gone = test::RunTool("sh -c 'echo $$'", "");  // a pid that has exited
+  const std::string dead = gone.output.substr(0, gone.output.find('\n')), alive = std::to_string(getpid());
+  fs::create_directories(dir + "/maps");
+  const std::vector<std::string> stale = {dir + "/box.ply.tmp-" + dead + "-0", dir + "/maps/surface_2.exr.tmp-" + dead + "-3"};
+  const std::vector<std::string> kept = {dir + "/box.ply.tmp-" + alive + "-1", dir + "/other.ply.tmp-" + dead + "-0",
+                                         dir + "/maps/notes.txt.tmp-" + dead + "-0"};
+  for (const std::string& f : stale) test::WriteText(f, "half a file");
+  for (const std::string& f : kept) test::WriteText(f, "not ours to remove");
+  const test::ToolRun run = test::RunTool(PB_BAKE_EXE, PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/box.ply --maps " +
+                                                           dir + "/maps --photons 20000 --h 0.05 --direct-samples 16");
+  ASSERT_EQ(run.status, 0) << run.output;
+  for (const std::string& f : stale) {
+    EXPECT_FALSE(fs::exists(f)) << f;
+    EXPECT_NE(run.output.find(f + ": warning: removed this temporary file, left by a run (pid " + dead + ")"),
+              std::string::npos) << run.output;
+  }
+  for (const std::string& f : kept) EXPECT_TRUE(fs::exists(f)) << f;
 }
 
 }  // namespace
