@@ -32,6 +32,9 @@ namespace pb {
 // InputError("--subdivide") when the uniform levels would need more memory than the machine has: about 400 bytes
 // per final face (half-edge mesh, display mesh and light; measured on the box at levels 3 to 5).
 void CheckSubdivisionMemory(size_t triangles, int levels);
+// A warning when estimating the vertices of `levels` subdivisions of `triangles` would take over a minute, from the
+// time a point of the bake's estimate took [s]; none when it would not.
+std::vector<std::string> SubdivisionTimeWarnings(size_t triangles, int levels, double secondsPerPoint);
 
 struct RefineReport {
   bool ran = false;

@@ -26,7 +26,7 @@ GridSize TexelGrid(const Bounds2& b, float texel) {
 std::string Vec(double x, double y, double z) { return fmt::format("{:.9g} {:.9g} {:.9g}", x, y, z); }
 
 void WriteSurfaceMap(OutputFiles& outputs, const std::string& path, float texel, const IrradianceField& field,
-                     const SurfacePointSampler& sampler, uint32_t s) {
+                     const SurfacePointSampler& sampler, uint32_t s, Progress& progress) {
   const Scene& scene = field.Prepared().scene;
   const Surface& surface = field.Prepared().surfaces.surfaces[s];
   const SurfaceRegion& region = *field.Prepared().regions[s];
@@ -35,7 +35,8 @@ void WriteSurfaceMap(OutputFiles& outputs, const std::string& path, float texel,
   Image image(nu, nv);
   std::vector<float> coverage(size_t(nu) * size_t(nv));
   const std::vector<double> area = region.GridOverlapAreas(b.lo, texel, nu, nv);
-  for (int j = 0; j < nv; ++j)
+  // Row by row, in parallel: a map of 10^8 texels is minutes of work, and each texel's estimate is its own.
+  tbb::parallel_for(0, nv, [&](int j) {
     for (int i = 0; i < nu; ++i) {
       const size_t k = size_t(j) * size_t(nu) + size_t(i);
       coverage[k] = float(std::clamp(area[k] / (double(texel) * texel), 0.0, 1.0));
@@ -43,6 +44,8 @@ void WriteSurfaceMap(OutputFiles& outputs, const std::string& path, float texel,
       const Point2 uv{b.lo.u + (float(i) + 0.5f) * texel, b.lo.v + (float(j) + 0.5f) * texel};
       image.At(i, j) = field.Irradiance(sampler.AtChartPoint(s, uv));
     }
+    progress.Advance(uint64_t(nu));
+  });
   const SurfaceChart& chart = surface.chart;
   const std::array<double, 3> o = scene.ToWorld(chart.origin);
   const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
@@ -62,6 +65,26 @@ void WriteSurfaceMap(OutputFiles& outputs, const std::string& path, float texel,
 }
 
 }  // namespace
+
+double MapTexelCount(float texel, const SurfaceRegions& regions) {
+  double texels = 0;
+  for (const auto& region : regions) {
+    const auto [nu, nv] = TexelGrid(region->Bounds(), texel);
+    texels += double(nu) * double(nv);
+  }
+  return texels;
+}
+
+std::vector<std::string> MapTimeWarnings(float texel, const SurfaceRegions& regions, double secondsPerPoint) {
+  constexpr double kMinute = 60;
+  const double texels = MapTexelCount(texel, regions), seconds = texels * secondsPerPoint;
+  if (!(seconds > kMinute)) return {};
+  // Texels go as 1 / texel^2: the texel that would take a minute.
+  const double minute = texel * std::sqrt(seconds / kMinute);
+  return {fmt::format("--texel {}: warning: the maps hold {:.3g} texels, about {} at the {:.3g} ms a point of the "
+                      "estimate took; --texel {:.2g} would take about a minute (progress shows the time left)",
+                      texel, texels, DurationText(seconds), 1e3 * secondsPerPoint, minute)};
+}
 
 double MapMemoryBytes(float texel, const SurfaceRegions& regions, unsigned threads) {
   constexpr double kBytesPerTexel = 40;
@@ -106,10 +129,9 @@ MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directo
     written.texels += size_t(nu) * size_t(nv);
   }
   const SurfacePointSampler sampler(prepared.scene, surfaces, base);
-  Progress progress(log, "irradiance maps", surfaces.surfaces.size());
+  Progress progress(log, "irradiance maps (texels)", written.texels);
   tbb::parallel_for(size_t(0), surfaces.surfaces.size(), [&](size_t s) {
-    WriteSurfaceMap(outputs, written.paths[s], texel, field, sampler, uint32_t(s));
-    progress.Advance(1);
+    WriteSurfaceMap(outputs, written.paths[s], texel, field, sampler, uint32_t(s), progress);
   });
   return written;
 }

@@ -34,6 +34,11 @@ std::vector<std::string> MapPaths(const std::string& directory, size_t surfaces)
 // written at once (one per thread, the largest first) would need more memory than the machine has, at about 40
 // bytes per texel (H, coverage, overlap area and OpenEXR's buffers): checked before any photon is traced.
 void CheckMapTexels(float texel, const SurfaceRegions& regions, unsigned threads);
+// Texels of all the maps at `texel` [m].
+double MapTexelCount(float texel, const SurfaceRegions& regions);
+// A warning when the maps would take over a minute, from the time a point of the bake's estimate took
+// [s] (a texel is estimated as a vertex is); none when they would not.
+std::vector<std::string> MapTimeWarnings(float texel, const SurfaceRegions& regions, double secondsPerPoint);
 // Bytes of the `threads` largest maps at once.
 double MapMemoryBytes(float texel, const SurfaceRegions& regions, unsigned threads);
 

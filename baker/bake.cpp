@@ -312,6 +312,12 @@ RoundState StateAfterRound(const Lit& lit, uint64_t photons, const BakeOptions& 
           .bytesPerPhoton = double(lit.photons.StoredHits() * sizeof(PhotonHit)) / emitted};
 }
 
+// The time the estimate took per vertex, over every round [s]: what a texel or a refined vertex costs.
+double SecondsPerPoint(const Lit& lit, const StageClock& clock) {
+  const double points = double(lit.baked.mesh.VertexCount()) * double(std::max<size_t>(lit.progress.rounds.size(), 1));
+  return points > 0 ? clock.Seconds("estimate") / points : 0.0;
+}
+
 // The photon store may take this share of the machine's memory: the estimate needs about as much again.
 constexpr double kStoreMemoryShare = 0.4;
 
@@ -399,6 +405,8 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   const float exposure = DisplayExposure(lit.baked, o.exposure);
 
   MapsWritten maps;
+  if (!o.mapsDirectory.empty()) journal.Warn(MapTimeWarnings(o.texel, scene.regions, SecondsPerPoint(lit, clock)), log);
+  journal.Warn(SubdivisionTimeWarnings(scene.scene.triangles.size(), o.refine.subdivide, SecondsPerPoint(lit, clock)), log);
   if (!o.mapsDirectory.empty())
     maps = clock.Time("maps", [&] { return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, lit.baked.mesh, log); });
   RefineReport refine;

@@ -39,15 +39,14 @@ void Progress::Advance(uint64_t done) {
   Draw(now, false);
 }
 
-namespace {
-
-// "42 s", "3 min 20 s", "2 h 05 min".
-std::string Duration(double seconds) {
-  const auto s = uint64_t(std::llround(std::max(seconds, 0.0)));
+std::string DurationText(double seconds) {
+  const auto s = uint64_t(std::llround(std::clamp(seconds, 0.0, 1e15)));
   if (s < 60) return fmt::format("{} s", s);
   if (s < 3600) return fmt::format("{} min {:02} s", s / 60, s % 60);
   return fmt::format("{} h {:02} min", s / 3600, (s % 3600) / 60);
 }
+
+namespace {
 
 // 1234567 -> "1.23 M".
 std::string Count(double x) {
@@ -66,7 +65,7 @@ void Progress::Draw(uint64_t done, bool final) {
   const double rate = seconds > 0 ? double(done) / seconds : 0.0;
   std::string tail = fmt::format("{:7.2f} s  {:>8}/s", seconds, Count(rate));
   if (!final && seconds >= 0.1 && rate > 0 && done < total_)
-    tail += fmt::format("  {} left", Duration(double(total_ - done) / rate));
+    tail += fmt::format("  {} left", DurationText(double(total_ - done) / rate));
   fmt::print(stderr, "{}  {:<22} {:5.1f}%  {:>12} / {:<12} {:<40}{}", log_.Interactive() ? "\r" : "", stage_,
              percent, std::min(done, total_ ? total_ : done), total_, tail, final || !log_.Interactive() ? "\n" : "");
   std::fflush(stderr);

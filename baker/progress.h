@@ -14,6 +14,9 @@
 
 namespace pb {
 
+// "42 s", "3 min 20 s", "2 h 05 min".
+std::string DurationText(double seconds);
+
 class Log {
  public:
   explicit Log(bool quiet);

@@ -43,7 +43,7 @@ std::unique_ptr<Far::TopologyRefiner> RefinerOf(const HalfEdgeMesh& mesh, int le
 
 }  // namespace
 
-HalfEdgeMesh SubdivideUniform(const HalfEdgeMesh& mesh, int levels) {
+HalfEdgeMesh SubdivideUniform(const HalfEdgeMesh& mesh, int levels, const std::function<void(uint64_t faces)>& built) {
   if (levels <= 0) return mesh;
   const std::unique_ptr<Far::TopologyRefiner> refiner = RefinerOf(mesh, levels);
   std::vector<VaryingPoint> points(refiner->GetNumVerticesTotal());
@@ -71,7 +71,9 @@ HalfEdgeMesh SubdivideUniform(const HalfEdgeMesh& mesh, int levels) {
     const Far::ConstIndexArray corners = finest.GetFaceVertices(f);
     const auto face = out.add_face(handles[corners[0]], handles[corners[1]], handles[corners[2]]);
     out.SetFace(face, faceSrc[f].surface, faceSrc[f].base);
+    if (built && (f + 1) % 65536 == 0) built(65536);
   }
+  if (built) built(uint64_t(finest.GetNumFaces()) % 65536);
   return out;
 }
 

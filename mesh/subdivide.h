@@ -8,11 +8,16 @@
 // adaptive refinement (mesh/refine.h) must beat.
 #pragma once
 
+#include <cstdint>
+#include <functional>
+
 #include "mesh/half_edge_mesh.h"
 
 namespace pb {
 
-// `mesh` must have no deleted elements. levels = 0 returns a copy.
-HalfEdgeMesh SubdivideUniform(const HalfEdgeMesh& mesh, int levels);
+// `mesh` must have no deleted elements. levels = 0 returns a copy. `built`, when given, is told the faces of the
+// finest level as they are built (every 65,536, and at the end), for progress.
+HalfEdgeMesh SubdivideUniform(const HalfEdgeMesh& mesh, int levels,
+                              const std::function<void(uint64_t faces)>& built = {});
 
 }  // namespace pb

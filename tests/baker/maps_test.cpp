@@ -4,6 +4,8 @@
 
 #include "baker/2_bin_photons.h"
 #include "baker/3_irradiance_field.h"
+#include "baker/4_refine_mesh.h"
+#include "baker/5_write_maps.h"
 #include "baker/bake.h"
 #include "baker/image_io.h"
 #include "mesh/errors.h"
@@ -70,6 +72,25 @@ TEST(IrradianceMaps, RoundTripMatchesTheEstimatorAtTexelCentres) {
 TEST(IrradianceMaps, RefusesTexelsTooSmallForTheSurface) {
   // 1e-4 m texels: 40,000 on a side.
   EXPECT_THROW(Bake(MapBake(test::TempDirectory("maps-small"), 1e-4f, 1000), Log(true)), InputError);
+}
+
+// Work that multiplies (issue 39): --texel 1e-4 on the box ran 90 s without a word. The maps' and subdivision's
+// time is foretold from the time a point of the estimate took, and warned about past a minute.
+TEST(IrradianceMaps, MapsOrSubdivisionThatWouldTakeMinutesAreForetold) {
+  SurfaceRegions square;  // 1 m^2
+  square.push_back(std::make_unique<SurfaceRegion>(std::vector<Triangle2>{
+      {Point2{0, 0}, Point2{1, 0}, Point2{1, 1}}, {Point2{0, 0}, Point2{1, 1}, Point2{0, 1}}}));
+  EXPECT_NEAR(MapTexelCount(1e-3f, square), 1e6, 4e3);
+  EXPECT_TRUE(MapTimeWarnings(1e-2f, square, 1e-4).empty()) << "1e4 texels at 0.1 ms: 1 s";
+  const std::vector<std::string> slow = MapTimeWarnings(1e-4f, square, 1e-4);  // 1e8 texels: 10^4 s
+  ASSERT_EQ(slow.size(), 1u);
+  EXPECT_NE(slow[0].find("about 2 h 46 min"), std::string::npos) << slow[0];
+  EXPECT_NE(slow[0].find("--texel 0.0013 would take about a minute"), std::string::npos) << slow[0];
+  EXPECT_TRUE(SubdivisionTimeWarnings(1000, 2, 1e-3).empty()) << "8,000 vertices at 1 ms: 8 s";
+  const std::vector<std::string> deep = SubdivisionTimeWarnings(1000, 5, 1e-3);  // 512,000 vertices: 512 s
+  ASSERT_EQ(deep.size(), 1u);
+  EXPECT_NE(deep[0].find("--subdivide 5: warning: about 5.12e+05 vertices to estimate, about 8 min 32 s"),
+            std::string::npos) << deep[0];
 }
 
 }  // namespace
