@@ -477,6 +477,10 @@ class GltfReader {
         use.albedoUv = UvOf(pbr.baseColorTexture);
       }
     }
+    const Rgb textureMaximum = m.albedoTexture >= 0 ? result_.scene.textures[size_t(m.albedoTexture)].maximum : Rgb{1, 1, 1};
+    if (const std::optional<float> total = CapReflectance(m, textureMaximum))  // glTF's default base colour is 1
+      Warn("reflectance cap", where, fmt::format("reflectance {:.3f} capped at 0.99, since a surface that absorbs nothing "
+                                                 "never ends a path in a closed scene", *total));
     if (g.emissiveTexture.index >= 0 && m.IsEmissive()) {
       bool clamp = false;
       if (const std::optional<int> texture = TextureOf(g.emissiveTexture, where + "/emissiveTexture", &clamp)) {

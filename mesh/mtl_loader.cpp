@@ -44,20 +44,13 @@ float ReadScalar(const TextLine& line, WarningLog& warnings) {
 
 bool InUnitInterval(Rgb c) { return c.r >= 0 && c.g >= 0 && c.b >= 0 && c.r <= 1 && c.g <= 1 && c.b <= 1; }
 
-// The largest reflectance a diffuse or mirror material keeps. A surface that absorbs nothing keeps photons (and
-// paths) bouncing until they escape: in a closed scene forever, and H = Phi / (A (1 - rho)) diverges. At 0.99 a
-// photon's expected path is still bounded, at 100 surfaces.
-constexpr float kMaxReflectance = 0.99f;
-
-// Scales Kd and Ks down together so that no channel of Kd + Ks exceeds kMaxReflectance, with a warning.
+// Caps Kd and Ks together at kMaxReflectance (mesh/scene.h), with a warning.
 void CapReflectance(Material& m, Rgb textureMaximum, const TextLine& where, WarningLog& warnings) {
-  const float total = (m.albedo * textureMaximum + m.specular).Max();
-  if (total <= kMaxReflectance) return;
+  const std::optional<float> total = CapReflectance(m, textureMaximum);
+  if (!total) return;
   warnings.Add("reflectance cap " + m.name,
-               where.Warning("material '" + m.name + "': reflectance " + std::to_string(total).substr(0, 5) +
+               where.Warning("material '" + m.name + "': reflectance " + std::to_string(*total).substr(0, 5) +
                              " capped at 0.99, since a surface that absorbs nothing never ends a path in a closed scene"));
-  m.albedo = m.albedo * (kMaxReflectance / total);
-  m.specular = m.specular * (kMaxReflectance / total);
 }
 
 MaterialClass ClassOfIllum(int illum) {

@@ -17,6 +17,8 @@
 #include <utility>
 #include <vector>
 
+#include <optional>
+
 #include "mesh/color.h"
 #include "mesh/geometry.h"
 #include "mesh/texture.h"
@@ -44,6 +46,22 @@ struct Material {
   bool IsEmissive() const { return !emission.IsBlack(); }
   bool IsSpecular() const { return kind != MaterialClass::kDiffuse; }
 };
+
+// The largest reflectance a diffuse or mirror material keeps, per channel of its albedo (times its texture's
+// largest value) plus its specular. A surface that absorbs nothing keeps photons (and paths) bouncing until they
+// escape: in a closed scene forever, and H = Phi / (A (1 - rho)) diverges. At 0.99 a photon's expected path is
+// still bounded, at 100 surfaces. Both loaders cap with a warning: an OBJ's Kd 1, glTF's default base colour 1.
+inline constexpr float kMaxReflectance = 0.99f;
+
+// Scales m's albedo and specular down together so that no channel exceeds kMaxReflectance; returns the
+// reflectance it had when it did.
+inline std::optional<float> CapReflectance(Material& m, Rgb textureMaximum) {
+  const float total = (m.albedo * textureMaximum + m.specular).Max();
+  if (total <= kMaxReflectance) return std::nullopt;
+  m.albedo = m.albedo * (kMaxReflectance / total);
+  m.specular = m.specular * (kMaxReflectance / total);
+  return total;
+}
 
 // Lights that are not surfaces, as a scene file declares them (glTF's KHR_lights_punctual, SCENE.lights.json):
 //   point: radiant intensity I [W/sr] into every direction from `position`;
