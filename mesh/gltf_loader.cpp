@@ -167,6 +167,8 @@ class GltfReader {
                                                       Folder(path_));
     for (const std::string& line : SplitLines(warn)) Warn("tinygltf " + line.substr(0, 24), "/", line);
     if (!ok) {
+      for (const char* compression : kCompressions)
+        if (bytes.find(compression) != std::string::npos) RefuseCompression(compression);  // tinygltf may fail first
       const std::vector<std::string> lines = SplitLines(err);
       throw InputError(path_, 0, std::string("not a glTF 2.0 file that can be read: ") +
                                      (lines.empty() ? "tinygltf gave no reason" : lines.front()));
@@ -183,7 +185,18 @@ class GltfReader {
     return lines;
   }
 
+  // Compressed geometry: its accessors hold no data of their own, so a file that uses one is refused by its name
+  // (whether or not it lists it as required), not by the first accessor that reads nothing.
+  static constexpr const char* kCompressions[] = {"KHR_draco_mesh_compression", "EXT_meshopt_compression"};
+  [[noreturn]] void RefuseCompression(const std::string& extension) const {
+    throw InputError(path_, 0, "the file uses extension '" + extension + "' (compressed geometry), which photonbake "
+                               "does not read; export it without compression");
+  }
+
   void RequireKnownExtensions() const {
+    for (const std::string& used : model_.extensionsUsed)
+      for (const char* compression : kCompressions)
+        if (used == compression) RefuseCompression(used);
     for (size_t i = 0; i < model_.extensionsRequired.size(); ++i)
       if (!KnownExtensions().count(model_.extensionsRequired[i]))
         Fail(fmt::format("/extensionsRequired/{}", i),
@@ -266,6 +279,9 @@ class GltfReader {
     const std::string where = fmt::format("/nodes/{}", node);
     if (size_t(n.mesh) >= model_.meshes.size()) Fail(where, fmt::format("mesh {} does not exist", n.mesh));
     if (n.skin >= 0) Warn("skin", where, "skins are not applied: the mesh is baked as stored");
+    if (n.extensions.count("EXT_mesh_gpu_instancing"))
+      Warn("instancing", where, "EXT_mesh_gpu_instancing is not read: only the node's own mesh is baked, not its "
+                                "instances");
     const tg::Mesh& mesh = model_.meshes[size_t(n.mesh)];
     for (size_t p = 0; p < mesh.primitives.size(); ++p)
       AddPrimitive(mesh.primitives[p], fmt::format("/meshes/{}/primitives/{}", n.mesh, p), world, ObjectOf(node));
@@ -278,6 +294,9 @@ class GltfReader {
       return Warn("mode", where, fmt::format("mode {} (points or lines) has no area to bake; skipped", primitive.mode));
     }
     if (!primitive.targets.empty()) Warn("morph", where, "morph targets are not applied: the mesh is baked as stored");
+    if (primitive.attributes.count("COLOR_0"))
+      Warn("vertex colour", where + "/attributes/COLOR_0",
+           "vertex colours are not read: the surface takes its material's base colour");
     const auto position = primitive.attributes.find("POSITION");
     if (position == primitive.attributes.end()) return Warn("no position", where, "no POSITION attribute; skipped");
     const Accessor positions(model_, position->second, 3, {TINYGLTF_COMPONENT_TYPE_FLOAT}, where + "/attributes/POSITION", path_);
@@ -470,6 +489,9 @@ class GltfReader {
     m.emission = Colour(g.emissiveFactor.size() == 3 ? g.emissiveFactor : std::vector<double>{0, 0, 0}) *
                  float(NumberOr(g.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1));
     WarnIgnored(g, where);
+    if (g.doubleSided && m.IsEmissive())
+      Warn("double-sided light", where, "doubleSided is not read for emission: the surface emits from its front side "
+                                        "only (a back-to-back copy of its faces emits from both)");
     MaterialUse use;
     if (pbr.baseColorTexture.index >= 0 && m.kind != MaterialClass::kGlass) {
       if (const std::optional<int> texture = TextureOf(pbr.baseColorTexture, where + "/pbrMetallicRoughness/baseColorTexture", &m.textureClamp)) {
