@@ -172,14 +172,32 @@ std::vector<LightReport> DescribeLights(const Scene& scene, const std::vector<Li
   return out;
 }
 
+// Each surface's written H averaged over its faces by area [W/m^2] (each face by the mean of its corners).
+std::vector<Rgb> MeanIrradiance(const BakedMesh& baked, size_t surfaces) {
+  std::vector<RgbSum> weighted(surfaces);
+  std::vector<double> area(surfaces, 0.0);
+  const SplitMesh& mesh = baked.mesh;
+  for (const auto& [a, b, c] : mesh.faces) {
+    const uint32_t s = mesh.surface[a];
+    const double faceArea = 0.5 * Length(Cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]));
+    weighted[s].Add(baked.irradiance[a] + baked.irradiance[b] + baked.irradiance[c], faceArea / 3);
+    area[s] += faceArea;
+  }
+  std::vector<Rgb> mean(surfaces);
+  for (size_t s = 0; s < surfaces; ++s)
+    if (area[s] > 0) mean[s] = {float(weighted[s].r / area[s]), float(weighted[s].g / area[s]), float(weighted[s].b / area[s])};
+  return mean;
+}
+
 std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet& surfaces, const SurfaceBins& bins,
-                                            const IrradianceField& field) {
+                                            const IrradianceField& field, const BakedMesh& baked) {
   std::vector<SurfaceReport> out;
+  const std::vector<Rgb> mean = MeanIrradiance(baked, surfaces.surfaces.size());
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
     const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
     out.push_back({object, scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.BackHits(s),
-                   bins.FrontFlux(s) / float(surface.area), surface.planar, surface.areaDistortion,
+                   mean[s], bins.FrontFlux(s) / float(surface.area), surface.planar, surface.areaDistortion,
                    field.Bandwidth(s), field.Prepared().covers[s].Area()});
   }
   return out;
@@ -198,7 +216,7 @@ BakeReport DescribeBake(const BakeResults& r) {
   report.curvedCharts = p.surfaces.CurvedCount();
   report.worstAreaDistortion = p.surfaces.WorstAreaDistortion();
   report.lights = DescribeLights(p.scene, p.lights, r.photons.emitted, p.plan);
-  report.surfaces = DescribeSurfaces(p.scene, p.surfaces, r.bins, r.field);
+  report.surfaces = DescribeSurfaces(p.scene, p.surfaces, r.bins, r.field, r.mesh);
   report.trace = r.photons.stats;
   report.storedHits = r.photons.StoredHits();
   report.stageSeconds = r.stageSeconds;
@@ -324,6 +342,7 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
     const SurfaceReport& s = r.surfaces[i];
     j["surfaces"].push_back({{"surface", i}, {"object", s.object}, {"material", s.material}, {"area_m2", s.area}, {"front_hits", s.frontHits},
                              {"back_hits", s.backHits}, {"mean_irradiance_W_m2", Json(s.meanIrradiance)},
+                             {"photon_irradiance_W_m2", Json(s.photonIrradiance)},
                              {"chart", s.planar ? "planar" : "conformal"}, {"area_distortion", s.areaDistortion},
                              {"h_m", s.bandwidth}, {"covered_area_m2", s.coveredArea}});
   }

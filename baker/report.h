@@ -41,7 +41,10 @@ struct SurfaceReport {
   std::string material;
   double area = 0;  // [m^2]
   uint64_t frontHits = 0, backHits = 0;
-  Rgb meanIrradiance;  // front-side flux / area [W/m^2], independent of the estimator
+  Rgb meanIrradiance;    // the written H averaged over the surface's faces by area [W/m^2]: all its light, the
+                         // sampled direct light included
+  Rgb photonIrradiance;  // its front-side photons' flux / area [W/m^2], independent of the estimator; without the
+                         // direct light when that is sampled
   bool planar = true;
   double areaDistortion = 1;  // worst max(A_uv / A, A / A_uv) over its triangles
   float bandwidth = 0;        // h [m] its estimate used

@@ -60,7 +60,7 @@ TEST_P(BinnedWhileTraced, EqualsTheStoredBakeOnAnyThreadCount) {
   for (size_t s = 0; s < two.surfaces.size(); ++s) {
     EXPECT_EQ(two.surfaces[s].frontHits, stored.surfaces[s].frontHits) << "surface " << s;
     EXPECT_EQ(two.surfaces[s].backHits, stored.surfaces[s].backHits) << "surface " << s;
-    EXPECT_EQ(two.surfaces[s].meanIrradiance, stored.surfaces[s].meanIrradiance) << "surface " << s;
+    EXPECT_EQ(two.surfaces[s].photonIrradiance, stored.surfaces[s].photonIrradiance) << "surface " << s;
   }
   EXPECT_EQ(two.trace.hits, stored.trace.hits);
 }

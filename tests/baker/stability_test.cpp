@@ -150,7 +150,7 @@ TEST(Stability, ExtremeBandwidthsStayFiniteAndHonest) {
   // equal flux. Measured: the worst vertex 0.77 / sqrt(hits) from the mean.
   const Baked huge = BakeQuietly(scene, 100.0f, 20000);
   const SurfaceReport& floor = huge.report.surfaces[0];
-  const double mean = Luminance(floor.meanIrradiance);
+  const double mean = Luminance(floor.photonIrradiance);
   ASSERT_GT(mean, 0);
   const double cornerSigma = std::sqrt(7.0 / double(floor.frontHits)) * mean;
   const std::vector<double>& q = huge.ply.vertex.at("quality");
@@ -184,7 +184,7 @@ double FloorMean(const Baked& b) {
   double flux = 0, area = 0;
   for (const SurfaceReport& s : b.report.surfaces)
     if (s.material == "black") {
-      flux += Luminance(s.meanIrradiance) * s.area;
+      flux += Luminance(s.photonIrradiance) * s.area;
       area += s.area;
     }
   return flux / area;
