@@ -307,7 +307,7 @@ void KernelEstimator::ForEachCellNear(Point2 x, Visit visit) const {
 // touch the flux sum, so Estimate and EstimateWithNoise agree bit for bit.
 template <bool kNoise, bool kLinear, typename Profile>
 Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile, NoiseSums& noise, LinearFit fit) const {
-  const float inverseH2 = 1.0f / (h_ * h_), inverseH = 1.0f / h_;
+  const float inverseH2 = 1.0f / (h_ * h_), inverseH = 1.0f / h_, inNoiseUnits = float(1 / noiseUnit_);
   RgbSum sum;
   ForEachCellNear(x, [&](uint32_t begin, uint32_t end) {
     Rgb cell;
@@ -319,7 +319,7 @@ Rgb KernelEstimator::ProfileSum(Point2 x, Profile profile, NoiseSums& noise, Lin
       if constexpr (kLinear) k *= 1.0f - (fit.cu * (uv_[i].u - x.u) + fit.cv * (uv_[i].v - x.v)) * inverseH;
       cell += photonFlux_[i] * k;
       if constexpr (kNoise) {
-        const float w = Luminance(photonFlux_[i]) * k * float(1 / noiseUnit_);  // in noiseUnit_
+        const float w = Luminance(photonFlux_[i]) * k * inNoiseUnits;
         cellSum += w;
         cellSquares += w * w;
       }
