@@ -5,8 +5,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdlib>
 #include <cstdio>
@@ -194,10 +194,10 @@ std::optional<std::pair<std::string, pid_t>> TemporaryOf(const std::string& name
   const std::string rest = name.substr(mark + 5);
   const size_t dash = rest.find('-');
   const auto digits = [](const std::string& t) {
-    return !t.empty() && t.size() <= 18 && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+    return !t.empty() && t.size() <= 9 && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
   };
   if (dash == std::string::npos || !digits(rest.substr(0, dash)) || !digits(rest.substr(dash + 1))) return std::nullopt;
-  return std::pair{name.substr(0, mark), pid_t(std::stoll(rest.substr(0, dash)))};
+  return std::pair{name.substr(0, mark), pid_t(std::stol(rest.substr(0, dash)))};  // at most 9 digits: an int
 }
 
 bool Running(pid_t pid) { return pid > 0 && (::kill(pid, 0) == 0 || errno != ESRCH); }

@@ -405,10 +405,11 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   const float exposure = DisplayExposure(lit.baked, o.exposure);
 
   MapsWritten maps;
-  if (!o.mapsDirectory.empty()) journal.Warn(MapTimeWarnings(o.texel, scene.regions, SecondsPerPoint(lit, clock)), log);
   journal.Warn(SubdivisionTimeWarnings(scene.scene.triangles.size(), o.refine.subdivide, SecondsPerPoint(lit, clock)), log);
-  if (!o.mapsDirectory.empty())
+  if (!o.mapsDirectory.empty()) {
+    journal.Warn(MapTimeWarnings(o.texel, scene.regions, SecondsPerPoint(lit, clock)), log);
     maps = clock.Time("maps", [&] { return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, lit.baked.mesh, log); });
+  }
   RefineReport refine;
   if (o.refine.adaptive) journal.Warn(NoiseWarnings(field, lit.bins, exposure, o.refine.tolerance), log);
   if (o.refine.Enabled()) {
