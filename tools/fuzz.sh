@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fuzzes every file reader with libFuzzer (clang, from Debian), AddressSanitizer and UndefinedBehaviorSanitizer,
-# each for a bounded time, one after another:
+# each for a bounded time, as many at once as there are cores:
 #   obj_loader   OBJ/MTL scenes (mesh/obj_loader.h, mesh/mtl_loader.h), with the textures they name
 #   gltf_loader  glTF 2.0 scenes, .gltf with data URIs or .glb (mesh/gltf_loader.h), with their images
 #   texture      PNG, JPEG, TGA and BMP textures (mesh/texture.h)
@@ -27,19 +27,26 @@ cmake -S . -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYP
 cmake --build build-fuzz --target photon_file_seeds "${targets[@]/#/fuzz_}"
 rm -rf build-fuzz/seeds && mkdir -p build-fuzz/seeds build-fuzz/findings
 build-fuzz/photon_file_seeds build-fuzz/seeds/photon_file
-for target in "${targets[@]}"; do
-  seeds=tests/fuzz/corpus/$target
+# One target: its result lines, or the log's tail and the finding, with libFuzzer's exit status.
+fuzz_one() {
+  local target=$1 seeds=tests/fuzz/corpus/$1 log=build-fuzz/$1.log status=0
   [ "$target" != photon_file ] || seeds=build-fuzz/seeds/photon_file
   mkdir -p "build-fuzz/corpus/$target"
-  echo "== fuzz_$target for $seconds s, seeds in $seeds"
-  log=build-fuzz/$target.log
-  status=0
   "build-fuzz/fuzz_$target" "build-fuzz/corpus/$target" "$seeds" -max_total_time="$seconds" -max_len=4096 \
     -timeout=10 -artifact_prefix="build-fuzz/findings/$target-" -print_final_stats=1 >"$log" 2>&1 || status=$?
+  echo "== fuzz_$target for $seconds s, seeds in $seeds"
   grep -E "^(Done [0-9]+ runs|stat::number_of_executed_units|stat::new_units_added)" "$log" || true
   if [ "$status" -ne 0 ]; then
     tail -n 60 "$log"
     echo "fuzz_$target found a bug (exit $status); the input is in build-fuzz/findings/, the log in $log"
-    exit "$status"
   fi
+  return "$status"
+}
+# As many targets at once as there are cores (each libFuzzer process runs on one).
+failed=0
+for target in "${targets[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$(nproc)" ]; do wait -n || failed=1; done
+  fuzz_one "$target" &
 done
+while [ "$(jobs -rp | wc -l)" -gt 0 ]; do wait -n || failed=1; done
+exit "$failed"
