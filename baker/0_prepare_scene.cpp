@@ -3,13 +3,13 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include "baker/progress.h"
+#include "baker/runtime/progress.h"
 #include "mesh/errors.h"
 #include "mesh/color.h"
 
 #include <algorithm>
 #include <optional>
-#include "mesh/gltf_loader.h"
+#include "mesh/scene_file.h"
 
 namespace pb {
 namespace {

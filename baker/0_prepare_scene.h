@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "baker/0_plan_transport.h"
-#include "baker/stage_clock.h"
+#include "baker/runtime/stage_clock.h"
 #include "estimators/surface_region.h"
 #include "mesh/light_file.h"
 #include "mesh/lights.h"
@@ -21,7 +21,7 @@
 
 namespace pb {
 
-class Log;  // baker/progress.h
+class Log;  // baker/runtime/progress.h
 
 // Each surface's region in its chart, by surface index: the surface less what covers it.
 using SurfaceRegions = std::vector<std::unique_ptr<SurfaceRegion>>;
@@ -56,7 +56,7 @@ struct PreparedScene {
 // Loads and prepares the scene, timing each part on `clock` ("load", "surfaces", "lights", "plan", "bvh", "covers",
 // "regions").
 // InputError for a bad file (with file:line), a scene with no light, or no light that reaches a receiver.
-// With a log, the covers' progress is shown (baker/progress.h).
+// With a log, the covers' progress is shown (baker/runtime/progress.h).
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock, const Log* log = nullptr);
 // The same from a scene already loaded (tests that build scenes in memory).
 PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock,

@@ -9,7 +9,7 @@
 #include "estimators/emission.h"
 #include "estimators/scatter.h"
 #include "estimators/rng.h"
-#include "baker/interrupt.h"
+#include "baker/runtime/interrupt.h"
 #include "mesh/errors.h"
 
 namespace pb {

@@ -25,7 +25,7 @@
 #include "baker/0_prepare_scene.h"
 #include "baker/options.h"
 #include "baker/photon_store.h"
-#include "baker/progress.h"
+#include "baker/runtime/progress.h"
 #include "mesh/color.h"
 #include "mesh/geometry.h"
 #include "mesh/lights.h"
@@ -86,7 +86,7 @@ PhotonStore TracePhotons(const Scene& scene, const std::vector<Light>& lights, c
 
 // Extends `store` (traced with the same scene, plan, seed and maxBounces) so that each light has emitted
 // max(N_l, its share of settings.photons) photons; Summarise()s it. Stops early, keeping every light's photons a
-// prefix of its stream, when InterruptRequested() (baker/interrupt.h); returns false then.
+// prefix of its stream, when InterruptRequested() (baker/runtime/interrupt.h); returns false then.
 bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<Light>& lights,
                    const RayScene& rays, const TransportPlan& plan, const TraceSettings& settings, const Log& log);
 

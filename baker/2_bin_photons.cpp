@@ -68,7 +68,7 @@ constexpr double kBytesPerNode = 32, kBytesPerHit = sizeof(PhotonHit);
 // while tracing misses the cache on every hit once the lattices outgrow it: in a 10 x 3 x 10 m room (213 MB of
 // lattices at h = 0.05 m) the trace took 1.6x as long as storing the hits, which at 10M photons (lattices about the
 // store's size) saved only 25% of the memory; at 100M the whole bake took 0.55x the stored one's time and 0.1x its
-// memory (README, "Scale").
+// memory (docs/performance.md, "Scale").
 constexpr double kLatticeShareOfStore = 0.25;
 
 }  // namespace

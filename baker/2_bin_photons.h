@@ -15,7 +15,7 @@
 // surfaces (narrower than 2 h) stay in the store.
 #pragma once
 
-#include "baker/progress.h"
+#include "baker/runtime/progress.h"
 
 #include <array>
 #include <cstdint>

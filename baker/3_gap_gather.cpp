@@ -2,7 +2,8 @@
 
 #include <cmath>
 
-#include "baker/3_irradiance_field.h"
+#include "baker/3_contributions.h"
+#include "baker/3_surface_point.h"
 #include "estimators/warps.h"
 
 namespace pb {
@@ -42,7 +43,7 @@ bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
   return parallel >= needed;
 }
 
-IrradianceSample GapGather::Gathered(const SurfacePoint& p, const SurfacePoint& start) const {
+NoisyIrradiance GapGather::Gathered(const SurfacePoint& p, const SurfacePoint& start) const {
   Rng rng = PointStream(seed_ ^ kPathStream, p);
   const DirectSample e =
       settings_.noise > 0

@@ -25,12 +25,12 @@
 #include "baker/options.h"
 #include "estimators/irradiance_gather.h"
 #include "estimators/light_sampler.h"
+#include "estimators/noisy_irradiance.h"
 #include "mesh/split_mesh.h"
 
 namespace pb {
 
 class PhotonIrradiance;
-struct IrradianceSample;
 
 class GapGather final : public ScatteredLightField {
  public:
@@ -42,7 +42,7 @@ class GapGather final : public ScatteredLightField {
   // Whether p, whose rays start at `start` (RayStart), lies in a gap or on a surface smaller than its kernel.
   bool InGap(const SurfacePoint& p, const SurfacePoint& start) const;
   // E_s at p by `paths` gathered paths, and its relative noise.
-  IrradianceSample Gathered(const SurfacePoint& p, const SurfacePoint& start) const;
+  NoisyIrradiance Gathered(const SurfacePoint& p, const SurfacePoint& start) const;
 
   std::optional<Rgb> ScatteredAt(const RayHit& hit, bool onFront) const override;
 

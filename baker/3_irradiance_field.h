@@ -6,7 +6,7 @@
 //   L = Le + R H / pi [W/(m^2 sr)], the radiance a viewer sees;
 //   the predicted relative noise of H's luminance (sigma / mean, dimensionless; the smoothing bias is not in it).
 // Vertices, refinement, maps, noise warnings and --target-noise all ask the field; nothing else converts a photon
-// density in a chart to irradiance per unit surface area (PerSurfaceArea, below).
+// density in a chart to irradiance per unit surface area (PerSurfaceArea, baker/3_contributions.h).
 //
 // H is a sum of contributions, whose noises add in variance:
 //   photons  the photons' density estimate on the point's own surface (kernel, histogram or k nearest;
@@ -28,127 +28,15 @@
 
 #include "baker/0_prepare_scene.h"
 #include "baker/2_bin_photons.h"
+#include "baker/3_contributions.h"
 #include "baker/3_gap_gather.h"
 #include "baker/baked_mesh.h"
 #include "baker/options.h"
-#include "baker/progress.h"
-#include "baker/stage_clock.h"
-#include "estimators/density_estimator.h"
-#include "estimators/irradiance_gather.h"
-#include "estimators/light_sampler.h"
-#include "mesh/errors.h"
+#include "baker/runtime/progress.h"
+#include "baker/runtime/stage_clock.h"
 #include "mesh/split_mesh.h"
 
 namespace pb {
-
-// A density per unit (u,v) area of p's chart, as a density per unit surface area: times the chart's local area
-// ratio at p (exactly 1 on planar charts). The one place this conversion is made.
-inline Rgb PerSurfaceArea(Rgb perChartArea, const SurfacePoint& p) { return perChartArea * p.areaRatio; }
-
-// One term of H at a surface point: its irradiance [W/m^2] and the relative noise of its luminance.
-struct IrradianceSample {
-  Rgb irradiance;
-  double relativeNoise = 0;
-};
-
-// The random numbers of point p: a stream keyed by the seed, p's surface and its chart position (-0 as +0).
-Rng PointStream(uint64_t seed, const SurfacePoint& p);
-// Where rays for point p start. A vertex where a wall meets the floor lies on the wall's plane too: half the rays
-// gathered there would leave through the wall, and shadow rays would graze it. The value at such a point is the
-// limit from inside its surface, so a point on a planar surface's boundary starts just inside it.
-SurfacePoint RayStart(const PreparedScene& scene, const SurfacePoint& p);
-
-class IrradianceContribution {
- public:
-  virtual ~IrradianceContribution() = default;
-  virtual std::string_view Name() const = 0;
-  virtual Rgb At(const SurfacePoint& p) const = 0;
-  // The same irradiance as At(p), bit for bit, and its predicted noise.
-  virtual IrradianceSample WithNoise(const SurfacePoint& p) const = 0;
-};
-
-// h per surface [m]: settings.bandwidth everywhere, or, when `automatic`, chosen per surface from its photons.
-std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
-                                     const EstimatorSettings& settings, bool automatic);
-
-// The photons' contribution: on each surface, the density estimate of the photons binned on its front side
-// (stage 2), with that surface's h, edge-corrected over its region. Estimators are built in parallel; they copy
-// the photons and refer to the prepared scene's regions.
-class PhotonIrradiance final : public IrradianceContribution {
- public:
-  PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings,
-                   std::vector<float> bandwidths);
-  std::string_view Name() const override { return "photons"; }
-  Rgb At(const SurfacePoint& p) const override { return PerSurfaceArea(ChartDensity(p.surface, p.uv), p); }
-  IrradianceSample WithNoise(const SurfacePoint& p) const override;
-
-  // The estimate on surface s at chart position uv, per unit chart area [W/m^2 of (u,v)].
-  Rgb ChartDensity(uint32_t s, Point2 uv) const {
-    PB_DCHECK_LT(s, estimators_.size());
-    return estimators_[s]->Estimate(uv);
-  }
-  float Bandwidth(uint32_t s) const { return bandwidths_[s]; }
-  const std::vector<float>& Bandwidths() const { return bandwidths_; }
-  // The relative noise of an estimate on surface s if its `hits` photons, of equal flux, were spread evenly
-  // over its `area` [m^2] (estimators/density_estimator.h, UniformRelativeNoise).
-  double UniformNoise(uint32_t s, uint64_t hits, double area) const;
-
- private:
-  EstimatorSettings settings_;
-  std::vector<float> bandwidths_;
-  std::vector<std::unique_ptr<DensityEstimator>> estimators_;
-};
-
-// A term of H computed at each point by Monte Carlo, with `count` samples. The random numbers of point p come from
-// a stream keyed by the seed and p's surface and chart position, so the same point reads the same value on any
-// thread, in any order. Rays start at RayStart(p): at a vertex on its surface's edge, just inside it.
-class PointSampledIrradiance : public IrradianceContribution {
- public:
-  Rgb At(const SurfacePoint& p) const final { return WithNoise(p).irradiance; }
-  IrradianceSample WithNoise(const SurfacePoint& p) const final;
-
- protected:
-  PointSampledIrradiance(const PreparedScene& scene, uint32_t count, uint64_t seed)
-      : scene_(scene), count_(count), seed_(seed) {}
-  // E at `position` on the side of `normal`, from `count` samples drawn from `rng`.
-  virtual DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const = 0;
-  const PreparedScene& scene_;
-
- private:
-  uint32_t count_;
-  uint64_t seed_;
-};
-
-// The direct light at a point, sampled there with `direct.samples` shadow rays, or with as many as its noise
-// target `direct.noise` needs, up to that many (estimators/light_sampler.h).
-class DirectIrradiance final : public PointSampledIrradiance {
- public:
-  DirectIrradiance(const PreparedScene& scene, const DirectSettings& direct, uint64_t seed);
-  std::string_view Name() const override { return "direct"; }
-  const LightSampler& Sampler() const { return sampler_; }
-
- private:
-  DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const override {
-    return noise_ > 0 ? sampler_.AdaptiveIrradiance(position, normal, noise_, count, rng)
-                      : sampler_.Irradiance(position, normal, count, rng);
-  }
-  LightSampler sampler_;
-  double noise_;
-};
-
-// All of H at a point by `paths` paths gathered there (estimators/irradiance_gather.h).
-class ReferenceIrradiance final : public PointSampledIrradiance {
- public:
-  ReferenceIrradiance(const PreparedScene& scene, uint32_t paths, uint64_t seed);
-  std::string_view Name() const override { return "reference"; }
-
- private:
-  DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const override {
-    return gatherer_.Irradiance(position, normal, count, rng);
-  }
-  LightSampler lights_;
-  IrradianceGatherer gatherer_;
-};
 
 // The light at a point: H, R, Le and the relative noise of H (0 unless asked for).
 struct SurfaceLight {
@@ -181,7 +69,7 @@ class IrradianceField {
 
  private:
   // The gathered term that replaces the photons' at p, if p lies in a gap.
-  std::optional<IrradianceSample> GapTerm(const SurfacePoint& p) const;
+  std::optional<NoisyIrradiance> GapTerm(const SurfacePoint& p) const;
 
   const PreparedScene* scene_;
   const PhotonIrradiance* photons_;

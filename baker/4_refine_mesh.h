@@ -25,7 +25,7 @@
 #include "baker/3_irradiance_field.h"
 #include "baker/baked_mesh.h"
 #include "baker/options.h"
-#include "baker/progress.h"
+#include "baker/runtime/progress.h"
 
 namespace pb {
 

@@ -7,7 +7,7 @@
 #include <map>
 #include <sstream>
 
-#include "baker/gltf_buffers.h"
+#include "baker/files/gltf_buffers.h"
 #include "baker/tone_map.h"
 #include "mesh/errors.h"
 

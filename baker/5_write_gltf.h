@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/baked_mesh.h"
 #include "mesh/scene.h"
 #include "mesh/surfaces.h"
@@ -37,7 +37,7 @@ struct SurfaceNames {
 };
 SurfaceNames NamesOf(const Scene& scene, const SurfaceSet& surfaces);
 
-// Writes `path` (binary when it ends in .glb, else .gltf text; mesh/gltf_loader.h's HasGltfExtension tells -o's
+// Writes `path` (binary when it ends in .glb, else .gltf text; mesh/scene_file.h's HasGltfExtension tells -o's
 // glTF outputs from PLY) with the display colours at `exposure`.
 void WriteGltf(OutputFiles& outputs, const std::string& path, const BakedMesh& baked, const SurfaceNames& names,
                float exposure);

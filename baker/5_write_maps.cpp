@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "baker/atomic_file.h"
-#include "baker/image_io.h"
-#include "baker/memory_budget.h"
+#include "baker/files/atomic_file.h"
+#include "baker/files/image_io.h"
+#include "baker/runtime/memory_budget.h"
 #include "mesh/errors.h"
 
 namespace pb {

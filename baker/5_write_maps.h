@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/3_irradiance_field.h"
-#include "baker/progress.h"
+#include "baker/runtime/progress.h"
 #include "mesh/split_mesh.h"
 
 namespace pb {

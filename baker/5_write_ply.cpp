@@ -5,7 +5,7 @@
 #include <bit>
 #include <cstring>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/tone_map.h"
 
 namespace pb {

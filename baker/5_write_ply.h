@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/baked_mesh.h"
 
 namespace pb {
@@ -21,7 +21,7 @@ struct PlyOptions {
 // The display exposure: the user's, or AutoExposure of the vertices' radiance.
 float DisplayExposure(const BakedMesh& baked, std::optional<float> user);
 
-// Returns the exposure used. Written atomically (baker/atomic_file.h).
+// Returns the exposure used. Written atomically (baker/files/atomic_file.h).
 float WritePly(OutputFiles& outputs, const std::string& path, const BakedMesh& baked, const PlyOptions& options);
 
 }  // namespace pb

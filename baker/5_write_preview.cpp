@@ -5,7 +5,7 @@
 #include <array>
 #include <cmath>
 
-#include "baker/image_io.h"
+#include "baker/files/image_io.h"
 #include "baker/tone_map.h"
 #include "mesh/ray_scene.h"
 #include "mesh/scene.h"

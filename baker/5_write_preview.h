@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/baked_mesh.h"
 #include "mesh/camera.h"
 

@@ -17,14 +17,14 @@
 #include "baker/5_write_maps.h"
 #include "baker/5_write_gltf.h"
 #include "baker/5_write_ply.h"
-#include "mesh/gltf_loader.h"
-#include "baker/atomic_file.h"
+#include "mesh/scene_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/distribution.h"
-#include "baker/interrupt.h"
-#include "baker/memory_budget.h"
+#include "baker/runtime/interrupt.h"
+#include "baker/runtime/memory_budget.h"
 #include "baker/progressive.h"
-#include "baker/stage_clock.h"
-#include "baker/threads.h"
+#include "baker/runtime/stage_clock.h"
+#include "baker/runtime/threads.h"
 #include "baker/5_write_preview.h"
 #include "baker/tone_map.h"
 #include "mesh/errors.h"
@@ -60,7 +60,7 @@ std::optional<Camera> PreviewCamera(const BakeOptions& o) {
   }
 }
 
-// The temporaries that killed runs left beside this run's outputs (baker/atomic_file.h), removed, as warnings.
+// The temporaries that killed runs left beside this run's outputs (baker/files/atomic_file.h), removed, as warnings.
 std::vector<std::string> RemoveKilledRunsTemporaries(const BakeOptions& o) {
   std::vector<std::string> notes;
   const auto remove = [&](const std::string& directory, const std::function<bool(const std::string&)>& isOutput) {
@@ -261,7 +261,7 @@ void RequireBinningWhileTracing(const BakeOptions& o, const BinningPlan& plan) {
   throw InputError(o.scenePath, 0, "a bake shared among processes bins its photons while they are traced, which needs "
                                    "the kernel estimator with a fixed --h, a kernel other than uniform or gaussian, "
                                    "no --save-photons, --resume or --target-noise, and photons enough for the surfaces' "
-                                   "node lattices (README, 'Baking on many processes'); run bake for this one");
+                                   "node lattices (docs/performance.md, 'Baking on many processes'); run bake for this one");
 }
 
 // Every process is ready, or this one stops (rank 0 names those that are not).
@@ -370,8 +370,8 @@ Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFil
 
 // The scene as the options describe it. Covered parts are found on a lattice of spacing h / 2, at most 1/175 of
 // the scene's diagonal (10 mm on the box, whose 1.74 m includes the light behind the camera), so that a block's
-// corner is kept past the vertices of a mesh finer than h, and the lattice scales with the scene (README,
-// "Covered parts"). With --h auto, whose h is known only from the photons, 1/290 of the diagonal: 25 mm on the
+// corner is kept past the vertices of a mesh finer than h, and the lattice scales with the scene
+// (docs/conventions.md, "Covered parts"). With --h auto, whose h is known only from the photons, 1/290 of the diagonal: 25 mm on the
 // office, as its default h gave, and the same lattice for a scene in any unit.
 constexpr double kMaxCoverSpacingPerDiagonal = 1.0 / 175, kAutoCoverSpacingPerDiagonal = 1.0 / 290;
 SceneSettings SceneOf(const BakeOptions& o) {

@@ -3,15 +3,15 @@
 #pragma once
 
 #include "baker/5_write_gltf.h"
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/options.h"
-#include "baker/progress.h"
+#include "baker/runtime/progress.h"
 #include "baker/report.h"
 
 namespace pb {
 
 // The whole bake: BakeMesh, then the PLY and the JSON report. Every output is one transaction
-// (baker/atomic_file.h): none is renamed into place until all are written.
+// (baker/files/atomic_file.h): none is renamed into place until all are written.
 class Distribution;
 
 // With a distribution (baker/distribution.h), on its rank 0: the photons are traced by every process.

@@ -1,6 +1,6 @@
 #include "baker/options.h"
 
-#include "mesh/gltf_loader.h"
+#include "mesh/scene_file.h"
 
 #include <fmt/format.h>
 

@@ -49,7 +49,7 @@ struct GapSettings {
 };
 
 // --quality: photons, h and shadow rays per point together, chosen from the box's measured error against time
-// (accuracy --box; README, "Quality presets"). Options given explicitly win over the preset's.
+// (accuracy --box; docs/bake.md, "Quality presets"). Options given explicitly win over the preset's.
 //   draft       250,000 photons, h 0.08 m,    64 shadow rays   (box: 4.3% error against the reference, 0.16 s)
 //   medium    1,000,000 photons, h 0.08 m,   256 shadow rays   (box: 2.8%, 0.6 s)
 //   high      4,000,000 photons, h 0.05 m,   256 shadow rays   (box: 2.1%, 2 s)
@@ -129,7 +129,7 @@ struct BakeOptions {
 };
 
 // The noise the defaults aim at: the 95th percentile of the displayed light's predicted relative error at 3%
-// (baker/progressive.h; README, "Defaults that suit the scene").
+// (baker/progressive.h; docs/bake.md, "Defaults that suit the scene").
 constexpr float kDefaultTargetNoise = 0.03f;
 
 // Which of the options that the defaults choose were given on the command line (or by --quality).

@@ -1,5 +1,5 @@
 // The photon store: what stage 1 (baker/1_trace_photons.h) traced, as plain data that the photon file
-// (baker/photon_file.h) saves and reads back and stage 2 bins.
+// (baker/files/photon_file.h) saves and reads back and stage 2 bins.
 //
 // Photons are stored by attenuation, the paper's second way: a hit keeps the fraction of its light's photon
 // flux that arrived (1 at emission, times each event's weight), and its flux [W] is Phi_l / N_l times that,
@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "baker/huge_pages.h"
+#include "baker/runtime/huge_pages.h"
 #include "mesh/color.h"
 #include "mesh/geometry.h"
 #include "mesh/octahedral.h"
@@ -44,7 +44,7 @@ static_assert(sizeof(PhotonHit) == 28, "the compact photon record of issue 3");
 // and a photon file with a record beyond it is refused, so that sums of hits stay far inside float's range.
 inline constexpr float kMostPhotonAttenuation = 65536;
 
-// The hits of one block of photons, in photon order, in huge-page memory (baker/huge_pages.h).
+// The hits of one block of photons, in photon order, in huge-page memory (baker/runtime/huge_pages.h).
 using HitBlock = std::vector<PhotonHit, HugePageAllocator<PhotonHit>>;
 
 // Photons per block: the unit of parallel work and of deterministic ordering, counted within one light's

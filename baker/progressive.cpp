@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "baker/interrupt.h"
+#include "baker/runtime/interrupt.h"
 #include "baker/options.h"
 #include "mesh/color.h"
 #include "mesh/errors.h"

@@ -1,8 +1,8 @@
 // Progressive bakes: the photon store of a bake (baker/1_trace_photons.h) started empty or from --resume, grown to
-// --photons or in rounds to --target-noise, and saved by --save-photons (baker/photon_file.h). The paper ("How
+// --photons or in rounds to --target-noise, and saved by --save-photons (baker/files/photon_file.h). The paper ("How
 // to trace a particle") stores photons by attenuation so that "the number of photons emitted by each light
 // source" can grow; its warning that this "can lead to bias" is met by dividing each light's photons by that
-// light's own count, which only ever grows (README, "Adding photons to a bake").
+// light's own count, which only ever grows (docs/bake.md, "Adding photons to a bake").
 //
 // The noise of a vertex is the relative standard deviation of its displayed radiance L = Le + R H / pi, in
 // luminance: sigma_L / L = (R H / pi) / L x sigma_H / H, with sigma_H / H predicted by the surface's estimator
@@ -16,12 +16,12 @@
 #include <string>
 #include <vector>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/0_prepare_scene.h"
 #include "baker/1_trace_photons.h"
 #include "baker/baked_mesh.h"
-#include "baker/photon_file.h"
-#include "baker/progress.h"
+#include "baker/files/photon_file.h"
+#include "baker/runtime/progress.h"
 
 namespace pb {
 
@@ -46,7 +46,7 @@ struct ProgressiveReport {
   bool TargetMet() const { return target && !rounds.empty() && rounds.back().noise <= *target; }
 };
 
-// An empty store for the scene's lights, or --resume's (every check of baker/photon_file.h passed).
+// An empty store for the scene's lights, or --resume's (every check of baker/files/photon_file.h passed).
 PhotonStore OpenPhotonStore(const BakeOptions& options, const PreparedScene& scene, ProgressiveReport& report);
 // Grows the store to `photons` over all lights (counts never shrink); notes an interruption in the report.
 // Hits go to `sink` when given, and the work is shared when `share` is (TraceSettings). Returns whether tracing

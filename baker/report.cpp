@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "baker/json_file.h"
+#include "baker/files/json_file.h"
 
 namespace pb {
 namespace {

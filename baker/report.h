@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/0_prepare_scene.h"
 #include "baker/1_trace_photons.h"
 #include "baker/2_bin_photons.h"

@@ -38,7 +38,7 @@ class CoveredEstimator final : public DensityEstimator {
       : cover_(cover), open_(std::move(open)), covered_(std::move(covered)) {}
   Rgb Estimate(Point2 x) const override { return Domain(x).Estimate(x); }
   double RelativeNoise(Point2 x) const override { return Domain(x).RelativeNoise(x); }
-  WithNoise EstimateWithNoise(Point2 x) const override { return Domain(x).EstimateWithNoise(x); }
+  NoisyIrradiance EstimateWithNoise(Point2 x) const override { return Domain(x).EstimateWithNoise(x); }
 
  private:
   const DensityEstimator& Domain(Point2 x) const { return cover_.Covered(x) ? *covered_ : *open_; }

@@ -17,6 +17,7 @@
 #include <string_view>
 
 #include "estimators/kernels.h"
+#include "estimators/noisy_irradiance.h"
 #include "estimators/surface_region.h"
 #include "mesh/color.h"
 #include "mesh/geometry.h"
@@ -60,11 +61,7 @@ class DensityEstimator {
   virtual double RelativeNoise(Point2 x) const = 0;
   // Both at once: the same H as Estimate(x), bit for bit, and its RelativeNoise(x). Estimators whose noise comes
   // from the same photons' sums override this to query them once.
-  struct WithNoise {
-    Rgb irradiance;         // [W/m^2]
-    double relativeNoise;   // dimensionless
-  };
-  virtual WithNoise EstimateWithNoise(Point2 x) const { return {Estimate(x), RelativeNoise(x)}; }
+  virtual NoisyIrradiance EstimateWithNoise(Point2 x) const { return {Estimate(x), RelativeNoise(x)}; }
 };
 
 // The noise model of the three estimators, in one place: the relative standard deviation of one estimate inside

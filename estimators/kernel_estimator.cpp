@@ -213,7 +213,7 @@ bool KernelEstimator::NearEdge(Point2 x) const {
 // binning's error and it cancels (an exact denominator left the fit 4% off at corners). Far from the edges only
 // the flux and the mass are summed.
 template <bool kNoise, typename Profile>
-DensityEstimator::WithNoise KernelEstimator::EvaluateBinned(Point2 x, Profile profile) const {
+NoisyIrradiance KernelEstimator::EvaluateBinned(Point2 x, Profile profile) const {
   const double inverseH2 = 1.0 / (double(h_) * h_);
   const bool corrected = correction_ != nullptr;
   bool partial = false;
@@ -251,10 +251,10 @@ Rgb KernelEstimator::Estimate(Point2 x) const { return Evaluate<false>(x).irradi
 // The kernel mass M(x) (or the fit's denominator) cancels in the ratio, as does 1/h^2.
 double KernelEstimator::RelativeNoise(Point2 x) const { return Evaluate<true>(x).relativeNoise; }
 
-DensityEstimator::WithNoise KernelEstimator::EstimateWithNoise(Point2 x) const { return Evaluate<true>(x); }
+NoisyIrradiance KernelEstimator::EstimateWithNoise(Point2 x) const { return Evaluate<true>(x); }
 
 template <bool kNoise>
-DensityEstimator::WithNoise KernelEstimator::Evaluate(Point2 x) const {
+NoisyIrradiance KernelEstimator::Evaluate(Point2 x) const {
   if (Binned()) return WithSquaredProfile(kernel_, [&](auto profile) { return EvaluateBinned<kNoise>(x, profile); });
   NoiseSums noise;
   if (const std::optional<LinearFit> fit = LinearFitAt(x)) {

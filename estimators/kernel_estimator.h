@@ -74,7 +74,7 @@ class KernelEstimator final : public DensityEstimator {
   // H at chart point x [W/m^2]. Sums in a fixed order, so the result is reproducible bit for bit.
   Rgb Estimate(Point2 x) const override;
   double RelativeNoise(Point2 x) const override;
-  WithNoise EstimateWithNoise(Point2 x) const override;
+  NoisyIrradiance EstimateWithNoise(Point2 x) const override;
 
  private:
   int CellIndex(float coordinate, float lo, int count) const;
@@ -105,7 +105,7 @@ class KernelEstimator final : public DensityEstimator {
   // A node's coverage when the surface covers its whole tent (less rounding).
   float WholeNodeArea() const { return 0.999f * spacing_ * spacing_; }
   template <bool kNoise, typename Profile>
-  WithNoise EvaluateBinned(Point2 x, Profile profile) const;
+  NoisyIrradiance EvaluateBinned(Point2 x, Profile profile) const;
   // The binned sums at x, offsets (a, b) = (n - x) / h: of the flux W_n k_n times 1, a and b; of the coverage
   // A_n k_n times 1, a, b, aa, ab, bb (the kernel's moments on the surface, times h^2); and of the photons'
   // squared luminance Q_n k_n^2 times the same six, for the noise of the linear fit's weights.
@@ -120,7 +120,7 @@ class KernelEstimator final : public DensityEstimator {
   std::array<int, 4> NodesNear(Point2 x) const;
   // H and its noise at x (the noise sums only with kNoise).
   template <bool kNoise>
-  WithNoise Evaluate(Point2 x) const;
+  NoisyIrradiance Evaluate(Point2 x) const;
   template <bool kNoise>
   Rgb KernelSum(Point2 x, NoiseSums& noise) const;
   Rgb Normalised(Rgb profileSum, Point2 x) const;  // times 1/h^2 and 1/M(x)

@@ -269,19 +269,13 @@ DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng
   DirectSample result = AreaIrradiance(p, n, samples, rng);
   result.samples = samples;
   if (others_.empty() || samples == 0) return result;
-  double variance = std::pow(result.relativeNoise * Luminance(result.irradiance), 2);
+  IndependentSum sum(result);
   for (uint32_t l : others_) {
     const AnalyticLight& light = lights_[l].analytic;
-    if (light.kind != LightKind::kSky) {
-      result.irradiance = result.irradiance + DeltaIrradiance(light, p, n);
-      continue;
-    }
-    const DirectSample sky = SkyIrradiance(light, p, n, samples, rng);
-    result.irradiance = result.irradiance + sky.irradiance;
-    variance += std::pow(sky.relativeNoise * Luminance(sky.irradiance), 2);
+    sum.Add(light.kind == LightKind::kSky ? SkyIrradiance(light, p, n, samples, rng)
+                                          : NoisyIrradiance{DeltaIrradiance(light, p, n)});  // exact: no noise
   }
-  const double mean = Luminance(result.irradiance);
-  result.relativeNoise = mean > 0 ? std::sqrt(variance) / mean : 0.0;
+  static_cast<NoisyIrradiance&>(result) = sum.Total();
   return result;
 }
 
@@ -334,7 +328,7 @@ DirectSample StratifiedMean::Result() const {
 DirectSample SampleMean::Result() const {
   if (n_ == 0) return {};
   const double mean = luminance_ / n_;
-  DirectSample result{sum_.ToRgb() * float(1.0 / n_), 0.0};
+  DirectSample result{{sum_.ToRgb() * float(1.0 / n_), 0.0}};
   if (mean > 0 && n_ > 1) {
     const double variance = std::max(squares_ / n_ - mean * mean, 0.0) * n_ / (n_ - 1.0);
     result.relativeNoise = std::sqrt(variance / n_) / mean;

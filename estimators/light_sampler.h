@@ -47,14 +47,14 @@
 #include "mesh/geometry.h"
 #include "mesh/lights.h"
 #include "mesh/ray_scene.h"
+#include "estimators/noisy_irradiance.h"
 #include "mesh/scene.h"
 
 namespace pb {
 
-struct DirectSample {
-  Rgb irradiance;            // [W/m^2]
-  double relativeNoise = 0;  // standard error of the luminance over its mean; 0 when the mean is 0
-  uint32_t samples = 0;      // shadow rays cast for it (AdaptiveIrradiance: the pilot's included)
+// An irradiance sampled at a point, its noise, and the rays it took.
+struct DirectSample : NoisyIrradiance {
+  uint32_t samples = 0;  // shadow rays (or gathered paths) cast for it (the adaptive ones: the pilot's included)
 };
 
 // The mean of independent samples of an irradiance, and the standard error of its luminance.

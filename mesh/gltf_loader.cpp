@@ -629,31 +629,8 @@ class GltfReader {
   std::unordered_map<int, uint32_t> objectOfNode_;           // glTF node -> Scene::objectNames index
 };
 
-bool EndsWith(const std::string& s, const char* suffix) {
-  const size_t n = std::strlen(suffix);
-  if (s.size() < n) return false;
-  for (size_t i = 0; i < n; ++i)
-    if (std::tolower(uchar(s[s.size() - n + i])) != suffix[i]) return false;
-  return true;
-}
-
 }  // namespace
 
-bool HasGltfExtension(const std::string& path) { return EndsWith(path, ".gltf") || EndsWith(path, ".glb"); }
-bool IsBinaryGltfPath(const std::string& path) { return EndsWith(path, ".glb"); }
-
-bool IsGltfFile(const std::string& path) {
-  if (HasGltfExtension(path)) return true;
-  if (!RegularFileExists(path, nullptr)) return false;  // never open a FIFO to sniff it
-  std::ifstream in(path, std::ios::binary);
-  char magic[4] = {};
-  return in.read(magic, 4) && std::memcmp(magic, "glTF", 4) == 0;
-}
-
 LoadedScene LoadGltf(const std::string& path, const LoadOptions& options) { return GltfReader(path, options).Read(); }
-
-LoadedScene LoadScene(const std::string& path, const LoadOptions& options) {
-  return IsGltfFile(path) ? LoadGltf(path, options) : LoadObj(path, options);
-}
 
 }  // namespace pb

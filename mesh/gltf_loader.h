@@ -43,19 +43,10 @@
 
 #include <string>
 
-#include "mesh/obj_loader.h"
+#include "mesh/scene_file.h"
 
 namespace pb {
 
 LoadedScene LoadGltf(const std::string& path, const LoadOptions& options = {});
-
-// True when the name ends in .gltf or .glb, in any case; IsBinaryGltfPath: in .glb.
-bool HasGltfExtension(const std::string& path);
-bool IsBinaryGltfPath(const std::string& path);
-// True when HasGltfExtension, or the file's first bytes are those of a binary glTF (.glb).
-bool IsGltfFile(const std::string& path);
-
-// The scene in `path`: glTF (IsGltfFile) or else OBJ.
-LoadedScene LoadScene(const std::string& path, const LoadOptions& options = {});
 
 }  // namespace pb

@@ -29,21 +29,10 @@
 #pragma once
 
 #include <string>
-#include <vector>
 
-#include "mesh/scene.h"
+#include "mesh/scene_file.h"
 
 namespace pb {
-
-struct LoadOptions {
-  float scale = 1.0f;  // metres per scene unit; range (0, inf), checked by the caller; typical 1 or 0.001.
-  double luminousEfficacy = 683;  // [lm/W]: glTF's photometric lights (candela, lux) to watts
-};
-
-struct LoadedScene {
-  Scene scene;
-  std::vector<std::string> warnings;  // "file:line: warning: ..." lines, one per kind, in order of first appearance.
-};
 
 LoadedScene LoadObj(const std::string& path, const LoadOptions& options = {});
 

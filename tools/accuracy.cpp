@@ -17,7 +17,7 @@
 // most accurate run of each method.
 //
 // Usage: accuracy [--out DIR] [--quick] [--scene closed-form|box|office] [--threads T]. --quick runs a handful of
-// small configurations (a smoke test); the full sweeps take minutes on 2 cores (see the README).
+// small configurations (a smoke test); the full sweeps take minutes on 2 cores (docs/accuracy.md).
 #include <fmt/format.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "baker/bake.h"
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/option_ranges.h"
 #include "tests/lambert.h"
 #include "tests/test_scenes.h"

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "baker/0_plan_transport.h"
+#include "baker/bake.h"
 #include "estimators/enum_names.h"
 #include "mesh/errors.h"
 #include "tools/cli_options.h"
@@ -28,8 +29,8 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
            if (!automatic) e.bandwidth = float(pb::tools::ParseNumber(text));
          },
          "bandwidth h [m]: kernel support radius, or histogram bucket side, in the surface; range 1e-6 to 1e4, typical "
-         "0.02-0.1 for a room-sized scene; or 'auto': chosen per surface from its photons (README, 'Automatic h'), "
-         "the default where the scene chooses (README, 'Defaults that suit the scene')")
+         "0.02-0.1 for a room-sized scene; or 'auto': chosen per surface from its photons (docs/conventions.md, 'Automatic h'), "
+         "the default where the scene chooses (docs/bake.md, 'Defaults that suit the scene')")
       ->check(CLI::Validator(
           [](const std::string& text) {
             float value = 0;
@@ -48,30 +49,31 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
                                                          "bucket or disc that lies on the surface (edges darken)");
 }
 
-CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
+void DefineSceneOptions(CLI::App& app, pb::BakeOptions& o) {
+  app.option_defaults()->group("Scene");
   app.add_option("scene", o.scenePath, "OBJ scene (with MTL) or glTF 2.0 (.gltf, .glb). Kd = diffuse albedo in [0,1]; Ke = emitted radiance "
                                        "[W/(m^2 sr)], one-sided along the counter-clockwise normal")
       ->required();
   app.add_option("-o,--output", o.outputPath, "PLY to write (binary little-endian unless --ascii), or glTF 2.0 when it ends in .glb or .gltf; written to a "
                                               "temporary file and renamed into place")
       ->required();
-  app.add_option("--lights", o.lightsPath, "lights file: point, spot, sun and sky lights (JSON; README, \"Lights\"); "
+  app.add_option("--lights", o.lightsPath, "lights file: point, spot, sun and sky lights (JSON; docs/bake.md, \"Lights that are not surfaces\"); "
                                           "default SCENE.lights.json where it exists");
   app.add_option("--luminous-efficacy", o.luminousEfficacy, "lm/W that turn glTF's candela and lux into watts; "
                                                           "range [1, 683], default 683");
-  DefineEstimatorOptions(app, o.estimator, o.autoBandwidth, sceneDefaults);
+  app.add_option("--scale", o.scale, "metres per scene unit; range 1e-6 to 1e6, typical 1, or 0.001 for millimetres")
+      ->capture_default_str();
+}
+
+void DefinePhotonOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
+  app.option_defaults()->group("Photons");
   app.add_option("--photons", o.photons,
                  fmt::format("photons emitted over all lights, split by power (N_i = n Phi_i / Phi); range 1 to 2^40, "
                              "typical 1e6-1e7{}", sceneDefaults ? "; default: rounds from 1,000,000 until the noise is 3% "
                                                                   "(--target-noise 0.03), within --max-seconds"
                                                                 : ""))
       ->default_str(sceneDefaults ? "auto" : std::to_string(o.photons));
-  app.add_flag("!--no-cover", o.findCovers, "do not find where other geometry covers a surface (a block on a floor); "
-                                           "light then bleeds under objects and is lost beside them");
   app.add_option("--seed", o.seed, "random seed; any integer. Same seed, same bytes, for any --threads")
-      ->capture_default_str();
-  app.add_option("--threads", o.threads, "worker threads; 0 = all cores; range 0-1024")->capture_default_str();
-  app.add_option("--scale", o.scale, "metres per scene unit; range 1e-6 to 1e6, typical 1, or 0.001 for millimetres")
       ->capture_default_str();
   app.add_option("--effects", o.effectsText,
                  "light transport to simulate: 'auto' (what the scene's materials call for), 'all', or a list such as "
@@ -88,69 +90,14 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
           },
           "EFFECTS", "effects"))
       ->capture_default_str();
-  pb::tools::AddNamedOption(app, "--direct", o.direct.mode, pb::ParseDirectLight, pb::DirectLightName,
-                            pb::DirectLightNames(), "direct-light mode",
-                            "the light straight from the lights: 'sampled' computes it at every vertex and texel by "
-                            "shadow rays, and the photons carry only the rest; 'photons' takes it from the photons "
-                            "like every bounce (the paper's method; README, 'Direct light')");
-  app.add_option("--direct-samples", o.direct.samples,
-                 "shadow rays per point with --direct sampled (with --direct-noise, the most a point may take); "
-                 "range 1-1e6, typical 16-256")
-      ->capture_default_str();
-  app.add_option("--direct-noise", o.direct.noise,
-                 "with --direct sampled: each point takes the shadow rays that bring its direct light's relative "
-                 "standard error to this, up to --direct-samples (a pilot of 16 chooses; README, 'Direct light'); "
-                 "0 = off; range 0 or 1e-4 to 1, typical 0.005-0.02")
-      ->capture_default_str();
-  app.add_option("--gap-paths", o.gaps.paths,
-                 "with --direct sampled: paths gathered at each point in a narrow gap (between books, behind a "
-                 "mirror), where no kernel can follow the light, instead of the photons' estimate (README, 'Narrow "
-                 "gaps'); 0 = none; range 0-1e6, typical 64-1024")
-      ->capture_default_str();
-  app.add_option("--gap-noise", o.gaps.noise,
-                 "with --gap-paths: each gathered point takes the paths that bring its relative standard error to "
-                 "this, up to --gap-paths (a pilot of 64 chooses; README, 'Narrow gaps'); 0 = off, always "
-                 "--gap-paths; range 0 or 1e-4 to 1, typical 0.01-0.03")
-      ->capture_default_str();
-  app.add_option("--gap-small-area", o.gaps.smallArea,
-                 "with --direct sampled and --gap-paths: also gather on every surface whose area is below this many "
-                 "h^2, smaller than its kernel (books, table legs at a wide h; README, 'Narrow gaps'); 0 = off; "
-                 "range 0-1e3, typical 4-8")
-      ->capture_default_str();
-  app.add_option("--reference", o.referencePaths,
-                 "trace no photons: gather this many paths at every vertex and texel instead, an unbiased path-traced "
-                 "vertex bake to measure against (README, 'A reference'); range 1-1e7, typical 1024-16384");
   app.add_option("--max-bounces", o.maxBounces,
                  "scattering events a photon may undergo after its first hit; 0 = direct light only; range 0-10000; "
                  "the default is unlimited in practice (Russian roulette ends paths)")
       ->capture_default_str();
-  app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
-                                            "this folder, created if missing (surface_N.exr; README, 'Irradiance maps')");
-  app.add_option("--preview", o.previewPath, "also write a PNG of the baked mesh as a viewer shows it (vertex colours, "
-                                            "no lighting), from the scene's camera SCENE.camera.json or --camera");
-  app.add_option("--camera", o.cameraPath, "--preview's camera JSON (position_m, look_at_m, up, vertical_fov_deg)");
-  pb::tools::AddPairOption(app, "--preview-size", o.previewWidth, o.previewHeight,
-                           "--preview's size in pixels, WIDTHxHEIGHT, each 1-8192");
-  app.add_option("--texel", o.texel, "texel side of --maps [m]; range 1e-6 to 1e4, typical 0.005-0.05")->capture_default_str();
-  app.add_flag("--refine", o.refine.adaptive,
-               "adapt the mesh to the light: remove vertices where it is flat, add them where it changes (README, "
-               "'Meshes that follow the light'); the geometry is unchanged");
-  app.add_option("--tolerance", o.refine.tolerance,
-                 "--refine's largest interpolation error in displayed luminance, as a fraction of the display range; "
-                 "range (0, 1), typical 0.01-0.05")
-      ->capture_default_str();
-  app.add_option("--max-vertices", o.refine.maxVertices, "--refine's budget of output vertices; range 3 to 1e9, typical 1e4-1e6")
-      ->capture_default_str();
-  app.add_option("--subdivide", o.refine.subdivide,
-                 "split every triangle into 4^N first (uniform, OpenSubdiv); range 0-8, 0 = off")
-      ->capture_default_str();
-  app.add_option("--save-photons", o.savePhotonsPath,
-                 "also write the photon store to this file (docs/photon-file.md), to add photons later with --resume; "
-                 "may be the --resume file");
-  app.add_option("--resume", o.resumePath,
-                 "continue the photon store in this file: each light's stream goes on where it stopped, up to "
-                 "--photons in all; the result equals one bake with that many photons. Same scene, --seed, --scale, "
-                 "--effects and --max-bounces, or it is refused");
+}
+
+void DefineRoundOptions(CLI::App& app, pb::BakeOptions& o) {
+  app.option_defaults()->group("Rounds and photon files");
   app.add_option("--target-noise", o.targetNoise,
                  "trace in rounds, the first of --photons, until the 95th percentile of the vertices' relative noise "
                  "(luminance- and area-weighted) is at most this; range (0, 1), typical 0.01-0.05");
@@ -163,6 +110,77 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
                  "--target-noise's rounds at most; 0 = no limit; repeats on any machine a bake that --max-seconds "
                  "stopped")
       ->capture_default_str();
+  app.add_option("--save-photons", o.savePhotonsPath,
+                 "also write the photon store to this file (docs/photon-file.md), to add photons later with --resume; "
+                 "may be the --resume file");
+  app.add_option("--resume", o.resumePath,
+                 "continue the photon store in this file: each light's stream goes on where it stopped, up to "
+                 "--photons in all; the result equals one bake with that many photons. Same scene, --seed, --scale, "
+                 "--effects and --max-bounces, or it is refused");
+}
+
+void DefineDirectOptions(CLI::App& app, pb::BakeOptions& o) {
+  app.option_defaults()->group("Direct light and gathered paths");
+  pb::tools::AddNamedOption(app, "--direct", o.direct.mode, pb::ParseDirectLight, pb::DirectLightName,
+                            pb::DirectLightNames(), "direct-light mode",
+                            "the light straight from the lights: 'sampled' computes it at every vertex and texel by "
+                            "shadow rays, and the photons carry only the rest; 'photons' takes it from the photons "
+                            "like every bounce (the paper's method; docs/bake.md, 'Direct light')");
+  app.add_option("--direct-samples", o.direct.samples,
+                 "shadow rays per point with --direct sampled (with --direct-noise, the most a point may take); "
+                 "range 1-1e6, typical 16-256")
+      ->capture_default_str();
+  app.add_option("--direct-noise", o.direct.noise,
+                 "with --direct sampled: each point takes the shadow rays that bring its direct light's relative "
+                 "standard error to this, up to --direct-samples (a pilot of 16 chooses; docs/bake.md, 'Direct light'); "
+                 "0 = off; range 0 or 1e-4 to 1, typical 0.005-0.02")
+      ->capture_default_str();
+  app.add_option("--gap-paths", o.gaps.paths,
+                 "with --direct sampled: paths gathered at each point in a narrow gap (between books, behind a "
+                 "mirror), where no kernel can follow the light, instead of the photons' estimate (docs/bake.md, "
+                 "'Narrow gaps'); 0 = none; range 0-1e6, typical 64-1024")
+      ->capture_default_str();
+  app.add_option("--gap-noise", o.gaps.noise,
+                 "with --gap-paths: each gathered point takes the paths that bring its relative standard error to "
+                 "this, up to --gap-paths (a pilot of 64 chooses; docs/bake.md, 'Narrow gaps'); 0 = off, always "
+                 "--gap-paths; range 0 or 1e-4 to 1, typical 0.01-0.03")
+      ->capture_default_str();
+  app.add_option("--gap-small-area", o.gaps.smallArea,
+                 "with --direct sampled and --gap-paths: also gather on every surface whose area is below this many "
+                 "h^2, smaller than its kernel (books, table legs at a wide h; docs/bake.md, 'Narrow gaps'); 0 = off; "
+                 "range 0-1e3, typical 4-8")
+      ->capture_default_str();
+  app.add_option("--reference", o.referencePaths,
+                 "trace no photons: gather this many paths at every vertex and texel instead, an unbiased path-traced "
+                 "vertex bake to measure against (docs/bake.md, 'A reference'); range 1-1e7, typical 1024-16384");
+}
+
+void DefineMeshOptions(CLI::App& app, pb::BakeOptions& o) {
+  app.option_defaults()->group("Mesh");
+  app.add_flag("--refine", o.refine.adaptive,
+               "adapt the mesh to the light: remove vertices where it is flat, add them where it changes (docs/bake.md, "
+               "'Meshes that follow the light'); the geometry is unchanged");
+  app.add_option("--tolerance", o.refine.tolerance,
+                 "--refine's largest interpolation error in displayed luminance, as a fraction of the display range; "
+                 "range (0, 1), typical 0.01-0.05")
+      ->capture_default_str();
+  app.add_option("--max-vertices", o.refine.maxVertices, "--refine's budget of output vertices; range 3 to 1e9, typical 1e4-1e6")
+      ->capture_default_str();
+  app.add_option("--subdivide", o.refine.subdivide,
+                 "split every triangle into 4^N first (uniform, OpenSubdiv); range 0-8, 0 = off")
+      ->capture_default_str();
+}
+
+void DefineOutputOptions(CLI::App& app, pb::BakeOptions& o) {
+  app.option_defaults()->group("Outputs");
+  app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
+                                            "this folder, created if missing (surface_N.exr; docs/bake.md, 'Irradiance maps')");
+  app.add_option("--texel", o.texel, "texel side of --maps [m]; range 1e-6 to 1e4, typical 0.005-0.05")->capture_default_str();
+  app.add_option("--preview", o.previewPath, "also write a PNG of the baked mesh as a viewer shows it (vertex colours, "
+                                            "no lighting), from the scene's camera SCENE.camera.json or --camera");
+  app.add_option("--camera", o.cameraPath, "--preview's camera JSON (position_m, look_at_m, up, vertical_fov_deg)");
+  pb::tools::AddPairOption(app, "--preview-size", o.previewWidth, o.previewHeight,
+                           "--preview's size in pixels, WIDTHxHEIGHT, each 1-8192");
   app.add_option("--report", o.reportPath, "write the summary figures as JSON to this file");
   app.add_flag("--report-all", o.reportAll,
                "list every surface and light in --report's JSON; by default the 1,000 largest surfaces and 1,000 "
@@ -170,7 +188,25 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
   app.add_option("--exposure", o.exposure, "display exposure on radiance for the PLY's uchar colours; range > 0; "
                                            "default automatic (log-average luminance to 0.18)");
   app.add_flag("--ascii", o.asciiPly, "write ASCII PLY instead of binary");
+}
+
+void DefineRunOptions(CLI::App& app, pb::BakeOptions& o) {
+  app.option_defaults()->group("Running");
+  app.add_option("--threads", o.threads, "worker threads; 0 = all cores; range 0-1024")->capture_default_str();
   app.add_flag("-q,--quiet", o.quiet, "no progress or summary (errors and warnings still print)");
+}
+CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
+  DefineSceneOptions(app, o);
+  DefinePhotonOptions(app, o, sceneDefaults);
+  DefineRoundOptions(app, o);
+  app.option_defaults()->group("Density estimation");
+  DefineEstimatorOptions(app, o.estimator, o.autoBandwidth, sceneDefaults);
+  app.add_flag("!--no-cover", o.findCovers, "do not find where other geometry covers a surface (a block on a floor); "
+                                           "light then bleeds under objects and is lost beside them");
+  DefineDirectOptions(app, o);
+  DefineMeshOptions(app, o);
+  DefineOutputOptions(app, o);
+  DefineRunOptions(app, o);
   return app;
 }
 
@@ -188,9 +224,11 @@ void ApplyQuality(const CLI::App& app, const std::string& quality, pb::BakeOptio
 
 void DefineBakeCommandLine(CLI::App& app, BakeCommandLine& c) {
   DefineOptions(app, c.options, c.sceneDefaults);
+  app.option_defaults()->group("Photons");
   app.add_option("--quality", c.quality, "photons, h and shadow rays together, from the box's measured error against "
-                                         "time: " + pb::QualityNames() + " (README, 'Quality presets'); options given "
+                                         "time: " + pb::QualityNames() + " (docs/bake.md, 'Quality presets'); options given "
                                          "explicitly win");
+  app.option_defaults()->group("Options");  // CLI11's own group, for what the tools add after
 }
 
 void ApplyBakeCommandLine(const CLI::App& app, BakeCommandLine& c) {
@@ -201,6 +239,16 @@ void ApplyBakeCommandLine(const CLI::App& app, BakeCommandLine& c) {
                                .shadowRays = preset || app.count("--direct-samples") + app.count("--direct-noise") > 0};
   if (c.sceneDefaults) pb::ApplySceneDefaults(c.options, given);  // bake-mpi has no rounds, whose rays it fixes
   c.options.Validate();
+}
+
+int RunBake(int argc, char** argv) {
+  CLI::App app{"bake: photon-traced irradiance baked onto mesh vertices (photonbake)"};
+  BakeCommandLine c;
+  DefineBakeCommandLine(app, c);
+  return RunTool(app, argc, argv, [&] { ApplyBakeCommandLine(app, c); }, [&] {
+    const Log log(c.options.quiet);
+    PrintSummary(Bake(c.options, log), log);
+  });
 }
 
 }  // namespace pb::tools

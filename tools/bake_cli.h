@@ -2,13 +2,19 @@
 // BakeOptions, and --quality, which sets --photons, --h and --direct-samples except those given.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <string>
 
 #include "baker/options.h"
 
+namespace CLI {
+class App;
+}
+
 namespace pb::tools {
+
+// The whole of the bake tool: parses the command line, bakes, prints the summary; the process's exit status
+// (tools/cli_options.h, RunTool).
+int RunBake(int argc, char** argv);
 
 struct BakeCommandLine {
   BakeOptions options;

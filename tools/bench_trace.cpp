@@ -19,7 +19,7 @@
 
 #include "baker/0_prepare_scene.h"
 #include "baker/1_trace_photons.h"
-#include "baker/threads.h"
+#include "baker/runtime/threads.h"
 #include "estimators/emission.h"
 #include "estimators/lambertian.h"
 

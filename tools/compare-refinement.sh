@@ -17,7 +17,7 @@ levels=${LEVELS:-1,2,3}
 tolerances=${TOLERANCES:-0.08,0.04,0.02,0.01,0.005,0.0025,0.001}
 mkdir -p "$out"
 
-common=("$scene" --photons "$photons" --h "$h" --seed 1 --direct photons -q)  # as the README table was measured
+common=("$scene" --photons "$photons" --h "$h" --seed 1 --direct photons -q)  # as the table in docs/bake.md was measured
 for level in ${levels//,/ }; do
   build/bake "${common[@]}" -o "$out/uniform_$level.ply" --subdivide "$level" --report "$out/uniform_$level.json"
 done

@@ -6,7 +6,7 @@
 #   texture      PNG, JPEG, TGA and BMP textures (mesh/texture.h)
 #   camera       camera JSON files (mesh/camera.h)
 #   light_file   lights JSON files (mesh/light_file.h)
-#   photon_file  photon files for --resume (baker/photon_file.h), their CRC recomputed so mutations get past it
+#   photon_file  photon files for --resume (baker/files/photon_file.h), their CRC recomputed so mutations get past it
 # Usage: tools/fuzz.sh [SECONDS per target, default 60] [TARGET ...; default all]. Installs clang if it is
 # missing. Seeds come from tests/fuzz/corpus/TARGET (the photon files are written by photon_file_seeds); new
 # interesting inputs land in build-fuzz/corpus/TARGET, and a crash, leak, sanitizer finding or 10 s hang fails the

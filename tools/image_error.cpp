@@ -10,7 +10,7 @@
 
 #include <cmath>
 
-#include "baker/image_io.h"
+#include "baker/files/image_io.h"
 #include "mesh/errors.h"
 
 int main(int argc, char** argv) {

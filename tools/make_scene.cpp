@@ -1,4 +1,4 @@
-// make-scene: writes the large scenes that the scaling measurements bake (README, "Scale"), as OBJ and MTL.
+// make-scene: writes the large scenes that the scaling measurements bake (docs/performance.md, "Scale"), as OBJ and MTL.
 //   led-room:  a grey room (Kd 0.5; 10 x 3 x 10 m, y up) under an LED ceiling of --lamps lamps, each one
 //              emissive triangle (a right triangle of legs 2 cm) facing down 1 cm under the ceiling, in a square
 //              grid, their radiance over three decades (20 levels, log-uniform, 10^(3 k / 19) W/(m^2 sr)).

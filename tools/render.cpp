@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "baker/render.h"
+#include "baker/render/render.h"
 #include "tools/cli_options.h"
 
 namespace {

@@ -20,12 +20,12 @@
 #include <map>
 #include <set>
 
-#include "baker/atomic_file.h"
-#include "baker/gltf_buffers.h"
-#include "baker/json_file.h"
+#include "baker/files/atomic_file.h"
+#include "baker/files/gltf_buffers.h"
+#include "baker/files/json_file.h"
 #include "baker/option_ranges.h"
 #include "mesh/errors.h"
-#include "mesh/gltf_loader.h"
+#include "mesh/scene_file.h"
 #include "mesh/light_file.h"
 #include "tools/cli_options.h"
 

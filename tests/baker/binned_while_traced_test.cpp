@@ -14,7 +14,7 @@
 #include <thread>
 
 #include "baker/bake.h"
-#include "baker/interrupt.h"
+#include "baker/runtime/interrupt.h"
 #include "mesh/errors.h"
 #include "tests/ply_reader.h"
 #include "tests/test_scenes.h"

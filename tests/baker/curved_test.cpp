@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "baker/bake.h"
-#include "baker/image_io.h"
+#include "baker/files/image_io.h"
 #include "tests/ply_reader.h"
 #include "tests/test_scenes.h"
 

@@ -7,7 +7,7 @@
 #include "baker/4_refine_mesh.h"
 #include "baker/5_write_maps.h"
 #include "baker/bake.h"
-#include "baker/image_io.h"
+#include "baker/files/image_io.h"
 #include "mesh/errors.h"
 #include "mesh/obj_loader.h"
 #include "tests/test_scenes.h"

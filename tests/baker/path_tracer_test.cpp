@@ -1,4 +1,4 @@
-// The path tracer (baker/path_tracer.h): both samplers converge to the same image, and to the closed form where
+// The path tracer (baker/render/path_tracer.h): both samplers converge to the same image, and to the closed form where
 // there is one; the importance map's floor is what keeps photon sampling unbiased; degenerate maps stay finite;
 // images do not depend on the thread count.
 //
@@ -10,8 +10,8 @@
 
 #include <cmath>
 
-#include "baker/render.h"
-#include "baker/threads.h"
+#include "baker/render/render.h"
+#include "baker/runtime/threads.h"
 #include "mesh/lights.h"
 #include "mesh/obj_loader.h"
 #include "mesh/surfaces.h"

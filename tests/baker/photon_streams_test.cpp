@@ -9,7 +9,7 @@
 #include <random>
 #include <thread>
 
-#include "baker/interrupt.h"
+#include "baker/runtime/interrupt.h"
 #include "estimators/emission.h"
 #include "tests/test_scenes.h"
 #include "tests/traced_scene.h"

@@ -9,7 +9,7 @@
 #include <map>
 #include <optional>
 
-#include "baker/threads.h"
+#include "baker/runtime/threads.h"
 #include "baker/tone_map.h"
 #include "mesh/half_edge_mesh.h"
 #include "mesh/subdivide.h"

@@ -1,4 +1,4 @@
-// libFuzzer target for the photon file reader (baker/photon_file.h). The input is a photon file without its
+// libFuzzer target for the photon file reader (baker/files/photon_file.h). The input is a photon file without its
 // 4-byte CRC-32 trailer: the target appends the right CRC, so that mutations reach the checks behind it (a CRC
 // guards only against accidents; a hostile file carries a valid one). The scene it is read for has 64 triangles
 // and two lights, of the power the seed corpus was written with, so the seeds are read in full. Seed corpus:
@@ -6,7 +6,7 @@
 #include <zlib.h>
 
 #include "baker/options.h"
-#include "baker/photon_file.h"
+#include "baker/files/photon_file.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

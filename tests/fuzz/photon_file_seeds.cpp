@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "baker/options.h"
-#include "baker/photon_file.h"
+#include "baker/files/photon_file.h"
 
 namespace {
 

@@ -18,8 +18,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "baker/atomic_file.h"
-#include "baker/memory_budget.h"
+#include "baker/files/atomic_file.h"
+#include "baker/runtime/memory_budget.h"
 #include "baker/report.h"
 #include "tests/ply_reader.h"
 #include "tests/run_tool.h"
@@ -60,8 +60,8 @@ std::string Lines(const std::set<std::string>& names) {
   return s;
 }
 
-// Every option the README's table and --help document is one the command line takes, and every option it takes
-// is documented in both. (--max-bounces was once documented in both and refused by the parser.)
+// Every option that docs/bake.md's table and --help document is one the command line takes, and every option it
+// takes is documented in both. (--max-bounces was once documented in both and refused by the parser.)
 TEST(BakeCli, EveryDocumentedOptionIsACommandLineOption) {
   const BakeRun help = RunBake("--help");
   ASSERT_EQ(help.status, 0);
@@ -71,17 +71,15 @@ TEST(BakeCli, EveryDocumentedOptionIsACommandLineOption) {
   // Mentioned anywhere in --help's text.
   for (const std::string& name : Matches(help.output, std::regex(R"((--[a-z][a-z-]*))"), 1))
     EXPECT_TRUE(defined.count(name)) << name << " is mentioned in --help but is not an option";
-  // The README's table of options, in its section "Using `bake`".
-  std::ifstream file(PB_SOURCE_DIR "/README.md");
-  const std::string readme((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  const size_t begin = readme.find("## Using `bake`"), end = readme.find("\n## ", begin + 1);
-  ASSERT_NE(begin, std::string::npos);
-  const std::string section = readme.substr(begin, end - begin);
+  // The manual's table of options, docs/bake.md (every --option the page names must be one).
+  std::ifstream file(PB_SOURCE_DIR "/docs/bake.md");
+  const std::string section((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  ASSERT_NE(section.find("# Using `bake`"), std::string::npos);
   std::set<std::string> table = Matches(section, std::regex(R"(\n\| `(?:-\w, )?(--[a-z][a-z-]*))"), 1);
   table.insert("--help");
-  EXPECT_EQ(table, defined) << "README:" << Lines(table) << "\n--help:" << Lines(defined);
+  EXPECT_EQ(table, defined) << "docs/bake.md:" << Lines(table) << "\n--help:" << Lines(defined);
   for (const std::string& name : Matches(section, std::regex(R"((--[a-z][a-z-]*))"), 1))
-    EXPECT_TRUE(defined.count(name)) << name << " is mentioned in the README's section on bake but is not an option";
+    EXPECT_TRUE(defined.count(name)) << name << " is mentioned in docs/bake.md but is not an option";
 }
 
 // Each numeric option is checked against its documented range before any work is done, and refused as a bad
@@ -238,7 +236,7 @@ TEST(BakeCli, NoiseIsInEverySummaryAndItsRemedyWorks) {
   }
 }
 
-// With no --h and no --photons the scene chooses (README, "Defaults that suit the scene"): h per surface, and
+// With no --h and no --photons the scene chooses (docs/bake.md, "Defaults that suit the scene"): h per surface, and
 // rounds to 3% noise, which the summary and the report state; the same bytes on 1 and 2 threads. Given options
 // mean exactly what they say: one round of --photons at the given h.
 TEST(BakeCli, WithoutHOrPhotonsTheSceneChoosesAndSaysSo) {

@@ -1,4 +1,4 @@
-// A disk that fills at any byte of a bake's outputs (PB_FAIL_WRITES_AFTER, baker/atomic_file.h): the PLY, the
+// A disk that fills at any byte of a bake's outputs (PB_FAIL_WRITES_AFTER, baker/files/atomic_file.h): the PLY, the
 // maps, the report, the photon file and the preview. Wherever the writes stop, the bake exits 1 naming the file
 // and the cause, leaves no temporary, and every output of the earlier run keeps its bytes. A full disk during
 // --maps once aborted the bake (OpenEXR's exception, thrown on a worker thread) and left three temporaries. And the

@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-#include "baker/image_io.h"
+#include "baker/files/image_io.h"
 #include "tests/ply_reader.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"

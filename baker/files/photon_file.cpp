@@ -1,4 +1,4 @@
-#include "baker/photon_file.h"
+#include "baker/files/photon_file.h"
 
 #include <fmt/format.h>
 #include <zlib.h>
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <type_traits>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "mesh/errors.h"
 #include "mesh/input_file.h"
 

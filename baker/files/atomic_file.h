@@ -1,4 +1,4 @@
-// A run's outputs as one transaction (README, "Exit status"): readers never see a half-written file, and a run
+// A run's outputs as one transaction (docs/bake.md, "Exit status"): readers never see a half-written file, and a run
 // that fails anywhere leaves every earlier output as it was.
 //
 // OutputFiles::Write stages one output: its bytes go to a new temporary file "<path>.tmp-<pid>-<n>" in the

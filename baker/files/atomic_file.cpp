@@ -1,4 +1,4 @@
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 
 #include <fcntl.h>
 #include <signal.h>

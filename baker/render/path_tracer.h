@@ -13,7 +13,7 @@
 //             pdf is P_k n / (2 pi), so the weight holds the paper's scale factor s = I / (I_k n).
 // Mirrors and glass scatter by their own lobes (estimators/scatter.h) in radiance mode.
 //
-// Determinism: a pixel's samples draw from one stream keyed by (seed, pixel index) in order (baker/render.h), so
+// Determinism: a pixel's samples draw from one stream keyed by (seed, pixel index) in order (baker/render/render.h), so
 // an image does not depend on the thread count.
 #pragma once
 
@@ -40,7 +40,7 @@ inline std::optional<ImportanceWarp> ParseWarp(std::string_view s) { return Pars
 struct PathSettings {
   DirectionSampling sampling = DirectionSampling::kBrdf;
   uint32_t neighbours = 50;       // N nearest photons per importance map; >= 1, typical 20-200
-  // Defaults measured on the box (README, "Photon-driven path tracing"): with 50 photons, 4 x 8 regions and a
+  // Defaults measured on the box (docs/render.md, "Photon-driven path tracing"): with 50 photons, 4 x 8 regions and a
   // 0.3 floor gave the lowest RMSE at equal spp of the settings tried; finer maps are too sparse (rare
   // floor-weighted samples become fireflies).
   int thetaRegions = 4;           // importance map rows (equal solid angle bands from the normal)

@@ -1,4 +1,4 @@
-#include "baker/threads.h"
+#include "baker/runtime/threads.h"
 
 #include <pmmintrin.h>
 #include <tbb/global_control.h>

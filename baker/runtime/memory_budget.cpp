@@ -1,4 +1,4 @@
-#include "baker/memory_budget.h"
+#include "baker/runtime/memory_budget.h"
 
 #include <fmt/format.h>
 #include <unistd.h>

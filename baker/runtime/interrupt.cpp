@@ -1,4 +1,4 @@
-#include "baker/interrupt.h"
+#include "baker/runtime/interrupt.h"
 
 #include <unistd.h>
 

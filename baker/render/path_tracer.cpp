@@ -1,4 +1,4 @@
-#include "baker/path_tracer.h"
+#include "baker/render/path_tracer.h"
 
 #include <chrono>
 

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "baker/1_trace_photons.h"
-#include "baker/image_io.h"
-#include "baker/path_tracer.h"
-#include "baker/progress.h"
+#include "baker/files/image_io.h"
+#include "baker/render/path_tracer.h"
+#include "baker/runtime/progress.h"
 #include "mesh/camera.h"
 
 namespace pb {

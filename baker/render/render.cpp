@@ -1,4 +1,4 @@
-#include "baker/render.h"
+#include "baker/render/render.h"
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -8,11 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include "baker/0_prepare_scene.h"
-#include "baker/json_file.h"
-#include "baker/memory_budget.h"
+#include "baker/files/json_file.h"
+#include "baker/runtime/memory_budget.h"
 #include "baker/option_ranges.h"
-#include "baker/stage_clock.h"
-#include "baker/threads.h"
+#include "baker/runtime/stage_clock.h"
+#include "baker/runtime/threads.h"
 #include "baker/tone_map.h"
 #include "mesh/errors.h"
 

@@ -1,4 +1,4 @@
-#include "baker/progress.h"
+#include "baker/runtime/progress.h"
 
 #include <fmt/core.h>
 #include <unistd.h>

@@ -1,6 +1,6 @@
 // glTF 2.0 files as the glTF writers build them (baker/5_write_gltf.h, tools/scene-to-gltf.cpp), through
 // tinygltf's model types: one buffer, each array appended as its own 4-byte aligned buffer view with an accessor;
-// the file staged as an output (baker/atomic_file.h), binary for .glb, else JSON with the buffer as a data URI.
+// the file staged as an output (baker/files/atomic_file.h), binary for .glb, else JSON with the buffer as a data URI.
 #pragma once
 
 #include <tiny_gltf.h>
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 
 namespace pb {
 

@@ -1,11 +1,11 @@
-#include "baker/gltf_buffers.h"
+#include "baker/files/gltf_buffers.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "mesh/errors.h"
-#include "mesh/gltf_loader.h"
+#include "mesh/scene_file.h"
 
 namespace pb {
 

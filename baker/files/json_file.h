@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 
 namespace pb {
 

@@ -6,7 +6,7 @@
 //   blocks  per block: its light, photon range and hit count, and its stats in attenuation units;
 //   hits    every PhotonHit (attenuation, octahedral direction, triangle and side, barycentrics), block by block;
 //   trailer CRC-32 (zlib) of every byte before it.
-// It is written to a temporary file and renamed into place (baker/atomic_file.h). Reading trusts nothing in the
+// It is written to a temporary file and renamed into place (baker/files/atomic_file.h). Reading trusts nothing in the
 // file, whose CRC guards only against accidents: it must be a regular file; every size is checked against the
 // file's length, in overflow-safe arithmetic, before anything is allocated; the CRC; each light's blocks must be
 // aligned, full but for the last, and in order; each block's statistics must add up (every photon ends once) and
@@ -18,7 +18,7 @@
 #include <cstdint>
 #include <string>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/0_plan_transport.h"
 #include "baker/photon_store.h"
 #include "mesh/scene.h"

@@ -1,14 +1,14 @@
 // Images of the path tracer: linear RGB radiance L [W/(m^2 sr)] per pixel, written as
 //   OpenEXR: 32-bit float channels R, G, B, with header attributes naming the quantity and its units;
 //   PNG: 8-bit sRGB of Reinhard(exposure * L) (baker/tone_map.h), for viewing.
-// Both are staged in the run's OutputFiles (baker/atomic_file.h): a reader never sees a half-written image.
+// Both are staged in the run's OutputFiles (baker/files/atomic_file.h): a reader never sees a half-written image.
 #pragma once
 
 #include <string>
 #include <utility>
 #include <vector>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "mesh/color.h"
 
 namespace pb {

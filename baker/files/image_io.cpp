@@ -1,4 +1,4 @@
-#include "baker/image_io.h"
+#include "baker/files/image_io.h"
 
 #include <IexBaseExc.h>
 #include <ImfChannelList.h>
@@ -12,7 +12,7 @@
 
 #include <ostream>
 
-#include "baker/atomic_file.h"
+#include "baker/files/atomic_file.h"
 #include "baker/tone_map.h"
 #include "mesh/errors.h"
 

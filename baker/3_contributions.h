@@ -1,0 +1,122 @@
+// Stage 3: the terms whose sum is the irradiance field's H (baker/3_irradiance_field.h), each able to say its value
+// at a surface point (mesh/split_mesh.h, SurfacePoint) in W/m^2 per unit surface area, and its noise
+// (estimators/noisy_irradiance.h):
+//   photons   the photons' density estimate on the point's own surface, with that surface's h [m];
+//   direct    the direct light computed at the point by shadow rays (--direct sampled);
+//   reference all of H by paths gathered at the point (--reference SPP).
+#pragma once
+
+#include <memory>
+#include <string_view>
+#include <vector>
+
+#include "baker/0_prepare_scene.h"
+#include "baker/2_bin_photons.h"
+#include "baker/3_surface_point.h"
+#include "baker/options.h"
+#include "estimators/density_estimator.h"
+#include "estimators/irradiance_gather.h"
+#include "estimators/light_sampler.h"
+#include "estimators/noisy_irradiance.h"
+#include "mesh/errors.h"
+#include "mesh/split_mesh.h"
+
+namespace pb {
+
+// A density per unit (u,v) area of p's chart, as a density per unit surface area: times the chart's local area
+// ratio at p (exactly 1 on planar charts). The one place this conversion is made.
+inline Rgb PerSurfaceArea(Rgb perChartArea, const SurfacePoint& p) { return perChartArea * p.areaRatio; }
+
+class IrradianceContribution {
+ public:
+  virtual ~IrradianceContribution() = default;
+  virtual std::string_view Name() const = 0;
+  virtual Rgb At(const SurfacePoint& p) const = 0;
+  // The same irradiance as At(p), bit for bit, and its predicted noise.
+  virtual NoisyIrradiance WithNoise(const SurfacePoint& p) const = 0;
+};
+
+// h per surface [m]: settings.bandwidth everywhere, or, when `automatic`, chosen per surface from its photons.
+std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
+                                     const EstimatorSettings& settings, bool automatic);
+
+// The photons' contribution: on each surface, the density estimate of the photons binned on its front side
+// (stage 2), with that surface's h, edge-corrected over its region. Estimators are built in parallel; they copy
+// the photons and refer to the prepared scene's regions.
+class PhotonIrradiance final : public IrradianceContribution {
+ public:
+  PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings,
+                   std::vector<float> bandwidths);
+  std::string_view Name() const override { return "photons"; }
+  Rgb At(const SurfacePoint& p) const override { return PerSurfaceArea(ChartDensity(p.surface, p.uv), p); }
+  NoisyIrradiance WithNoise(const SurfacePoint& p) const override;
+
+  // The estimate on surface s at chart position uv, per unit chart area [W/m^2 of (u,v)].
+  Rgb ChartDensity(uint32_t s, Point2 uv) const {
+    PB_DCHECK_LT(s, estimators_.size());
+    return estimators_[s]->Estimate(uv);
+  }
+  float Bandwidth(uint32_t s) const { return bandwidths_[s]; }
+  const std::vector<float>& Bandwidths() const { return bandwidths_; }
+  // The relative noise of an estimate on surface s if its `hits` photons, of equal flux, were spread evenly
+  // over its `area` [m^2] (estimators/density_estimator.h, UniformRelativeNoise).
+  double UniformNoise(uint32_t s, uint64_t hits, double area) const;
+
+ private:
+  EstimatorSettings settings_;
+  std::vector<float> bandwidths_;
+  std::vector<std::unique_ptr<DensityEstimator>> estimators_;
+};
+
+// A term of H computed at each point by Monte Carlo, with `count` samples. The random numbers of point p come from
+// a stream keyed by the seed and p's surface and chart position, so the same point reads the same value on any
+// thread, in any order. Rays start at RayStart(p): at a vertex on its surface's edge, just inside it.
+class PointSampledIrradiance : public IrradianceContribution {
+ public:
+  Rgb At(const SurfacePoint& p) const final { return WithNoise(p).irradiance; }
+  NoisyIrradiance WithNoise(const SurfacePoint& p) const final;
+
+ protected:
+  PointSampledIrradiance(const PreparedScene& scene, uint32_t count, uint64_t seed)
+      : scene_(scene), count_(count), seed_(seed) {}
+  // E at `position` on the side of `normal`, from `count` samples drawn from `rng`.
+  virtual DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const = 0;
+  const PreparedScene& scene_;
+
+ private:
+  uint32_t count_;
+  uint64_t seed_;
+};
+
+// The direct light at a point, sampled there with `direct.samples` shadow rays, or with as many as its noise
+// target `direct.noise` needs, up to that many (estimators/light_sampler.h).
+class DirectIrradiance final : public PointSampledIrradiance {
+ public:
+  DirectIrradiance(const PreparedScene& scene, const DirectSettings& direct, uint64_t seed);
+  std::string_view Name() const override { return "direct"; }
+  const LightSampler& Sampler() const { return sampler_; }
+
+ private:
+  DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const override {
+    return noise_ > 0 ? sampler_.AdaptiveIrradiance(position, normal, noise_, count, rng)
+                      : sampler_.Irradiance(position, normal, count, rng);
+  }
+  LightSampler sampler_;
+  double noise_;
+};
+
+// All of H at a point by `paths` paths gathered there (estimators/irradiance_gather.h).
+class ReferenceIrradiance final : public PointSampledIrradiance {
+ public:
+  ReferenceIrradiance(const PreparedScene& scene, uint32_t paths, uint64_t seed);
+  std::string_view Name() const override { return "reference"; }
+
+ private:
+  DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const override {
+    return gatherer_.Irradiance(position, normal, count, rng);
+  }
+  LightSampler lights_;
+  IrradianceGatherer gatherer_;
+};
+
+}  // namespace pb
