@@ -82,7 +82,7 @@ struct FieldSettings {
   EstimatorSettings estimator;
   bool automaticBandwidth = false;  // --h auto
   // h per surface [m], when given: instead of the above (the rounds of --target-noise hold the first round's
-  // --h auto, so that their noise falls as 1 / sqrt(photons); baker/progressive.h).
+  // --h auto, so that their noise falls as 1 / sqrt(photons); baker/photons/progressive.h).
   std::vector<float> heldBandwidths;
   // --direct sampled adds DirectIrradiance. Photons, by default, as TraceSettings stores the first hits by default
   // (storeDirect): the two must agree, or the direct light is counted twice or not at all. Bake() sets both from

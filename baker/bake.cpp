@@ -10,24 +10,24 @@
 #include <optional>
 
 #include "baker/0_prepare_scene.h"
-#include "baker/1_trace_photons.h"
 #include "baker/2_bin_photons.h"
 #include "baker/3_irradiance_field.h"
 #include "baker/4_refine_mesh.h"
-#include "baker/5_write_maps.h"
 #include "baker/5_write_gltf.h"
+#include "baker/5_write_maps.h"
 #include "baker/5_write_ply.h"
-#include "mesh/scene_file.h"
-#include "baker/files/atomic_file.h"
+#include "baker/5_write_preview.h"
 #include "baker/distribution.h"
+#include "baker/files/atomic_file.h"
+#include "baker/photons/photon_rounds.h"
+#include "baker/photons/progressive.h"
 #include "baker/runtime/interrupt.h"
 #include "baker/runtime/memory_budget.h"
-#include "baker/progressive.h"
 #include "baker/runtime/stage_clock.h"
 #include "baker/runtime/threads.h"
-#include "baker/5_write_preview.h"
 #include "baker/tone_map.h"
 #include "mesh/errors.h"
+#include "mesh/scene_file.h"
 #include "mesh/split_mesh.h"
 
 namespace pb {
@@ -173,23 +173,17 @@ std::vector<std::string> UnlitLightWarnings(const PreparedScene& scene, const Ph
   return warnings;
 }
 
-// Stages 1 to 3: the photons, binned per surface, the irradiance field they give, and the light at every vertex.
+// Stage 3 from a round's photons: the irradiance field they give, and the light at every vertex with its noise.
 struct Lit {
-  PhotonStore photons;
-  SurfaceBins bins;
   std::optional<IrradianceField> field;
   BakedMesh baked;
-  ProgressiveReport progress;
   double noise = 0;  // the bake's predicted noise (BakeNoise)
-  std::vector<float> heldBandwidths;  // --h auto's choice in the first round of --target-noise, held after it
 };
 
-FieldSettings FieldSettingsOf(const BakeOptions& o, const std::vector<float>& heldBandwidths) {
-  return {o.estimator, o.autoBandwidth, heldBandwidths, o.direct, o.referencePaths, o.seed, o.gaps};
+FieldSettings FieldSettingsOf(const BakeOptions& o, const PhotonRounds& rounds) {
+  return {o.estimator, o.autoBandwidth, rounds.HeldBandwidths(), rounds.Direct(), o.referencePaths, o.seed, o.gaps};
 }
 
-// Stages 2 and 3 from the photons in `lit` (and those `binner` binned while they were traced), with each vertex's
-// noise and the bake's.
 // Rank 0 takes every process's vertices (baker/distribution.h).
 void GatherVertices(BakedMesh& baked, const Distribution& d) {
   const auto gather = [&](auto& values) {
@@ -199,12 +193,11 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
   gather(baked.irradianceNoise), gather(baked.photonVarianceShare);
 }
 
-// Stages 2 and 3 from the photons in `lit` (and those `binner` binned while they were traced), with each vertex's
-// noise and the bake's; with a distribution, each process estimates its share of the vertices for rank 0.
-void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, const BinningPlan& plan,
-                   PhotonBinner* binner, const Distribution* d, StageClock& clock, const Log& log) {
-  lit.bins = clock.Time("bin", [&] { return BinPhotons(scene.surfaces, lit.photons, log, plan, binner); });
-  lit.field.emplace(BuildIrradianceField(scene, lit.bins, FieldSettingsOf(o, lit.heldBandwidths), clock));
+// Stage 3 from the round's photons, with each vertex's noise and the bake's; with a distribution, each process
+// estimates its share of the vertices for rank 0.
+void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, const PhotonRounds& rounds,
+                   const Distribution* d, StageClock& clock, const Log& log) {
+  lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock));
   const auto owns = [d](size_t chunk) { return d == nullptr || d->TakesChunk(chunk); };
   lit.baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true, owns);
@@ -225,13 +218,14 @@ uint64_t TwoDigits(double x) {
 // Warns when the bake's noise is visible, naming what would bring it under kVisibleNoise (RemedyForNoise): more
 // photons, and more shadow rays (or --reference paths) where the points' own noise is most of it. None when the
 // user chose a --target-noise.
-std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& lit) {
+std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& lit, const PhotonRounds& rounds) {
   if (lit.noise <= kVisibleNoise || o.targetNoise) return {};
   const bool reference = o.referencePaths > 0;
   const uint32_t samples = reference ? o.referencePaths : o.direct.mode == DirectLight::kSampled ? o.direct.samples : 0;
-  const NoiseRemedy r = RemedyForNoise(lit.baked, kVisibleNoise, lit.photons.stats.emitted, samples);
+  const uint64_t emitted = rounds.Store().stats.emitted;
+  const NoiseRemedy r = RemedyForNoise(lit.baked, kVisibleNoise, emitted, samples);
   std::vector<std::string> remedies;
-  if (!reference && r.photons > lit.photons.stats.emitted)
+  if (!reference && r.photons > emitted)
     remedies.push_back(fmt::format("--photons {}", TwoDigits(1.05 * double(r.photons))));
   // With --direct-noise the points' own noise falls by sqrt(factor) when their target does; and at most half the
   // visible noise, as the pilot's noisy estimate leaves the 95th percentile above the target (1.3x it measured).
@@ -249,122 +243,25 @@ std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& l
                       reference ? "" : fmt::format(" (or --target-noise {} finds the photons itself)", kVisibleNoise))};
 }
 
-// Whether the photons are binned as they are traced (baker/2_bin_photons.h): where the plan bins every wide surface
-// and nothing needs the photons themselves afterwards (a photon file written or extended, rounds).
-bool BinsWhileTracing(const BakeOptions& o, const BinningPlan& plan) {
-  return plan.wide && o.savePhotonsPath.empty() && o.resumePath.empty() && !o.targetNoise;
-}
 
-// A distributed bake brings its processes' photons together as node sums, so it bins them while tracing.
-void RequireBinningWhileTracing(const BakeOptions& o, const BinningPlan& plan) {
-  if (BinsWhileTracing(o, plan)) return;
-  throw InputError(o.scenePath, 0, "a bake shared among processes bins its photons while they are traced, which needs "
-                                   "the kernel estimator with a fixed --h, a kernel other than uniform or gaussian, "
-                                   "no --save-photons, --resume or --target-noise, and photons enough for the surfaces' "
-                                   "node lattices (docs/performance.md, 'Baking on many processes'); run bake for this one");
-}
-
-// Every process is ready, or this one stops (rank 0 names those that are not).
-void RequireAllReady(const Distribution& d) {
-  const std::vector<bool> ready = d.Agree(true);
-  std::string missing;
-  for (size_t r = 0; r < ready.size(); ++r)
-    if (!ready[r]) missing += (missing.empty() ? "" : ", ") + std::to_string(r);
-  if (!missing.empty()) throw InputError("bake-mpi", 0, "rank " + missing + " could not start the bake (its message is above)");
-}
-
-// One round's photons: traced here or shared among processes, binned while traced where the plan allows.
-struct RoundTrace {
-  BinningPlan plan;
-  std::optional<PhotonBinner> binner;
-  bool complete = true;
-};
-
-void TraceRound(RoundTrace& round, Lit& lit, uint64_t photons, const PreparedScene& scene, const BakeOptions& o,
-                const Distribution* d, StageClock& clock, const Log& log) {
-  round.plan = PlanBinning(scene, o.estimator, o.autoBandwidth, photons);
-  if (d != nullptr) RequireBinningWhileTracing(o, round.plan), RequireAllReady(*d);
-  if (BinsWhileTracing(o, round.plan)) round.binner.emplace(scene, round.plan);
-  PhotonBinner* binner = round.binner ? &*round.binner : nullptr;
-  clock.Time("trace", [&] { round.complete = GrowPhotonStore(lit.photons, photons, o, scene, lit.progress, log, binner, d); });
-  if (d != nullptr) clock.Time("trace", [&] { binner->SumWith([&](std::span<int64_t> v) { d->SumOnAll(v); }); });
-  if (binner != nullptr && !round.complete) RefuseInterruptedBinning(o, lit.photons);
-}
-
-// When a round began: the bake's wall time and its tracing time then [s].
-struct RoundStart {
-  double elapsed = 0, traced = 0;
-  explicit RoundStart(const StageClock& clock) : elapsed(clock.Elapsed()), traced(clock.Seconds("trace")) {}
-};
-
-// Where the rounds of --target-noise stand after one (baker/progressive.h).
-RoundState StateAfterRound(const Lit& lit, uint64_t photons, const BakeOptions& round, const StageClock& clock,
-                           const RoundStart& start) {
-  const bool sampled = round.direct.mode == DirectLight::kSampled;
-  const double emitted = double(std::max<uint64_t>(lit.photons.stats.emitted, 1));
-  const double elapsed = clock.Elapsed(), traced = clock.Seconds("trace");
-  return {.photons = photons,
-          .shadowRays = sampled ? round.direct.samples : 0,
-          .raiseShadowRays = sampled && !round.direct.fixedSamples && round.direct.noise == 0,
-          .elapsed = elapsed,
-          .traceSeconds = traced,
-          .estimateSeconds = elapsed - start.elapsed - (traced - start.traced),
-          .bytesPerPhoton = double(lit.photons.StoredHits() * sizeof(PhotonHit)) / emitted};
-}
 
 // The time the estimate took per vertex, over every round [s]: what a texel or a refined vertex costs.
-double SecondsPerPoint(const Lit& lit, const StageClock& clock) {
-  const double points = double(lit.baked.mesh.VertexCount()) * double(std::max<size_t>(lit.progress.rounds.size(), 1));
+double SecondsPerPoint(const Lit& lit, const PhotonRounds& rounds, const StageClock& clock) {
+  const double points = double(lit.baked.mesh.VertexCount()) * double(std::max<size_t>(rounds.Report().rounds.size(), 1));
   return points > 0 ? clock.Seconds("estimate") / points : 0.0;
 }
 
-// The photon store may take this share of the machine's memory: the estimate needs about as much again.
-constexpr double kStoreMemoryShare = 0.4;
-
-// Ends the rounds (true) when the target is met, Ctrl-C came or the next round cannot help or fit; else sets the
-// next round's photons and shadow rays in `round`.
-bool LastRound(Lit& lit, uint64_t& photons, BakeOptions& round, const StageClock& clock, const RoundStart& start,
-               const Log& log) {
-  const RoundState state = StateAfterRound(lit, photons, round, clock, start);
-  lit.progress.rounds.push_back({photons, lit.photons.stats.emitted, state.shadowRays, lit.noise, state.elapsed});
-  log.Info(fmt::format("round {}: {} photons, {} shadow rays per point, noise {:.4f} (target {:.4f}), {:.1f} s",
-                       lit.progress.rounds.size(), lit.photons.stats.emitted, state.shadowRays, lit.noise,
-                       *round.targetNoise, state.elapsed));
-  if (lit.noise <= *round.targetNoise || lit.progress.interrupted) return true;
-  if (round.maxRounds > 0 && lit.progress.rounds.size() >= round.maxRounds) {
-    lit.progress.stoppedBy = fmt::format("--max-rounds {}", round.maxRounds);
-    return true;
-  }
-  if (InterruptRequested()) {  // Ctrl-C came after this round's tracing: no further round
-    lit.progress.interrupted = true;
-    log.Warning("interrupted: no further rounds; the bake goes on with the photons it has");
-    return true;
-  }
-  const NextRound next = PlanNextRound(lit.baked, state, {*round.targetNoise, round.maxPhotons, round.maxSeconds,
-                                                          kStoreMemoryShare * PhysicalMemoryBytes()});
-  lit.progress.stoppedBy = next.stop;
-  if (!next.stop.empty()) return true;
-  photons = next.photons, round.direct.samples = std::max(next.shadowRays, 1u);
-  return false;
-}
-
-// Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/progressive.h); then --save-photons.
-Lit TraceAndEstimate(const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs, StageClock& clock,
-                     const Log& log, const Distribution* distribution) {
+// Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/photons/photon_rounds.h); then
+// --save-photons.
+Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs,
+                     const Distribution* distribution, StageClock& clock, const Log& log) {
   const InterruptScope interrupt;
   Lit lit;
-  lit.photons = clock.Time("trace", [&] { return OpenPhotonStore(o, scene, lit.progress); });
-  BakeOptions round = o;  // the rounds may raise the shadow rays
-  // --reference traces none: the field gathers all of H at the points.
-  for (uint64_t photons = o.referencePaths > 0 ? 0 : std::max(o.photons, lit.progress.resumedPhotons);;) {
-    const RoundStart start(clock);
-    RoundTrace trace;
-    TraceRound(trace, lit, photons, scene, round, distribution, clock, log);
-    EstimateLight(lit, scene, round, trace.plan, trace.binner ? &*trace.binner : nullptr, distribution, clock, log);
-    if (!o.targetNoise || LastRound(lit, photons, round, clock, start, log)) break;
-    if (round.autoBandwidth && lit.heldBandwidths.empty()) lit.heldBandwidths = lit.field->Photons().Bandwidths();
-  }
-  clock.Time("save photons", [&] { SavePhotonStore(outputs, lit.photons, o, scene, lit.progress); });
+  do {
+    rounds.TraceRound();
+    EstimateLight(lit, scene, o, rounds, distribution, clock, log);
+  } while (rounds.Continue(lit.baked, lit.noise, lit.field->Photons().Bandwidths()));
+  rounds.Save(outputs);
   return lit;
 }
 
@@ -395,23 +292,24 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   journal.Warn(scene.warnings, log);
   if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions, threads.Count());
   if (o.refine.subdivide > 0) CheckSubdivisionMemory(scene.scene.triangles.size(), o.refine.subdivide);
-  Lit lit = TraceAndEstimate(scene, o, outputs, clock, log, distribution);
+  PhotonRounds rounds(scene, o, distribution, clock, log);
+  Lit lit = TraceAndEstimate(rounds, scene, o, outputs, distribution, clock, log);
   const IrradianceField& field = *lit.field;
   if (o.referencePaths == 0) {  // warnings about the photons
-    journal.Warn(UnlitLightWarnings(scene, lit.photons, o.direct.mode == DirectLight::kSampled), log);
-    journal.Warn(BandwidthWarnings(field, lit.bins, o), log);
+    journal.Warn(UnlitLightWarnings(scene, rounds.Store(), o.direct.mode == DirectLight::kSampled), log);
+    journal.Warn(BandwidthWarnings(field, rounds.Bins(), o), log);
   }
-  journal.Warn(VisibleNoiseWarnings(o, lit), log);
+  journal.Warn(VisibleNoiseWarnings(o, lit, rounds), log);
   const float exposure = DisplayExposure(lit.baked, o.exposure);
 
   MapsWritten maps;
-  journal.Warn(SubdivisionTimeWarnings(scene.scene.triangles.size(), o.refine.subdivide, SecondsPerPoint(lit, clock)), log);
+  journal.Warn(SubdivisionTimeWarnings(scene.scene.triangles.size(), o.refine.subdivide, SecondsPerPoint(lit, rounds, clock)), log);
   if (!o.mapsDirectory.empty()) {
-    journal.Warn(MapTimeWarnings(o.texel, scene.regions, SecondsPerPoint(lit, clock)), log);
+    journal.Warn(MapTimeWarnings(o.texel, scene.regions, SecondsPerPoint(lit, rounds, clock)), log);
     maps = clock.Time("maps", [&] { return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, lit.baked.mesh, log); });
   }
   RefineReport refine;
-  if (o.refine.adaptive) journal.Warn(NoiseWarnings(field, lit.bins, exposure, o.refine.tolerance), log);
+  if (o.refine.adaptive) journal.Warn(NoiseWarnings(field, rounds.Bins(), exposure, o.refine.tolerance), log);
   if (o.refine.Enabled()) {
     RefinedMesh refined = clock.Time("refine", [&] { return RefineMesh({field, lit.baked.mesh, exposure}, o.refine, log); });
     lit.baked = std::move(refined.mesh);
@@ -419,8 +317,8 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
     journal.Warn(refine.warnings, log);
   }
 
-  BakeReport report = DescribeBake({o, threads.Count(), scene, lit.photons, lit.bins, field, lit.baked, exposure,
-                                    refine, maps, lit.progress, lit.noise, journal.stageSeconds, journal.warnings});
+  BakeReport report = DescribeBake({o, threads.Count(), scene, rounds.Store(), rounds.Bins(), field, lit.baked,
+                                    exposure, refine, maps, rounds.Report(), lit.noise, journal.stageSeconds, journal.warnings});
   return {std::move(report), std::move(lit.baked), NamesOf(scene.scene, scene.surfaces)};
 }
 
@@ -461,12 +359,9 @@ void TraceShareOfBake(const BakeOptions& o, const Log& log, const Distribution& 
   std::vector<std::pair<std::string, double>> seconds;
   StageClock clock(seconds);
   const PreparedScene scene = PrepareScene(SceneOf(o), clock, &log);
-  const InterruptScope interrupt;
-  Lit lit;
-  lit.photons = EmptyPhotonStore(scene.lights);
-  RoundTrace round;
-  TraceRound(round, lit, o.photons, scene, o, &distribution, clock, log);
-  EstimateLight(lit, scene, o, round.plan, &*round.binner, &distribution, clock, log);
+  PhotonRounds rounds(scene, o, &distribution, clock, log);
+  OutputFiles none;  // a process other than rank 0 writes nothing
+  TraceAndEstimate(rounds, scene, o, none, &distribution, clock, log);
 }
 
 }  // namespace pb

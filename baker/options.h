@@ -34,7 +34,7 @@ struct DirectSettings {
   // 0: every point takes `samples`. Range 0 or [1e-4, 1], typical 0.005-0.02.
   double noise = 0;
   // --direct-samples or --direct-noise given: the rounds of --target-noise keep the shadow rays as they are
-  // (otherwise they raise them where the points' own noise holds the bake's; baker/progressive.h).
+  // (otherwise they raise them where the points' own noise holds the bake's; baker/photons/progressive.h).
   bool fixedSamples = false;
 };
 
@@ -113,7 +113,7 @@ struct BakeOptions {
   int previewWidth = 640, previewHeight = 480;
   float texel = 0.02f;            // --texel: map texel side [m]; range (0, inf), typical 0.005-0.05.
   RefineSettings refine;          // --refine, --tolerance, --max-vertices, --subdivide (baker/4_refine_mesh.h)
-  // Progressive bakes (baker/progressive.h).
+  // Progressive bakes (baker/photons/progressive.h).
   std::string resumePath;         // --resume: continue the photon store in this file (same scene, seed, options).
   std::string savePhotonsPath;    // --save-photons: write the photon store here; may equal resumePath.
   std::optional<float> targetNoise;  // --target-noise: trace in rounds until the noise is at most this; (0, 1).
@@ -129,7 +129,7 @@ struct BakeOptions {
 };
 
 // The noise the defaults aim at: the 95th percentile of the displayed light's predicted relative error at 3%
-// (baker/progressive.h; docs/bake.md, "Defaults that suit the scene").
+// (baker/photons/progressive.h; docs/bake.md, "Defaults that suit the scene").
 constexpr float kDefaultTargetNoise = 0.03f;
 
 // Which of the options that the defaults choose were given on the command line (or by --quality).

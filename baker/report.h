@@ -21,7 +21,7 @@
 #include "baker/5_write_maps.h"
 #include "baker/baked_mesh.h"
 #include "baker/options.h"
-#include "baker/progressive.h"
+#include "baker/photons/progressive.h"
 #include "mesh/lights.h"
 
 namespace pb {
@@ -68,7 +68,7 @@ struct BakeReport {
   MapsWritten maps;  // --maps: the EXR files written and their texel count
   RefineReport refine;  // --refine / --subdivide: vertices before and after, interpolation error
   ProgressiveReport progressive;  // --resume, --save-photons, --target-noise rounds, interruption
-  double noise = 0;  // the bake's predicted noise: 95th percentile of sigma_L / L (baker/progressive.h, BakeNoise)
+  double noise = 0;  // the bake's predicted noise: 95th percentile of sigma_L / L (baker/photons/progressive.h, BakeNoise)
 
   double TotalSeconds() const;
 };

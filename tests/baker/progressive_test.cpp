@@ -1,4 +1,4 @@
-// Progressive bakes (baker/progressive.h, baker/files/photon_file.h):
+// Progressive bakes (baker/photons/progressive.h, baker/files/photon_file.h):
 // - a bake resumed from a photon file, or traced in --target-noise rounds, writes the same bytes as one bake
 //   with the final photon count, on the box and on two lights of very different power;
 // - the photon file is refused, with a message that says why, for a changed scene, another seed, a truncated or
@@ -18,7 +18,7 @@
 #include "baker/bake.h"
 #include "baker/files/atomic_file.h"
 #include "baker/files/photon_file.h"
-#include "baker/progressive.h"
+#include "baker/photons/progressive.h"
 #include "mesh/errors.h"
 #include "tests/lambert.h"
 #include "tests/ply_reader.h"

@@ -1,5 +1,6 @@
 // Progressive bakes: the photon store of a bake (baker/1_trace_photons.h) started empty or from --resume, grown to
-// --photons or in rounds to --target-noise, and saved by --save-photons (baker/files/photon_file.h). The paper ("How
+// --photons or in rounds to --target-noise, and saved by --save-photons (baker/files/photon_file.h); the rounds
+// themselves are baker/photons/photon_rounds.h, and this is what they report and how they plan and measure. The paper ("How
 // to trace a particle") stores photons by attenuation so that "the number of photons emitted by each light
 // source" can grow; its warning that this "can lead to bias" is met by dividing each light's photons by that
 // light's own count, which only ever grows (docs/bake.md, "Adding photons to a bake").
@@ -16,16 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "baker/files/atomic_file.h"
-#include "baker/0_prepare_scene.h"
-#include "baker/1_trace_photons.h"
 #include "baker/baked_mesh.h"
-#include "baker/files/photon_file.h"
-#include "baker/runtime/progress.h"
 
 namespace pb {
-
-struct BakeOptions;
 
 struct RoundReport {
   uint64_t requested = 0;  // the round's --photons: a bake with this many gives the same bytes
@@ -46,20 +40,6 @@ struct ProgressiveReport {
   bool TargetMet() const { return target && !rounds.empty() && rounds.back().noise <= *target; }
 };
 
-// An empty store for the scene's lights, or --resume's (every check of baker/files/photon_file.h passed).
-PhotonStore OpenPhotonStore(const BakeOptions& options, const PreparedScene& scene, ProgressiveReport& report);
-// Grows the store to `photons` over all lights (counts never shrink); notes an interruption in the report.
-// Hits go to `sink` when given, and the work is shared when `share` is (TraceSettings). Returns whether tracing
-// completed. Without a sink an interruption is noted in the report and warned about; with one the caller must
-// refuse it (RefuseInterruptedBinning), after whatever its processes still do together.
-bool GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& options, const PreparedScene& scene,
-                     ProgressiveReport& report, const Log& log, const HitSink* sink = nullptr,
-                     const TraceShare* share = nullptr);
-// Throws the InputError that ends a bake whose photons were binned while traced and whose tracing was interrupted.
-[[noreturn]] void RefuseInterruptedBinning(const BakeOptions& options, const PhotonStore& store);
-// Writes --save-photons, when given.
-void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeOptions& options, const PreparedScene& scene,
-                     ProgressiveReport& report);
 
 // The smallest of `value` such that the values at or below it carry at least `fraction` of the total weight (0 when
 // the weights sum to none).

@@ -1,4 +1,4 @@
-#include "baker/progressive.h"
+#include "baker/photons/progressive.h"
 
 #include <fmt/format.h>
 
@@ -6,19 +6,10 @@
 #include <cmath>
 #include <numeric>
 
-#include "baker/runtime/interrupt.h"
-#include "baker/options.h"
 #include "mesh/color.h"
-#include "mesh/errors.h"
 
 namespace pb {
 namespace {
-
-PhotonOrigin OriginOf(const BakeOptions& o, const PreparedScene& scene) {
-  uint32_t effects = SimulatedEffects(scene.plan);
-  if (o.direct.mode == DirectLight::kSampled) effects &= ~(1u << uint32_t(Effect::kDirect));  // not the photons'
-  return {SceneHash(scene.scene), o.seed, o.maxBounces, effects};
-}
 
 // Each vertex's share of the mesh's area: a third of each face it is a corner of [m^2].
 std::vector<double> VertexAreas(const SplitMesh& mesh) {
@@ -44,42 +35,6 @@ double WeightedPercentile(const std::vector<double>& value, const std::vector<do
     if (below >= fraction * total) return value[v];
   }
   return value[order.back()];
-}
-
-PhotonStore OpenPhotonStore(const BakeOptions& o, const PreparedScene& scene, ProgressiveReport& report) {
-  report.target = o.targetNoise;
-  PhotonStore empty = EmptyPhotonStore(scene.lights);
-  if (o.resumePath.empty()) return empty;
-  PhotonStore store = ReadPhotonFile(o.resumePath, OriginOf(o, scene), empty.lightPower, scene.scene.triangles.size());
-  report.resumedFrom = o.resumePath;
-  report.resumedPhotons = store.stats.emitted;
-  return store;
-}
-
-bool GrowPhotonStore(PhotonStore& store, uint64_t photons, const BakeOptions& o, const PreparedScene& scene,
-                     ProgressiveReport& report, const Log& log, const HitSink* sink, const TraceShare* share) {
-  const TraceSettings settings{photons, o.seed, o.maxBounces, o.direct.mode == DirectLight::kPhotons, sink, share};
-  if (ExtendPhotons(store, scene, settings, log)) return true;
-  if (sink != nullptr) return false;
-  report.interrupted = true;
-  log.Warning(fmt::format("interrupted: tracing stopped after {} photons; the bake goes on with them and writes "
-                          "valid outputs (Ctrl-C again to quit at once)", store.stats.emitted));
-  return false;
-}
-
-void RefuseInterruptedBinning(const BakeOptions& o, const PhotonStore& store) {
-  // The photons' flux Phi_l / N_l was binned for the N_l planned.
-  throw InputError(o.scenePath, 0, fmt::format("interrupted after {} photons: nothing was written, since photons binned "
-                                               "while they are traced cannot be cut short (with --save-photons they "
-                                               "are stored, and an interrupted bake writes what it has)",
-                                               store.stats.emitted));
-}
-
-void SavePhotonStore(OutputFiles& outputs, const PhotonStore& store, const BakeOptions& o, const PreparedScene& scene,
-                     ProgressiveReport& report) {
-  if (o.savePhotonsPath.empty()) return;
-  WritePhotonFile(outputs, o.savePhotonsPath, store, OriginOf(o, scene));
-  report.savedTo = o.savePhotonsPath;
 }
 
 namespace {

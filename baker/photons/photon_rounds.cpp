@@ -1,0 +1,164 @@
+#include "baker/photons/photon_rounds.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "baker/distribution.h"
+#include "baker/files/photon_file.h"
+#include "baker/runtime/interrupt.h"
+#include "baker/runtime/memory_budget.h"
+#include "mesh/errors.h"
+
+namespace pb {
+namespace {
+
+// The photon store may take this share of the machine's memory: the estimate needs about as much again.
+constexpr double kStoreMemoryShare = 0.4;
+
+// Every process is ready, or this one stops (rank 0 names those that are not).
+void RequireAllReady(const Distribution& d) {
+  const std::vector<bool> ready = d.Agree(true);
+  std::string missing;
+  for (size_t r = 0; r < ready.size(); ++r)
+    if (!ready[r]) missing += (missing.empty() ? "" : ", ") + std::to_string(r);
+  if (!missing.empty()) throw InputError("bake-mpi", 0, "rank " + missing + " could not start the bake (its message is above)");
+}
+
+}  // namespace
+
+PhotonRounds::PhotonRounds(const PreparedScene& scene, const BakeOptions& options, const Distribution* distribution,
+                           StageClock& clock, const Log& log)
+    : scene_(scene),
+      options_(options),
+      storeDirect_(options.direct.mode == DirectLight::kPhotons),
+      direct_(options.direct),
+      distribution_(distribution),
+      clock_(clock),
+      log_(log),
+      // --reference traces none: the field gathers all of H at the points.
+      photons_(options.referencePaths > 0 ? 0 : options.photons) {
+  report_.target = options.targetNoise;
+  store_ = clock_.Time("trace", [&] {
+    PhotonStore empty = EmptyPhotonStore(scene.lights);
+    if (options.resumePath.empty()) return empty;
+    PhotonStore store = ReadPhotonFile(options.resumePath, Origin(), empty.lightPower, scene.scene.triangles.size());
+    report_.resumedFrom = options.resumePath;
+    report_.resumedPhotons = store.stats.emitted;
+    return store;
+  });
+  if (options.referencePaths == 0) photons_ = std::max(photons_, report_.resumedPhotons);
+}
+
+// What a photon file must have been traced with to continue: the scene, the seed, the bounces and the effects the
+// photons carry (the direct light not, when the points sample it).
+PhotonOrigin PhotonRounds::Origin() const {
+  uint32_t effects = SimulatedEffects(scene_.plan);
+  if (!storeDirect_) effects &= ~(1u << uint32_t(Effect::kDirect));
+  return {SceneHash(scene_.scene), options_.seed, options_.maxBounces, effects};
+}
+
+// Whether the photons are binned as they are traced (baker/2_bin_photons.h): where the plan bins every wide surface
+// and nothing needs the photons themselves afterwards (a photon file written or extended, rounds).
+bool PhotonRounds::BinsWhileTracing(const BinningPlan& plan) const {
+  return plan.wide && options_.savePhotonsPath.empty() && options_.resumePath.empty() && !options_.targetNoise;
+}
+
+// A distributed bake brings its processes' photons together as node sums, so it bins them while tracing.
+void PhotonRounds::RequireBinningWhileTracing(const BinningPlan& plan) const {
+  if (BinsWhileTracing(plan)) return;
+  throw InputError(options_.scenePath, 0, "a bake shared among processes bins its photons while they are traced, which "
+                                          "needs the kernel estimator with a fixed --h, a kernel other than uniform or "
+                                          "gaussian, no --save-photons, --resume or --target-noise, and photons enough "
+                                          "for the surfaces' node lattices (docs/performance.md, 'Baking on many "
+                                          "processes'); run bake for this one");
+}
+
+// Grows the store to photons_ over all lights (counts never shrink). Hits go to `sink` when given; the work is
+// shared when the bake is. Returns whether tracing completed; without a sink an interruption is noted and warned
+// about, with one the caller refuses it.
+bool PhotonRounds::Grow(const HitSink* sink) {
+  const TraceSettings settings{photons_, options_.seed, options_.maxBounces, storeDirect_, sink, distribution_};
+  if (ExtendPhotons(store_, scene_, settings, log_)) return true;
+  if (sink != nullptr) return false;
+  report_.interrupted = true;
+  log_.Warning(fmt::format("interrupted: tracing stopped after {} photons; the bake goes on with them and writes "
+                           "valid outputs (Ctrl-C again to quit at once)", store_.stats.emitted));
+  return false;
+}
+
+const SurfaceBins& PhotonRounds::TraceRound() {
+  roundStartElapsed_ = clock_.Elapsed(), roundStartTraced_ = clock_.Seconds("trace");
+  const BinningPlan plan = PlanBinning(scene_, options_.estimator, options_.autoBandwidth, photons_);
+  if (distribution_ != nullptr) RequireBinningWhileTracing(plan), RequireAllReady(*distribution_);
+  std::optional<PhotonBinner> binner;
+  if (BinsWhileTracing(plan)) binner.emplace(scene_, plan);
+  const PhotonBinner* sink = binner ? &*binner : nullptr;
+  bool complete = true;
+  clock_.Time("trace", [&] { complete = Grow(sink); });
+  if (distribution_ != nullptr)
+    clock_.Time("trace", [&] { binner->SumWith([&](std::span<int64_t> v) { distribution_->SumOnAll(v); }); });
+  if (binner && !complete)  // the photons' flux Phi_l / N_l was binned for the N_l planned
+    throw InputError(options_.scenePath, 0, fmt::format("interrupted after {} photons: nothing was written, since photons "
+                                                        "binned while they are traced cannot be cut short (with "
+                                                        "--save-photons they are stored, and an interrupted bake writes "
+                                                        "what it has)", store_.stats.emitted));
+  bins_ = clock_.Time("bin", [&] { return BinPhotons(scene_.surfaces, store_, log_, plan, binner ? &*binner : nullptr); });
+  return bins_;
+}
+
+// Where the rounds of --target-noise stand after one (baker/photons/progressive.h).
+RoundState PhotonRounds::StateAfterRound() const {
+  const bool sampled = direct_.mode == DirectLight::kSampled;
+  const double emitted = double(std::max<uint64_t>(store_.stats.emitted, 1));
+  const double elapsed = clock_.Elapsed(), traced = clock_.Seconds("trace");
+  return {.photons = photons_,
+          .shadowRays = sampled ? direct_.samples : 0,
+          .raiseShadowRays = sampled && !direct_.fixedSamples && direct_.noise == 0,
+          .elapsed = elapsed,
+          .traceSeconds = traced,
+          .estimateSeconds = elapsed - roundStartElapsed_ - (traced - roundStartTraced_),
+          .bytesPerPhoton = double(store_.StoredHits() * sizeof(PhotonHit)) / emitted};
+}
+
+// Ends the rounds (true) when the target is met, Ctrl-C came or the next round cannot help or fit; else sets the
+// next round's photons and shadow rays.
+bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
+  const float target = *options_.targetNoise;
+  const RoundState state = StateAfterRound();
+  report_.rounds.push_back({photons_, store_.stats.emitted, state.shadowRays, noise, state.elapsed});
+  log_.Info(fmt::format("round {}: {} photons, {} shadow rays per point, noise {:.4f} (target {:.4f}), {:.1f} s",
+                        report_.rounds.size(), store_.stats.emitted, state.shadowRays, noise, target, state.elapsed));
+  if (noise <= target || report_.interrupted) return true;
+  if (options_.maxRounds > 0 && report_.rounds.size() >= options_.maxRounds) {
+    report_.stoppedBy = fmt::format("--max-rounds {}", options_.maxRounds);
+    return true;
+  }
+  if (InterruptRequested()) {  // Ctrl-C came after this round's tracing: no further round
+    report_.interrupted = true;
+    log_.Warning("interrupted: no further rounds; the bake goes on with the photons it has");
+    return true;
+  }
+  const NextRound next = PlanNextRound(baked, state, {target, options_.maxPhotons, options_.maxSeconds,
+                                                      kStoreMemoryShare * PhysicalMemoryBytes()});
+  report_.stoppedBy = next.stop;
+  if (!next.stop.empty()) return true;
+  photons_ = next.photons, direct_.samples = std::max(next.shadowRays, 1u);
+  return false;
+}
+
+bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const std::vector<float>& bandwidths) {
+  if (!options_.targetNoise || LastRound(baked, noise)) return false;
+  if (options_.autoBandwidth && heldBandwidths_.empty()) heldBandwidths_ = bandwidths;
+  return true;
+}
+
+void PhotonRounds::Save(OutputFiles& outputs) {
+  clock_.Time("save photons", [&] {
+    if (options_.savePhotonsPath.empty()) return;
+    WritePhotonFile(outputs, options_.savePhotonsPath, store_, Origin());
+    report_.savedTo = options_.savePhotonsPath;
+  });
+}
+
+}  // namespace pb

@@ -1,0 +1,81 @@
+// Stages 1 and 2 as one noun: the photons of a bake, from an empty store or --resume's to the per-surface bins
+// that stage 3 reads (baker/2_bin_photons.h, SurfaceBins). A round traces photons up to its count over all lights
+// (baker/1_trace_photons.h), here or shared among processes (baker/distribution.h), and bins them, while they are
+// traced where the plan allows (PlanBinning) and nothing needs the photons themselves afterwards. With
+// --target-noise, rounds follow until the bake's noise meets it (baker/photons/progressive.h); Ctrl-C ends the
+// tracing or the rounds; --save-photons writes the store at the end. The driver, and bake-mpi's worker, read as
+// "trace a round, estimate, continue?".
+//
+// Its settings, taken once from BakeOptions: the photon counts and budgets, the seed, the bounces, and whether
+// the photons store their first hit (storeDirect: not when the direct light is sampled at the points).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "baker/0_prepare_scene.h"
+#include "baker/2_bin_photons.h"
+#include "baker/baked_mesh.h"
+#include "baker/files/atomic_file.h"
+#include "baker/files/photon_file.h"
+#include "baker/options.h"
+#include "baker/photon_store.h"
+#include "baker/photons/progressive.h"
+#include "baker/runtime/progress.h"
+#include "baker/runtime/stage_clock.h"
+
+namespace pb {
+
+class Distribution;
+
+class PhotonRounds {
+ public:
+  // Opens the store: empty, or --resume's (every check of baker/files/photon_file.h passed). `distribution`, when
+  // given, shares the tracing among processes; it and everything else must outlive the rounds.
+  PhotonRounds(const PreparedScene& scene, const BakeOptions& options, const Distribution* distribution,
+               StageClock& clock, const Log& log);
+
+  // Traces the next round (all of it, or this process's share) and bins the store per surface. An interrupted
+  // round whose photons were binned while traced cannot be cut short: InputError.
+  const SurfaceBins& TraceRound();
+  // After the round's estimate (its vertices, with their noise, and the bake's noise): whether another round
+  // follows. False without --target-noise, and when the target is met, Ctrl-C came, or a limit ends the rounds.
+  // `bandwidths` are the round's h per surface: with --h auto, the first round's are held from then on.
+  bool Continue(const BakedMesh& baked, double noise, const std::vector<float>& bandwidths);
+  // Writes --save-photons, when given.
+  void Save(OutputFiles& outputs);
+
+  // The shadow rays per point of this round (the rounds may raise them) and the direct-light settings with them.
+  const DirectSettings& Direct() const { return direct_; }
+  // --h auto's choice in the first round, held after it (empty: none held).
+  const std::vector<float>& HeldBandwidths() const { return heldBandwidths_; }
+  const PhotonStore& Store() const { return store_; }
+  const SurfaceBins& Bins() const { return bins_; }
+  const ProgressiveReport& Report() const { return report_; }
+
+ private:
+  PhotonOrigin Origin() const;
+  bool BinsWhileTracing(const BinningPlan& plan) const;
+  void RequireBinningWhileTracing(const BinningPlan& plan) const;
+  bool Grow(const HitSink* sink);
+  RoundState StateAfterRound() const;
+  bool LastRound(const BakedMesh& baked, double noise);
+
+  const PreparedScene& scene_;
+  const BakeOptions& options_;
+  const bool storeDirect_;  // the photons store their first hit: not when the points sample the direct light
+  DirectSettings direct_;   // options_.direct, with the shadow rays the rounds chose
+  const Distribution* distribution_;
+  StageClock& clock_;
+  const Log& log_;
+  PhotonStore store_;
+  SurfaceBins bins_;
+  ProgressiveReport report_;
+  uint64_t photons_ = 0;                // the round's count over all lights
+  std::vector<float> heldBandwidths_;
+  double roundStartElapsed_ = 0, roundStartTraced_ = 0;  // the bake's wall and tracing time when the round began [s]
+};
+
+}  // namespace pb
