@@ -31,7 +31,8 @@ void WriteSurfaceMap(OutputFiles& outputs, const std::string& path, float texel,
   const Surface& surface = field.Prepared().surfaces.surfaces[s];
   const SurfaceRegion& region = *field.Prepared().regions[s];
   const Bounds2 b = region.Bounds();
-  const auto [nu, nv] = TexelGrid(b, texel);
+  const GridSize grid = TexelGrid(b, texel);
+  const int nu = grid.nu, nv = grid.nv;  // named, not bound: clang 14's lambdas cannot capture a binding
   Image image(nu, nv);
   std::vector<float> coverage(size_t(nu) * size_t(nv));
   const std::vector<double> area = region.GridOverlapAreas(b.lo, texel, nu, nv);

@@ -17,11 +17,7 @@ seconds=${1:-60}
 shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(obj_loader gltf_loader texture camera light_file photon_file)
-if ! command -v clang++ >/dev/null; then
-  sudo=""
-  [ "$(id -u)" -eq 0 ] || sudo="sudo"
-  $sudo apt-get update -qq && $sudo apt-get install -y -qq --no-install-recommends clang >/dev/null
-fi
+bash tools/install-clang.sh
 bash tools/install-deps.sh
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPB_FUZZ=ON >/dev/null
 cmake --build build-fuzz --target photon_file_seeds "${targets[@]/#/fuzz_}"

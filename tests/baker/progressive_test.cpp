@@ -297,9 +297,10 @@ TEST(PhotonFile, HostileFilesWithAValidCrcAreRefused) {
 TEST(PhotonFile, ResumeFromAPipeOrADeviceIsRefused) {
   const SavedStore saved("photon-file-pipe");
   const std::pair<std::string, std::string> refusals[] = {{"/dev/zero", "not a regular file"}, {saved.dir, "it is a folder"}};
-  for (const auto& [path, reason] : refusals) {
+  for (const auto& refusal : refusals) {
+    const std::string& path = refusal.first;  // not a binding: clang 14's lambdas cannot capture one
     const std::string message = saved.ResumeMessage([&](BakeOptions& o) { o.resumePath = path; });
-    EXPECT_TRUE(Contains(message, path + ": error: cannot open photon file: " + reason)) << message;
+    EXPECT_TRUE(Contains(message, path + ": error: cannot open photon file: " + refusal.second)) << message;
   }
   const std::string fifo = saved.dir + "/fifo";
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
