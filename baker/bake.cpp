@@ -303,9 +303,10 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   const float exposure = DisplayExposure(lit.baked, o.exposure);
 
   MapsWritten maps;
-  journal.Warn(SubdivisionTimeWarnings(scene.scene.triangles.size(), o.refine.subdivide, SecondsPerPoint(lit, rounds, clock)), log);
+  const double secondsPerPoint = SecondsPerPoint(lit, rounds, clock);  // what a texel or a refined vertex costs
+  journal.Warn(SubdivisionTimeWarnings(scene.scene.triangles.size(), o.refine.subdivide, secondsPerPoint), log);
   if (!o.mapsDirectory.empty()) {
-    journal.Warn(MapTimeWarnings(o.texel, scene.regions, SecondsPerPoint(lit, rounds, clock)), log);
+    journal.Warn(MapTimeWarnings(o.texel, scene.regions, secondsPerPoint), log);
     maps = clock.Time("maps", [&] { return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, lit.baked.mesh, log); });
   }
   RefineReport refine;
