@@ -22,7 +22,6 @@
 #include "baker/photons/photon_rounds.h"
 #include "baker/photons/progressive.h"
 #include "baker/runtime/interrupt.h"
-#include "baker/runtime/memory_budget.h"
 #include "baker/runtime/stage_clock.h"
 #include "baker/runtime/threads.h"
 #include "baker/tone_map.h"

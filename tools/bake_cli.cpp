@@ -195,7 +195,7 @@ void DefineRunOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("--threads", o.threads, "worker threads; 0 = all cores; range 0-1024")->capture_default_str();
   app.add_flag("-q,--quiet", o.quiet, "no progress or summary (errors and warnings still print)");
 }
-CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
+void DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
   DefineSceneOptions(app, o);
   DefinePhotonOptions(app, o, sceneDefaults);
   DefineRoundOptions(app, o);
@@ -207,7 +207,6 @@ CLI::App& DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
   DefineMeshOptions(app, o);
   DefineOutputOptions(app, o);
   DefineRunOptions(app, o);
-  return app;
 }
 
 // --quality sets --photons, --h and --direct-samples, except those given on the command line.

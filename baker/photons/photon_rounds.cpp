@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "baker/distribution.h"
 #include "baker/files/photon_file.h"
@@ -87,7 +88,7 @@ bool PhotonRounds::Grow(const HitSink* sink) {
   return false;
 }
 
-const SurfaceBins& PhotonRounds::TraceRound() {
+void PhotonRounds::TraceRound() {
   roundStartElapsed_ = clock_.Elapsed(), roundStartTraced_ = clock_.Seconds("trace");
   const BinningPlan plan = PlanBinning(scene_, options_.estimator, options_.autoBandwidth, photons_);
   if (distribution_ != nullptr) RequireBinningWhileTracing(plan), RequireAllReady(*distribution_);
@@ -104,7 +105,6 @@ const SurfaceBins& PhotonRounds::TraceRound() {
                                                         "--save-photons they are stored, and an interrupted bake writes "
                                                         "what it has)", store_.stats.emitted));
   bins_ = clock_.Time("bin", [&] { return BinPhotons(scene_.surfaces, store_, log_, plan, binner ? &*binner : nullptr); });
-  return bins_;
 }
 
 // Where the rounds of --target-noise stand after one (baker/photons/progressive.h).

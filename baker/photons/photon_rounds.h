@@ -11,7 +11,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,7 +38,7 @@ class PhotonRounds {
 
   // Traces the next round (all of it, or this process's share) and bins the store per surface. An interrupted
   // round whose photons were binned while traced cannot be cut short: InputError.
-  const SurfaceBins& TraceRound();
+  void TraceRound();
   // After the round's estimate (its vertices, with their noise, and the bake's noise): whether another round
   // follows. False without --target-noise, and when the target is met, Ctrl-C came, or a limit ends the rounds.
   // `bandwidths` are the round's h per surface: with --h auto, the first round's are held from then on.
