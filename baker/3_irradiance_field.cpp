@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace pb {
@@ -44,6 +45,7 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   const std::optional<NoisyIrradiance> gap = GapTerm(p);
   NoisyIrradiance total = gap ? *gap : contributions_.front()->WithNoise(p);
   double share = gap ? 0 : 1;
+  const double photonLight = gap ? 0 : Luminance(total.irradiance);
   if (contributions_.size() > 1) {
     IndependentSum sum(total);
     const double photons = gap ? 0 : sum.Variance();
@@ -54,6 +56,8 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   SurfaceLight light = LightWith(p, total.irradiance);
   light.relativeNoise = total.relativeNoise;
   light.photonVarianceShare = share;
+  const double all = Luminance(total.irradiance);
+  light.sampledShare = all > 0 ? std::clamp(1 - photonLight / all, 0.0, 1.0) : 0.0;
   return light;
 }
 
@@ -87,7 +91,8 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
   baked.irradiance.resize(n);
   baked.albedo.resize(n);
   baked.emitted.resize(n);
-  if (withNoise) baked.irradianceNoise.assign(n, 0.0), baked.photonVarianceShare.assign(n, 1.0);
+  if (withNoise)
+    baked.irradianceNoise.assign(n, 0.0), baked.photonVarianceShare.assign(n, 1.0), baked.sampledShare.assign(n, 0.0);
   Progress progress(log, "estimate irradiance", n);
   const size_t chunks = (n + kVertexChunk - 1) / kVertexChunk;
   tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
@@ -99,7 +104,10 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
       baked.irradiance[v] = light.irradiance;
       baked.albedo[v] = light.albedo;
       baked.emitted[v] = light.emitted;
-      if (withNoise) baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
+      if (withNoise) {
+        baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
+        baked.sampledShare[v] = light.sampledShare;
+      }
     }
     progress.Advance(end - begin);
   });

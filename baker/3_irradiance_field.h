@@ -43,6 +43,7 @@ struct SurfaceLight {
   Rgb irradiance, albedo, emitted;
   double relativeNoise = 0;
   double photonVarianceShare = 1;  // of relativeNoise^2: the photons'; the rest is the points' samples
+  double sampledShare = 0;         // of the irradiance's luminance: the points' samples'; the rest is the photons'
   Rgb Radiance() const { return OutgoingRadiance(emitted, albedo, irradiance); }
 };
 

@@ -189,7 +189,7 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
     d.GatherChunks(std::as_writable_bytes(std::span(values)), sizeof(values[0]), kVertexChunk);
   };
   gather(baked.irradiance), gather(baked.albedo), gather(baked.emitted);
-  gather(baked.irradianceNoise), gather(baked.photonVarianceShare);
+  gather(baked.irradianceNoise), gather(baked.photonVarianceShare), gather(baked.sampledShare);
 }
 
 // Stage 3 from the round's photons, with each vertex's noise and the bake's; with a distribution, each process

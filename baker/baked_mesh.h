@@ -22,6 +22,9 @@ struct BakedMesh {
   // The photons' share of each vertex's variance sigma_H^2, in [0, 1]; the rest is the points' own samples
   // (shadow rays, or --reference paths). Filled with irradianceNoise.
   std::vector<double> photonVarianceShare;
+  // The points' own samples' share of each vertex's H (luminance), in [0, 1]: what the shadow rays (or gathered
+  // paths) brought, of which the photons brought the rest. Filled with irradianceNoise.
+  std::vector<double> sampledShare;
 
   Rgb Radiance(size_t vertex) const { return OutgoingRadiance(emitted[vertex], albedo[vertex], irradiance[vertex]); }
 };

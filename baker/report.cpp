@@ -43,7 +43,7 @@ nlohmann::json ProgressiveJson(const ProgressiveReport& p) {
   nlohmann::json rounds = nlohmann::json::array();
   for (const RoundReport& r : p.rounds)
     rounds.push_back({{"requested", r.requested}, {"photons", r.photons}, {"shadow_rays", r.shadowRays},
-                      {"noise", r.noise}, {"seconds", r.seconds}});
+                      {"direct_noise", r.directNoise}, {"noise", r.noise}, {"seconds", r.seconds}});
   return {{"resumed_from", p.resumedFrom}, {"resumed_photons", p.resumedPhotons}, {"saved_to", p.savedTo},
           {"interrupted", p.interrupted}, {"target_noise", p.target ? nlohmann::json(*p.target) : nlohmann::json()},
           {"target_met", p.TargetMet()}, {"stopped_by", p.stoppedBy}, {"rounds", rounds}};
@@ -54,7 +54,7 @@ std::string RoundLines(const ProgressiveReport& p) {
   std::string s = fmt::format("  rounds    {} to target noise {:.4f}:", p.rounds.size(), *p.target);
   for (const RoundReport& r : p.rounds)
     s += fmt::format(" {} photons{} -> {:.4f} ({:.1f} s) |", r.requested,
-                     r.shadowRays ? fmt::format(", {} shadow rays", r.shadowRays) : "", r.noise, r.seconds);
+                     r.shadowRays ? ", " + ShadowRays(r) : "", r.noise, r.seconds);
   s += p.TargetMet() ? " met\n"
        : p.stoppedBy.empty() ? " NOT met\n"
                              : fmt::format(" NOT met: stopped by {}\n", p.stoppedBy);

@@ -89,7 +89,7 @@ bool PhotonRounds::Grow(const HitSink* sink) {
 }
 
 void PhotonRounds::TraceRound() {
-  roundStartElapsed_ = clock_.Elapsed(), roundStartTraced_ = clock_.Seconds("trace");
+  roundStartElapsed_ = clock_.Elapsed(), roundStartTraced_ = clock_.Seconds("trace"), roundStartBinned_ = clock_.Seconds("bin");
   const BinningPlan plan = PlanBinning(scene_, options_.estimator, options_.autoBandwidth, photons_);
   if (distribution_ != nullptr) RequireBinningWhileTracing(plan), RequireAllReady(*distribution_);
   std::optional<PhotonBinner> binner;
@@ -111,13 +111,15 @@ void PhotonRounds::TraceRound() {
 RoundState PhotonRounds::StateAfterRound() const {
   const bool sampled = direct_.mode == DirectLight::kSampled;
   const double emitted = double(std::max<uint64_t>(store_.stats.emitted, 1));
-  const double elapsed = clock_.Elapsed(), traced = clock_.Seconds("trace");
+  const double elapsed = clock_.Elapsed(), traced = clock_.Seconds("trace"), binned = clock_.Seconds("bin");
   return {.photons = photons_,
           .shadowRays = sampled ? direct_.samples : 0,
-          .raiseShadowRays = sampled && !direct_.fixedSamples && direct_.noise == 0,
+          .directNoise = sampled ? direct_.noise : 0,
+          .raiseShadowRays = sampled && !direct_.fixedSamples,
           .elapsed = elapsed,
           .traceSeconds = traced,
-          .estimateSeconds = elapsed - roundStartElapsed_ - (traced - roundStartTraced_),
+          .binSeconds = binned - roundStartBinned_,
+          .estimateSeconds = elapsed - roundStartElapsed_ - (traced - roundStartTraced_) - (binned - roundStartBinned_),
           .bytesPerPhoton = double(store_.StoredHits() * sizeof(PhotonHit)) / emitted};
 }
 
@@ -126,9 +128,10 @@ RoundState PhotonRounds::StateAfterRound() const {
 bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
   const float target = *options_.targetNoise;
   const RoundState state = StateAfterRound();
-  report_.rounds.push_back({photons_, store_.stats.emitted, state.shadowRays, noise, state.elapsed});
-  log_.Info(fmt::format("round {}: {} photons, {} shadow rays per point, noise {:.4f} (target {:.4f}), {:.1f} s",
-                        report_.rounds.size(), store_.stats.emitted, state.shadowRays, noise, target, state.elapsed));
+  report_.rounds.push_back({photons_, store_.stats.emitted, state.shadowRays, state.directNoise, noise, state.elapsed});
+  const std::string rays = ShadowRays(report_.rounds.back());
+  log_.Info(fmt::format("round {}: {} photons{}, noise {:.4f} (target {:.4f}), {:.1f} s", report_.rounds.size(),
+                        store_.stats.emitted, rays.empty() ? "" : ", " + rays, noise, target, state.elapsed));
   if (noise <= target || report_.interrupted) return true;
   if (options_.maxRounds > 0 && report_.rounds.size() >= options_.maxRounds) {
     report_.stoppedBy = fmt::format("--max-rounds {}", options_.maxRounds);
@@ -143,7 +146,7 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
                                                       kStoreMemoryShare * PhysicalMemoryBytes()});
   report_.stoppedBy = next.stop;
   if (!next.stop.empty()) return true;
-  photons_ = next.photons, direct_.samples = std::max(next.shadowRays, 1u);
+  photons_ = next.photons, direct_.samples = std::max(next.shadowRays, 1u), direct_.noise = next.directNoise;
   return false;
 }
 

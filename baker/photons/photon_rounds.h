@@ -74,7 +74,8 @@ class PhotonRounds {
   ProgressiveReport report_;
   uint64_t photons_ = 0;                // the round's count over all lights
   std::vector<float> heldBandwidths_;
-  double roundStartElapsed_ = 0, roundStartTraced_ = 0;  // the bake's wall and tracing time when the round began [s]
+  // The bake's wall, tracing and binning time when the round began [s].
+  double roundStartElapsed_ = 0, roundStartTraced_ = 0, roundStartBinned_ = 0;
 };
 
 }  // namespace pb
