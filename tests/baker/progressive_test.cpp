@@ -92,6 +92,25 @@ TEST(Progressive, TargetNoiseRoundsStopAtTheTargetAndEqualOneBakeOfTheFinalCount
   EXPECT_EQ(capped.progressive.rounds.back().requested, 100'000u);
 }
 
+// The points' shadow rays hold the noise (16 per point, the rounds free to change them): a later round gives each
+// point its own count, to a target; the rounds meet theirs, and the bake equals one bake with the last round's
+// photons, --direct-noise and --direct-samples.
+TEST(Progressive, RoundsGiveEachPointItsShadowRaysAndEqualOneBakeWithThem) {
+  const std::string dir = test::TempDirectory("progressive-point-rays");
+  BakeOptions o = Options(PB_SOURCE_DIR "/data/box/box.obj", dir + "/rounds.ply", 50'000);
+  o.direct = {.mode = DirectLight::kSampled, .samples = 16};
+  o.targetNoise = 0.05f;
+  const BakeReport r = Bake(o, Log(true));
+  ASSERT_TRUE(r.progressive.TargetMet());
+  const RoundReport& last = r.progressive.rounds.back();
+  ASSERT_GT(last.directNoise, 0) << "no round gave the points rays of their own";
+  EXPECT_LT(last.directNoise, 0.6 * 0.05 + 1e-6);
+  BakeOptions once = Options(o.scenePath, dir + "/once.ply", last.requested);
+  once.direct = {.mode = DirectLight::kSampled, .samples = last.shadowRays, .noise = last.directNoise};
+  Bake(once, Log(true));
+  EXPECT_TRUE(test::ReadBytes(dir + "/rounds.ply") == test::ReadBytes(dir + "/once.ply"));
+}
+
 // ---- the rounds' plan (PlanNextRound) ----
 
 // One lit triangle whose vertices read relative noise `noise`, the photons' share of its variance `photonShare`.
