@@ -2,23 +2,30 @@
 
 #include <tbb/parallel_for.h>
 
+#include <optional>
+
 #include "estimators/bandwidth.h"
 
 namespace pb {
 
 std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
-                                     const EstimatorSettings& settings, bool automatic) {
+                                     const EstimatorSettings& settings, bool automatic, const Log* log) {
   std::vector<float> h(regions.size(), settings.bandwidth);
   if (!automatic) return h;
+  std::optional<Progress> progress;
+  if (log != nullptr) progress.emplace(*log, "choose bandwidths", regions.size());
   tbb::parallel_for(size_t(0), regions.size(), [&](size_t s) {
     h[s] = ChooseBandwidth(settings.kind, settings.kernel, *regions[s], bins.Uv(s), bins.Flux(s));
+    if (progress) progress->Advance(1);
   });
   return h;
 }
 
 PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins,
-                                   const EstimatorSettings& settings, std::vector<float> bandwidths)
+                                   const EstimatorSettings& settings, std::vector<float> bandwidths, const Log* log)
     : settings_(settings), bandwidths_(std::move(bandwidths)), estimators_(bins.SurfaceCount()) {
+  std::optional<Progress> progress;
+  if (log != nullptr) progress.emplace(*log, "build estimators", bins.SurfaceCount());
   tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
     EstimatorSettings own = settings;
     own.bandwidth = bandwidths_[s];
@@ -26,6 +33,7 @@ PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins
                          ? MakeDensityEstimator(own, *scene.regions[s], bins.Uv(s), bins.Flux(s), bins.BinningOf(s, 0))
                          : MakeCoveredDensityEstimator(own, *scene.regions[s], *scene.coveredRegions[s], scene.covers[s],
                                                        bins.Uv(s), bins.Flux(s), bins.BinningOf(s, 0), bins.BinningOf(s, 1));
+    if (progress) progress->Advance(1);
   });
 }
 

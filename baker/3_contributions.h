@@ -14,6 +14,7 @@
 #include "baker/2_bin_photons.h"
 #include "baker/3_surface_point.h"
 #include "baker/options.h"
+#include "baker/runtime/progress.h"
 #include "estimators/density_estimator.h"
 #include "estimators/irradiance_gather.h"
 #include "estimators/light_sampler.h"
@@ -36,17 +37,18 @@ class IrradianceContribution {
   virtual NoisyIrradiance WithNoise(const SurfacePoint& p) const = 0;
 };
 
-// h per surface [m]: settings.bandwidth everywhere, or, when `automatic`, chosen per surface from its photons.
+// h per surface [m]: settings.bandwidth everywhere, or, when `automatic`, chosen per surface from its photons (with
+// its progress on `log` when given).
 std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
-                                     const EstimatorSettings& settings, bool automatic);
+                                     const EstimatorSettings& settings, bool automatic, const Log* log = nullptr);
 
 // The photons' contribution: on each surface, the density estimate of the photons binned on its front side
-// (stage 2), with that surface's h, edge-corrected over its region. Estimators are built in parallel; they copy
-// the photons and refer to the prepared scene's regions.
+// (stage 2), with that surface's h, edge-corrected over its region. Estimators are built in parallel (with their
+// progress on `log` when given); they copy the photons and refer to the prepared scene's regions.
 class PhotonIrradiance final : public IrradianceContribution {
  public:
   PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings,
-                   std::vector<float> bandwidths);
+                   std::vector<float> bandwidths, const Log* log = nullptr);
   std::string_view Name() const override { return "photons"; }
   Rgb At(const SurfacePoint& p) const override { return PerSurfaceArea(ChartDensity(p.surface, p.uv), p); }
   NoisyIrradiance WithNoise(const SurfacePoint& p) const override;

@@ -62,15 +62,15 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
 }
 
 IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins, const FieldSettings& settings,
-                                     StageClock& clock) {
+                                     StageClock& clock, const Log* log) {
   const EstimatorSettings& estimator = settings.estimator;
   std::vector<float> bandwidths = clock.Time("bandwidth", [&] {
     return settings.heldBandwidths.empty()
-               ? SurfaceBandwidths(scene.regions, bins, estimator, settings.automaticBandwidth)
+               ? SurfaceBandwidths(scene.regions, bins, estimator, settings.automaticBandwidth, log)
                : settings.heldBandwidths;
   });
   IrradianceField field = clock.Time("estimators", [&] {
-    return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, estimator, std::move(bandwidths)));
+    return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, estimator, std::move(bandwidths), log));
   });
   if (settings.referencePaths > 0)
     field.Add(std::make_unique<ReferenceIrradiance>(scene, settings.referencePaths, settings.seed));

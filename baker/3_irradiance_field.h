@@ -95,9 +95,9 @@ struct FieldSettings {
 };
 
 // The field of the photons in `bins`: bandwidths ("bandwidth") and estimators ("estimators") timed on `clock`,
-// with the terms computed at the points that `settings` asks for.
+// with the terms computed at the points that `settings` asks for; their progress on `log` when given.
 IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins, const FieldSettings& settings,
-                                     StageClock& clock);
+                                     StageClock& clock, const Log* log = nullptr);
 
 // Vertices are estimated in chunks of this many, in parallel.
 inline constexpr size_t kVertexChunk = 1024;

@@ -196,7 +196,7 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
 // estimates its share of the vertices for rank 0.
 void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, const PhotonRounds& rounds,
                    const Distribution* d, StageClock& clock, const Log& log) {
-  lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock));
+  lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock, &log));
   const auto owns = [d](size_t chunk) { return d == nullptr || d->TakesChunk(chunk); };
   lit.baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true, owns);
