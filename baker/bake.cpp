@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <filesystem>
@@ -193,16 +194,29 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
 }
 
 // Stage 3 from the round's photons, with each vertex's noise and the bake's; with a distribution, each process
-// estimates its share of the vertices for rank 0.
-void EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, const PhotonRounds& rounds,
+// estimates its share of the vertices for rank 0. A later round's estimate (lit holds the round before's) stops at
+// Ctrl-C, on one process: lit then keeps the vertices of the round before, with the new round's field, and false
+// is returned.
+bool EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, const PhotonRounds& rounds,
                    const Distribution* d, StageClock& clock, const Log& log) {
   lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock, &log));
-  const auto owns = [d](size_t chunk) { return d == nullptr || d->TakesChunk(chunk); };
-  lit.baked = clock.Time("estimate", [&] {
+  const bool mayStop = d == nullptr && lit.baked.mesh.VertexCount() > 0;
+  std::atomic<bool> stopped{false};
+  const auto owns = [&](size_t chunk) {
+    if (mayStop && InterruptRequested()) {
+      stopped = true;
+      return false;
+    }
+    return d == nullptr || d->TakesChunk(chunk);
+  };
+  BakedMesh baked = clock.Time("estimate", [&] {
     return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true, owns);
   });
+  if (stopped) return false;
+  lit.baked = std::move(baked);
   if (d != nullptr) clock.Time("estimate", [&] { GatherVertices(lit.baked, *d); });
   if (d == nullptr || d->Root()) lit.noise = clock.Time("noise", [&] { return BakeNoise(lit.baked); });
+  return true;
 }
 
 // Noise that shows as blotches: above 2% of the displayed light, about 5 of 255 grey levels.
@@ -251,14 +265,19 @@ double SecondsPerPoint(const Lit& lit, const PhotonRounds& rounds, const StageCl
 }
 
 // Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/photons/photon_rounds.h); then
-// --save-photons.
+// --save-photons. Ctrl-C ends the rounds: in the first round's tracing, the bake goes on with the photons it has;
+// in a later round, that round's estimate stops (at once, when the Ctrl-C came while it traced) and the bake keeps
+// the vertices of the round before.
 Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs,
                      const Distribution* distribution, StageClock& clock, const Log& log) {
   const InterruptScope interrupt;
   Lit lit;
   do {
     rounds.TraceRound();
-    EstimateLight(lit, scene, o, rounds, distribution, clock, log);
+    if (!EstimateLight(lit, scene, o, rounds, distribution, clock, log)) {
+      rounds.EstimateInterrupted();
+      break;
+    }
   } while (rounds.Continue(lit.baked, lit.noise, lit.field->Photons().Bandwidths()));
   rounds.Save(outputs);
   return lit;

@@ -45,7 +45,7 @@ nlohmann::json ProgressiveJson(const ProgressiveReport& p) {
     rounds.push_back({{"requested", r.requested}, {"photons", r.photons}, {"shadow_rays", r.shadowRays},
                       {"direct_noise", r.directNoise}, {"noise", r.noise}, {"seconds", r.seconds}});
   return {{"resumed_from", p.resumedFrom}, {"resumed_photons", p.resumedPhotons}, {"saved_to", p.savedTo},
-          {"interrupted", p.interrupted}, {"target_noise", p.target ? nlohmann::json(*p.target) : nlohmann::json()},
+          {"interrupted", p.interrupted}, {"estimate_stopped", p.estimateStopped}, {"target_noise", p.target ? nlohmann::json(*p.target) : nlohmann::json()},
           {"target_met", p.TargetMet()}, {"stopped_by", p.stoppedBy}, {"rounds", rounds}};
 }
 
@@ -70,7 +70,12 @@ std::string ProgressiveLines(const ProgressiveReport& p, uint64_t emitted) {
     s += fmt::format("  resumed   {} photons from {}; {} traced now\n", p.resumedPhotons, p.resumedFrom,
                      emitted - p.resumedPhotons);
   if (p.target) s += RoundLines(p);
-  if (p.interrupted) s += "  INTERRUPTED: Ctrl-C stopped the tracing early; the outputs are valid, with fewer photons\n";
+  if (p.estimateStopped)
+    s += fmt::format("  INTERRUPTED: Ctrl-C stopped round {}; the vertices are round {}'s, of {} photons (the photons "
+                     "line counts every one traced); the outputs are valid\n", p.rounds.size() + 1, p.rounds.size(),
+                     p.rounds.back().photons);
+  else if (p.interrupted)
+    s += "  INTERRUPTED: Ctrl-C stopped the tracing early; the outputs are valid, with fewer photons\n";
   if (!p.savedTo.empty()) s += fmt::format("  photons   saved to {} (add more with --resume)\n", p.savedTo);
   return s;
 }

@@ -20,6 +20,8 @@ export PB_REQUIRE_GLTF_VALIDATOR=1    # so that test fails, rather than skips, i
 # bake-mpi's tests too (the sanitizer build below has no bake-mpi: Open MPI's allocations would read as leaks)
 (cd build && PB_REQUIRE_MPI=1 ctest --output-on-failure --timeout 900 -j "$(nproc)")
 phase "tests"
+bash tools/corpus-stages.sh build  # the corpus's real assets: no stage's time per triangle jumps (skipped without it)
+phase "corpus stages"
 if [ "${FUZZ_SECONDS:-30}" != 0 ]; then
   bash tools/fuzz.sh "${FUZZ_SECONDS:-15}"
   phase "fuzzing (build and runs)"

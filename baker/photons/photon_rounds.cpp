@@ -83,8 +83,9 @@ bool PhotonRounds::Grow(const HitSink* sink) {
   if (ExtendPhotons(store_, scene_, settings, log_)) return true;
   if (sink != nullptr) return false;
   report_.interrupted = true;
-  log_.Warning(fmt::format("interrupted: tracing stopped after {} photons; the bake goes on with them and writes "
-                           "valid outputs (Ctrl-C again to quit at once)", store_.stats.emitted));
+  if (report_.rounds.empty())  // in a later round, the estimate stops too (EstimateInterrupted says so)
+    log_.Warning(fmt::format("interrupted: tracing stopped after {} photons; the bake goes on with them and writes "
+                             "valid outputs (Ctrl-C again to quit at once)", store_.stats.emitted));
   return false;
 }
 
@@ -154,6 +155,16 @@ bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const std::vec
   if (!options_.targetNoise || LastRound(baked, noise)) return false;
   if (options_.autoBandwidth && heldBandwidths_.empty()) heldBandwidths_ = bandwidths;
   return true;
+}
+
+void PhotonRounds::EstimateInterrupted() {
+  const RoundReport& kept = report_.rounds.back();
+  report_.interrupted = report_.estimateStopped = true;
+  report_.stoppedBy = fmt::format("Ctrl-C during round {}, whose estimate stopped: the vertices are round {}'s",
+                                  report_.rounds.size() + 1, report_.rounds.size());
+  log_.Warning(fmt::format("interrupted: round {}'s estimate stopped; the vertices are round {}'s ({} photons, noise "
+                           "{:.4f}); maps and refinement read all {} photons", report_.rounds.size() + 1,
+                           report_.rounds.size(), kept.photons, kept.noise, store_.stats.emitted));
 }
 
 void PhotonRounds::Save(OutputFiles& outputs) {

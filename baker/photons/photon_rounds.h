@@ -43,6 +43,9 @@ class PhotonRounds {
   // follows. False without --target-noise, and when the target is met, Ctrl-C came, or a limit ends the rounds.
   // `bandwidths` are the round's h per surface: with --h auto, the first round's are held from then on.
   bool Continue(const BakedMesh& baked, double noise, const std::vector<float>& bandwidths);
+  // Ctrl-C stopped a later round's estimate: the rounds end, the bake keeping the round before's vertices (reported,
+  // and warned about).
+  void EstimateInterrupted();
   // Writes --save-photons, when given.
   void Save(OutputFiles& outputs);
 

@@ -38,6 +38,7 @@ struct ProgressiveReport {
   uint64_t resumedPhotons = 0;  // photons it held
   std::string savedTo;          // --save-photons' file, or ""
   bool interrupted = false;     // Ctrl-C stopped tracing early
+  bool estimateStopped = false; // ... and a later round's estimate: the vertices are the last round's in `rounds`
   std::optional<float> target;  // --target-noise
   std::vector<RoundReport> rounds;  // --target-noise's rounds, in order
   std::string stoppedBy;            // why the rounds ended short of the target (NextRound::stop), or ""

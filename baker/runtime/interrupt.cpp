@@ -13,8 +13,9 @@ std::atomic<bool> requested{false};
 // Said at once, so that a Ctrl-C during a stage that does not stop early (the estimate, the outputs) is not taken
 // for ignored. write(2) is async-signal-safe; its result is of no use here.
 constexpr char kSaid[] =
-    "\nCtrl-C: tracing stops and the bake finishes with the photons it has (estimate and outputs); "
-    "Ctrl-C again stops at once and leaves any earlier output as it was\n";
+    "\nCtrl-C: tracing stops and the bake finishes with the photons it has (estimate and outputs; in a later round "
+    "of --target-noise, with the round before's estimate); Ctrl-C again stops at once and leaves any earlier output "
+    "as it was\n";
 
 extern "C" void OnInterrupt(int) {
   requested.store(true, std::memory_order_relaxed);

@@ -1,8 +1,8 @@
 // Ctrl-C as a request to stop early with valid outputs. While an InterruptScope lives, the first SIGINT only sets
-// a flag: long loops poll InterruptRequested() between units of work (a block of photons, a round), finish the
-// unit they are in, and the bake writes what it has; the handler says so on stderr at once. It then steps aside,
-// so a second Ctrl-C ends the process at once (any output being written is a temporary file; the previous file
-// stays intact).
+// a flag: long loops poll InterruptRequested() between units of work (a block of photons, a round, a chunk of a
+// later round's vertices), finish the unit they are in, and the bake writes what it has; the handler says so on
+// stderr at once. It then steps aside, so a second Ctrl-C ends the process at once (any output being written is a
+// temporary file; the previous file stays intact).
 #pragma once
 
 namespace pb {

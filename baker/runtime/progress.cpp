@@ -9,13 +9,18 @@
 
 namespace pb {
 
-Log::Log(bool quiet) : quiet_(quiet), interactive_(!quiet && isatty(STDERR_FILENO)) {}
+Log::Log(bool quiet, std::function<void(const std::string&)> listener)
+    : quiet_(quiet), interactive_(!quiet && isatty(STDERR_FILENO)), listener_(std::move(listener)) {}
 
 void Log::Info(const std::string& line) const {
   if (!quiet_) fmt::print(stderr, "{}\n", line);
+  Notify(line);
 }
 
-void Log::Warning(const std::string& line) const { fmt::print(stderr, "{}\n", line); }
+void Log::Warning(const std::string& line) const {
+  fmt::print(stderr, "{}\n", line);
+  Notify(line);
+}
 
 Progress::Progress(const Log& log, std::string stage, uint64_t total)
     : log_(log), stage_(std::move(stage)), total_(total), start_(std::chrono::steady_clock::now()), lastDraw_(start_) {}
@@ -23,6 +28,7 @@ Progress::Progress(const Log& log, std::string stage, uint64_t total)
 Progress::~Progress() {
   if (complete_) total_ = done_.load();  // the count was an upper bound; what was reached is all there was to do
   Draw(done_.load(), true);
+  log_.Notify(stage_ + ": done");
 }
 
 void Progress::Complete() { complete_ = true; }

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <string>
 
@@ -17,17 +18,23 @@ namespace pb {
 // "42 s", "3 min 20 s", "2 h 05 min".
 std::string DurationText(double seconds);
 
+// Info lines go to stderr unless quiet, warnings always; both also to `listener` when given (an application's own
+// log, or a test that acts at a point of the bake), which hears "STAGE: done" too as each Progress ends.
 class Log {
  public:
-  explicit Log(bool quiet);
+  explicit Log(bool quiet, std::function<void(const std::string&)> listener = nullptr);
   bool Quiet() const { return quiet_; }
   bool Interactive() const { return interactive_; }
   void Info(const std::string& line) const;
   void Warning(const std::string& line) const;
+  void Notify(const std::string& line) const {  // to the listener alone
+    if (listener_) listener_(line);
+  }
 
  private:
   bool quiet_;
   bool interactive_;
+  std::function<void(const std::string&)> listener_;
 };
 
 class Progress {

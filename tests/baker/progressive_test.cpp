@@ -19,6 +19,7 @@
 #include "baker/files/atomic_file.h"
 #include "baker/files/photon_file.h"
 #include "baker/photons/progressive.h"
+#include "baker/runtime/interrupt.h"
 #include "mesh/errors.h"
 #include "tests/lambert.h"
 #include "tests/ply_reader.h"
@@ -108,6 +109,30 @@ TEST(Progressive, RoundsGiveEachPointItsShadowRaysAndEqualOneBakeWithThem) {
   BakeOptions once = Options(o.scenePath, dir + "/once.ply", last.requested);
   once.direct = {.mode = DirectLight::kSampled, .samples = last.shadowRays, .noise = last.directNoise};
   Bake(once, Log(true));
+  EXPECT_TRUE(test::ReadBytes(dir + "/rounds.ply") == test::ReadBytes(dir + "/once.ply"));
+}
+
+// Ctrl-C after the second round's photons are binned: its estimate stops, and the bake writes the first round's
+// vertices, the same bytes as one bake of its photons.
+TEST(Progressive, CtrlCInALaterRoundsEstimateKeepsTheRoundBefore) {
+  const std::string dir = test::TempDirectory("progressive-ctrl-c");
+  BakeOptions o = Options(PB_SOURCE_DIR "/data/box/box.obj", dir + "/rounds.ply", 50'000);
+  o.targetNoise = 0.05f;
+  std::vector<std::string> lines;
+  bool secondRound = false;
+  const BakeReport r = Bake(o, Log(true, [&](const std::string& line) {
+                              lines.push_back(line);
+                              secondRound |= line.starts_with("round 1:");
+                              if (secondRound && line == "bin photons: done") RequestInterrupt();
+                            }));
+  ASSERT_EQ(r.progressive.rounds.size(), 1u);
+  EXPECT_TRUE(r.progressive.interrupted && r.progressive.estimateStopped);
+  EXPECT_NE(r.progressive.stoppedBy.find("Ctrl-C during round 2"), std::string::npos) << r.progressive.stoppedBy;
+  EXPECT_GT(r.trace.emitted, 50'000u) << "the second round traced nothing before it stopped";
+  bool warned = false;
+  for (const std::string& line : lines) warned |= line.starts_with("interrupted: round 2's estimate stopped");
+  EXPECT_TRUE(warned);
+  Bake(Options(o.scenePath, dir + "/once.ply", 50'000), Log(true));
   EXPECT_TRUE(test::ReadBytes(dir + "/rounds.ply") == test::ReadBytes(dir + "/once.ply"));
 }
 

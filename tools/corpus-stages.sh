@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# The corpus's big real assets at a short budget (issue 38): bakes each and fails when a stage's time per triangle
+# jumps past its ceiling, three times what it measured when the ceiling was set (docs/real-assets.md, "A guard in
+# CI"). A stall such as the covers' lattice over Lost Empire (no result in 5 min) trips it; a noisy machine does not.
+#   Lost Empire         112k faces, its own lava lights
+#   Sports car          155k faces, its own 374 LED lamps
+#   Conference room     331k faces, lit by make-scene lit-copy's quad above it
+# Each bake: bake OBJ -o out.ply --photons 200000 --direct-samples 16 --gap-paths 16 --threads 2, h and the cover
+# lattice from the scene; the stages' seconds are read from the summary. Stages under 0.5 s are not judged (their
+# time is mostly noise). The corpus is ../shared/obj-corpus beside the repository, or $PB_OBJ_CORPUS; without it
+# the guard says so and passes.
+# Usage: tools/corpus-stages.sh [BUILD_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+corpus=${PB_OBJ_CORPUS:-$(pwd)/../shared/obj-corpus}
+if [ ! -d "$corpus/zips" ]; then
+  echo "corpus-stages: skipped: the OBJ corpus is not at $corpus (set PB_OBJ_CORPUS to where it is)"
+  exit 0
+fi
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+
+# Ceilings in microseconds per triangle, "stage=us ..." (3 x one run on 2 cores at 0ef65b3); a stage not named has
+# none of its own and is judged by `other`.
+ceilings() {
+  case $1 in
+    lost_empire) echo "load=11 covers=36 estimate=45 other=15" ;;
+    sports_car) echo "load=7 covers=54 estimate=90 other=15" ;;
+    conference) echo "load=8 covers=15 estimate=21 other=15" ;;
+  esac
+}
+
+failed=0
+judge() {  # name, summary file
+  local name=$1 summary=$2 triangles seconds
+  triangles=$(awk '$1 == "scene" { print $2; exit }' "$summary")
+  seconds=$(awk '$1 == "seconds" { sub(/^ *seconds +/, ""); sub(/ *\|? *total.*/, ""); print; exit }' "$summary")
+  echo "$name: $triangles triangles"
+  # "load 0.788 | surfaces 0.108 | save photons 0.000 | ..." -> one judged line per stage
+  if ! awk -v triangles="$triangles" -v ceilings="$(ceilings "$name")" -v seconds="$seconds" 'BEGIN {
+      n = split(ceilings, c, " "); for (i = 1; i <= n; ++i) { split(c[i], kv, "="); limit[kv[1]] = kv[2] }
+      n = split(seconds, s, / *\| */); bad = 0
+      for (i = 1; i <= n; ++i) {
+        t = s[i]; sec = t; sub(/.* /, "", sec); stage = t; sub(/ [^ ]*$/, "", stage)
+        us = 1e6 * sec / triangles; ceiling = (stage in limit) ? limit[stage] : limit["other"]
+        verdict = sec < 0.5 ? "" : (us > ceiling ? "  OVER its ceiling" : "")
+        if (sec >= 0.5) printf "  %-14s %7.3f s  %6.2f us per triangle  (ceiling %s)%s\n", stage, sec, us, ceiling, verdict
+        if (verdict != "") bad = 1
+      }
+      exit bad }'; then
+    failed=1
+  fi
+}
+
+bake() {  # name, obj, extra options
+  local name=$1 obj=$2
+  shift 2
+  "$build/bake" "$obj" -o "$out/$name.ply" --photons 200000 --direct-samples 16 --gap-paths 16 --threads 2 "$@" \
+    > "$out/$name.txt" 2> "$out/$name.err" || { echo "corpus-stages: $name failed:"; cat "$out/$name.err"; exit 1; }
+  judge "$name" "$out/$name.txt"
+}
+
+bake lost_empire "$corpus/zips/Lost_Empire/lost_empire.obj"
+bake sports_car "$corpus/zips/Sports_Car/sportsCar.obj"
+"$build/make-scene" lit-copy --from "$corpus/zips/Conference_Room/conference.obj" --out "$out/conference" > /dev/null
+bake conference "$out/conference/conference.obj"
+if [ "$failed" != 0 ]; then
+  echo "corpus-stages: a stage's time per triangle passed its ceiling (above)"
+  exit 1
+fi
+echo "corpus-stages: every stage within its ceiling"
