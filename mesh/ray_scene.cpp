@@ -102,7 +102,11 @@ bool RayScene::Occluded(Point3 origin, Vector3 direction, float tFar) const {
 
 namespace {
 
-// A point query's question to each triangle near it: MayMeetInFront's test.
+// A point query's question to each triangle near it: MayMeetInFront's test. Past kMostLookedAt triangles it answers
+// "may": a finely tessellated surface puts thousands of its own triangles within reach, all behind the origin's
+// plane, and looking at each would cost more than the rays the answer spares (a flat light of 200,000 triangles:
+// each of its vertices looked at every one, and doubling the triangles quadrupled the estimate).
+constexpr uint32_t kMostLookedAt = 512;
 struct FrontQuery {
   const float* vertices;
   const uint32_t* indices;
@@ -110,10 +114,16 @@ struct FrontQuery {
   Normal3 n;
   float slack;  // [m]: how far behind the origin's plane a corner may lie and still count
   bool found = false;
+  uint32_t lookedAt = 0;
 };
 
 bool MeetsFront(RTCPointQueryFunctionArguments* args) {
   auto& q = *static_cast<FrontQuery*>(args->userPtr);
+  if (++q.lookedAt > kMostLookedAt) {  // "may", conservatively
+    q.found = true;
+    args->query->radius = 0;
+    return true;
+  }
   const RTCPointQuery& point = *args->query;
   float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   float front = -INFINITY;

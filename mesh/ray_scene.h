@@ -45,7 +45,8 @@ class RayScene {
   // could meet anything: false proves that every such ray misses, by one point query instead of the rays (Embree's
   // rtcPointQuery). Conservative: a triangle counts when its bounding box comes within `reach` of the origin and a
   // corner lies on n's side of it, less a quarter of the spawn offset for rounding, so that the surface the
-  // origin was spawned from, and the coplanar triangles beside it, do not count.
+  // origin was spawned from, and the coplanar triangles beside it, do not count. True, too, when more than 512
+  // triangles lie within reach: looking at each would cost more than the rays it spares.
   bool MayMeetInFront(Point3 origin, Normal3 n, float reach) const;
 
   // Appends to `out` every triangle (Scene::triangles index) whose bounding box comes within `radius` [m] of

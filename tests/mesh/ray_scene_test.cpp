@@ -85,6 +85,25 @@ TEST(RayScene, AParallelPlaneInFrontIsFoundWithinReachOnly) {
   EXPECT_FALSE(rays.MayMeetInFront(rays.SpawnPoint({0.2f, 0.1f, 0.01f}, {0, 0, -1}), {0, 0, -1}, 0.5f));
 }
 
+// A 1 m plane of 2 x 40 x 40 triangles: off its centre, facing away from it, nothing is in front. Within 5 cm (about
+// 30 triangles' boxes) the query proves it; within 1 m (all 3,200) it stops looking past 512 and answers "may",
+// which costs the caller's rays but never a wrong "no" (the conservative test above).
+TEST(RayScene, AFinelyTessellatedPlaneBehindIsProvenNearAndLeftToTheRaysFar) {
+  Scene scene;
+  constexpr int kCells = 40;
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i) scene.positions.push_back({float(i) / kCells - 0.5f, float(j) / kCells - 0.5f, 0});
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      const uint32_t a = j * (kCells + 1) + i, b = a + 1, c = a + kCells + 1, d = c + 1;
+      scene.triangles.push_back({{a, b, d}}), scene.triangles.push_back({{a, d, c}});
+    }
+  const RayScene rays(scene);
+  const Point3 origin = rays.SpawnPoint({0.01f, 0.01f, 0}, {0, 0, 1});
+  EXPECT_FALSE(rays.MayMeetInFront(origin, {0, 0, 1}, 0.05f));
+  EXPECT_TRUE(rays.MayMeetInFront(origin, {0, 0, 1}, 1.0f));
+}
+
 }  // namespace
 // TrianglesNear against brute force on the box: every triangle whose bounding box comes within the radius is
 // listed, once, in ascending order, at 200 points and radii from 1 mm to the box's size.
