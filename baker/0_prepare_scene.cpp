@@ -93,12 +93,13 @@ SurfaceRegions BuildCoveredRegions(const std::vector<SurfaceCover>& covers) {
 
 namespace {
 
-// The covers' progress on `log`, from the first surface done (when the total is known).
-CoverProgress ShowCovers(const Log* log, std::unique_ptr<Progress>& progress) {
+// A stage's progress on `log` as `stage`, from the first report (when the total is known); `progress` holds it and
+// ends it when it goes.
+WorkProgress Show(const Log* log, const char* stage, std::unique_ptr<Progress>& progress) {
   if (log == nullptr) return {};
-  return [log, &progress](uint64_t triangles, uint64_t total) {
-    if (!progress) progress = std::make_unique<Progress>(*log, "find covers", total);
-    progress->Advance(triangles);
+  return [log, stage, &progress](uint64_t done, uint64_t total) {
+    if (!progress) progress = std::make_unique<Progress>(*log, stage, total);
+    progress->Advance(done);
   };
 }
 
@@ -109,14 +110,17 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
   PreparedScene p{std::move(scene)};
   if (p.scene.Recentred()) p.warnings.push_back(RecentringNote(p.scene));
   if (const std::string note = UnitsNote(p.scene); !note.empty()) p.warnings.push_back(note);
-  p.surfaces = clock.Time("surfaces", [&] { return BuildSurfaces(p.scene); });
+  p.surfaces = clock.Time("surfaces", [&] {
+    std::unique_ptr<Progress> progress;
+    return BuildSurfaces(p.scene, {}, Show(log, "surfaces (triangle passes)", progress));
+  });
   p.lights = clock.Time("lights", [&] { return CollectLights(p.scene, p.surfaces); });
   RequireLight(p.scene, p.lights);
   p.plan = clock.Time("plan", [&] { return PlanTransport(p.scene, p.surfaces, p.lights, effects); });
   p.rays = clock.Time("bvh", [&] { return std::make_unique<RayScene>(p.scene); });
   p.covers = clock.Time("covers", [&] {
     std::unique_ptr<Progress> progress;
-    return FindCovers(p.scene, p.surfaces, *p.rays, cover, ShowCovers(log, progress));
+    return FindCovers(p.scene, p.surfaces, *p.rays, cover, Show(log, "find covers", progress));
   });
   p.regions = clock.Time("regions", [&] { return BuildRegions(p.surfaces, p.covers, log); });
   p.coveredRegions = BuildCoveredRegions(p.covers);
@@ -126,7 +130,8 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
 
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock, const Log* log) {
   LoadedScene loaded = clock.Time("load", [&] {
-    LoadedScene l = LoadScene(settings.path, {settings.scale, settings.luminousEfficacy});
+    std::unique_ptr<Progress> progress;
+    LoadedScene l = LoadScene(settings.path, {settings.scale, settings.luminousEfficacy, Show(log, "read scene (bytes)", progress)});
     AddLightsFile(l.scene, settings.lightsPath);
     return l;
   });

@@ -688,7 +688,7 @@ double SurfaceCover::Area() const {
 }
 
 std::vector<SurfaceCover> FindCovers(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays,
-                                     const CoverSettings& settings, const CoverProgress& advance) {
+                                     const CoverSettings& settings, const WorkProgress& advance) {
   std::vector<SurfaceCover> covers(surfaces.surfaces.size());
   if (!(settings.spacing > 0)) return covers;
   CoverSettings scaled = settings;

@@ -50,6 +50,7 @@
 #include "mesh/ray_scene.h"
 #include "mesh/scene.h"
 #include "mesh/surfaces.h"
+#include "mesh/work_progress.h"
 
 namespace pb {
 
@@ -116,8 +117,7 @@ class SurfaceCover {
 
 // One cover per surface of `surfaces`. `advance`, when given, is told after each tested surface its number of
 // triangles, and the number of all tested surfaces' triangles [count].
-using CoverProgress = std::function<void(uint64_t triangles, uint64_t total)>;
 std::vector<SurfaceCover> FindCovers(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays,
-                                     const CoverSettings& settings, const CoverProgress& advance = {});
+                                     const CoverSettings& settings, const WorkProgress& advance = {});
 
 }  // namespace pb

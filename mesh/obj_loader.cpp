@@ -65,7 +65,13 @@ class ObjParser {
   LoadedScene Parse() {
     PB_CHECK(options_.scale > 0.0f && std::isfinite(options_.scale), "LoadOptions::scale is finite and > 0");
     TextFileReader reader(path_, "scene file");
-    for (TextLine line; reader.Next(line);) Statement(line);
+    size_t told = 0, statements = 0;
+    for (TextLine line; reader.Next(line);) {
+      Statement(line);
+      if (options_.progress && ++statements % 65536 == 0)
+        options_.progress(reader.Position() - told, reader.Size()), told = reader.Position();
+    }
+    if (options_.progress) options_.progress(reader.Size() - told, reader.Size());
     if (result_.scene.triangles.empty()) RefuseEmpty();
     builder_.StorePositions(path_);
     result_.warnings = warnings_.Lines();

@@ -7,12 +7,14 @@
 #include <vector>
 
 #include "mesh/scene.h"
+#include "mesh/work_progress.h"
 
 namespace pb {
 
 struct LoadOptions {
   float scale = 1.0f;  // metres per scene unit; range (0, inf), checked by the caller; typical 1 or 0.001.
   double luminousEfficacy = 683;  // [lm/W]: glTF's photometric lights (candela, lux) to watts
+  WorkProgress progress;  // when given: the OBJ's bytes as they are parsed (a glTF file is read by tinygltf at once)
 };
 
 struct LoadedScene {

@@ -226,7 +226,9 @@ double SurfaceSet::WorstAreaDistortion() const {
   return worst;
 }
 
-SurfaceSet BuildSurfaces(const Scene& scene, const SurfaceOptions& options) {
+SurfaceSet BuildSurfaces(const Scene& scene, const SurfaceOptions& options, const WorkProgress& placed) {
+  const uint64_t passes = 2 * uint64_t(scene.triangles.size());
+  if (placed) placed(0, passes);  // the clock starts
   const std::vector<uint32_t> weld = WeldedPositionIds(scene);
   const auto neighbours = EdgeNeighbours(scene, weld);
   SurfaceSet set;
@@ -234,6 +236,7 @@ SurfaceSet BuildSurfaces(const Scene& scene, const SurfaceOptions& options) {
   set.cornerUv.resize(scene.triangles.size());
   std::deque<std::vector<uint32_t>> pending;
   for (auto& g : SmoothGroups(scene, neighbours, options)) pending.push_back(std::move(g));
+  if (placed) placed(scene.triangles.size(), passes);
   while (!pending.empty()) {
     std::vector<uint32_t> group = std::move(pending.front());
     pending.pop_front();
@@ -243,6 +246,7 @@ SurfaceSet BuildSurfaces(const Scene& scene, const SurfaceOptions& options) {
       for (uint32_t t : s.triangles)
         for (int k = 0; k < 3; ++k) set.cornerUv[t][k] = s.chart.ToUv(scene.Corner(t, k));
       for (uint32_t t : s.triangles) set.surfaceOfTriangle[t] = id;
+      if (placed) placed(s.triangles.size(), passes);
       set.surfaces.push_back(std::move(s));
       continue;
     }
@@ -256,6 +260,7 @@ SurfaceSet BuildSurfaces(const Scene& scene, const SurfaceOptions& options) {
     Surface s = MakeSurface(scene, std::move(group));
     s.planar = false;
     s.areaDistortion = chart->areaDistortion;
+    if (placed) placed(s.triangles.size(), passes);
     set.surfaces.push_back(std::move(s));
   }
   return set;

@@ -25,6 +25,7 @@
 
 #include "mesh/geometry.h"
 #include "mesh/scene.h"
+#include "mesh/work_progress.h"
 
 namespace pb {
 
@@ -69,6 +70,8 @@ struct SurfaceSet {
   double WorstAreaDistortion() const;
 };
 
-SurfaceSet BuildSurfaces(const Scene& scene, const SurfaceOptions& options = {});
+// `placed`, when given, is told the work done in triangle passes, of two in all: the scene's triangles when they
+// are grouped into smooth pieces, then each surface's as it is made.
+SurfaceSet BuildSurfaces(const Scene& scene, const SurfaceOptions& options = {}, const WorkProgress& placed = {});
 
 }  // namespace pb

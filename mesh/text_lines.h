@@ -49,6 +49,9 @@ class TextFileReader {
   TextFileReader(const std::string& path, const std::string& what);
   // The next statement that has a keyword; false at the end of the file.
   bool Next(TextLine& line);
+  // How far the reading has come, and the whole, in bytes of the decoded text.
+  size_t Position() const { return at_; }
+  size_t Size() const { return text_.size(); }
 
  private:
   bool NextPhysicalLine(std::string& text);

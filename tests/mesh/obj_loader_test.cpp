@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <sys/stat.h>
 
 #include "mesh/errors.h"
@@ -51,6 +53,27 @@ TEST(ObjLoader, ReadsPolygonsMaterialsAndScale) {
   EXPECT_FLOAT_EQ(s.MaterialOf(2).emission.b, 4.0f);
   EXPECT_EQ(s.objectNames[s.triangles[2].object], "lamp");
   EXPECT_EQ(s.triangles[2].v[0], 4u);  // negative indices are relative to the end
+}
+
+// Progress (mesh/work_progress.h): the loader tells every byte of the file once, of the file's size; BuildSurfaces
+// two passes over the triangles, the first report before any work (so that a shown stage's clock starts there).
+TEST(ObjLoader, ReportsItsProgressAndTheSurfacesTheirs) {
+  const std::string path = PB_SOURCE_DIR "/data/office_books/office_books.obj";
+  uint64_t bytes = 0, total = 0;
+  const LoadedScene loaded = LoadObj(path, {.progress = [&](uint64_t done, uint64_t all) { bytes += done, total = all; }});
+  EXPECT_EQ(bytes, total);
+  EXPECT_GT(total, 0u);
+  EXPECT_NEAR(double(total), double(std::filesystem::file_size(path)), 16.0);  // a BOM or a last newline apart
+  std::vector<std::pair<uint64_t, uint64_t>> reports;
+  BuildSurfaces(loaded.scene, {}, [&](uint64_t done, uint64_t all) { reports.emplace_back(done, all); });
+  ASSERT_GE(reports.size(), 2u);
+  EXPECT_EQ(reports.front().first, 0u);
+  uint64_t passes = 0;
+  for (const auto& [done, all] : reports) {
+    passes += done;
+    EXPECT_EQ(all, 2 * loaded.scene.triangles.size());
+  }
+  EXPECT_EQ(passes, 2 * loaded.scene.triangles.size());
 }
 
 TEST(ObjLoader, SkipsAndCountsZeroAreaTriangles) {
