@@ -110,6 +110,8 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
   PreparedScene p{std::move(scene)};
   if (p.scene.Recentred()) p.warnings.push_back(RecentringNote(p.scene));
   if (const std::string note = UnitsNote(p.scene); !note.empty()) p.warnings.push_back(note);
+  p.warningsShown = log != nullptr && !log->Quiet();
+  if (p.warningsShown) log->Warnings(p.warnings);
   p.surfaces = clock.Time("surfaces", [&] {
     std::unique_ptr<Progress> progress;
     return BuildSurfaces(p.scene, {}, Show(log, "surfaces (triangle passes)", progress));
@@ -135,12 +137,14 @@ PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock, con
     AddLightsFile(l.scene, settings.lightsPath);
     return l;
   });
+  const bool show = log != nullptr && !log->Quiet();
+  if (show) log->Warnings(loaded.warnings);
   try {
     PreparedScene p = PrepareScene(std::move(loaded.scene), settings.effects, clock, settings.cover, log);
     p.warnings.insert(p.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
     return p;
   } catch (const InputError& e) {
-    throw WithLoaderWarnings(e, loaded.warnings);
+    throw show ? e : WithLoaderWarnings(e, loaded.warnings);  // shown just above, or carried by the error
   }
 }
 

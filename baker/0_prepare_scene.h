@@ -44,6 +44,7 @@ struct SceneSettings {
 struct PreparedScene {
   Scene scene;
   std::vector<std::string> warnings;  // the loader's "file:line: warning/note: ..." lines, and the re-centring note
+  bool warningsShown = false;         // on the log, as they arose (a log that is not quiet)
   SurfaceSet surfaces;
   std::vector<SurfaceCover> covers;  // what other geometry covers of each surface (estimators/surface_cover.h)
   SurfaceRegions regions;            // each surface's open region: its chart triangles less its cover
@@ -56,7 +57,8 @@ struct PreparedScene {
 // Loads and prepares the scene, timing each part on `clock` ("load", "surfaces", "lights", "plan", "bvh", "covers",
 // "regions").
 // InputError for a bad file (with file:line), a scene with no light, or no light that reaches a receiver.
-// With a log, the covers' progress is shown (baker/runtime/progress.h).
+// With a log, each long part's progress is shown (baker/runtime/progress.h); with one that is not quiet, the
+// warnings too, as they arise (the loader's before the surfaces are built).
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock, const Log* log = nullptr);
 // The same from a scene already loaded (tests that build scenes in memory).
 PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock,

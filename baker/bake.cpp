@@ -99,12 +99,11 @@ struct Journal {
   std::vector<std::pair<std::string, double>> stageSeconds;
   std::vector<std::string> warnings;
 
-  void Warn(std::vector<std::string> lines, const Log& log) {
-    constexpr size_t kShown = 10;
-    for (size_t i = 0; i < lines.size() && i < kShown; ++i) log.Warning(lines[i]);
-    if (lines.size() > kShown) log.Warning(fmt::format("... and {} more warnings", lines.size() - kShown));
-    warnings.insert(warnings.end(), lines.begin(), lines.end());
+  void Warn(const std::vector<std::string>& lines, const Log& log) {
+    log.Warnings(lines);
+    Record(lines);
   }
+  void Record(const std::vector<std::string>& lines) { warnings.insert(warnings.end(), lines.begin(), lines.end()); }
 };
 
 // Warns about each surface whose h is below half its mean photon spacing sqrt(A / hits), A the area that no other
@@ -307,7 +306,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
 
   const PreparedScene scene = PrepareScene(SceneOf(o), clock, &log);
   RequireDistinctFiles(OutputsWithMaps(o, scene.surfaces.surfaces.size()), scene.scene.InputFiles());
-  journal.Warn(scene.warnings, log);
+  scene.warningsShown ? journal.Record(scene.warnings) : journal.Warn(scene.warnings, log);
   if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions, threads.Count());
   if (o.refine.subdivide > 0) CheckSubdivisionMemory(scene.scene.triangles.size(), o.refine.subdivide);
   PhotonRounds rounds(scene, o, distribution, clock, log);

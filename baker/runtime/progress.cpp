@@ -22,6 +22,12 @@ void Log::Warning(const std::string& line) const {
   Notify(line);
 }
 
+void Log::Warnings(const std::vector<std::string>& lines) const {
+  constexpr size_t kShown = 10;
+  for (size_t i = 0; i < lines.size() && i < kShown; ++i) Warning(lines[i]);
+  if (lines.size() > kShown) Warning(fmt::format("... and {} more warnings", lines.size() - kShown));
+}
+
 Progress::Progress(const Log& log, std::string stage, uint64_t total)
     : log_(log), stage_(std::move(stage)), total_(total), start_(std::chrono::steady_clock::now()), lastDraw_(start_) {}
 

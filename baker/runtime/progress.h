@@ -12,6 +12,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <vector>
 
 namespace pb {
 
@@ -27,6 +28,8 @@ class Log {
   bool Interactive() const { return interactive_; }
   void Info(const std::string& line) const;
   void Warning(const std::string& line) const;
+  // The first 10 of `lines` as warnings, then how many more there are (the report keeps them all).
+  void Warnings(const std::vector<std::string>& lines) const;
   void Notify(const std::string& line) const {  // to the listener alone
     if (listener_) listener_(line);
   }
