@@ -69,6 +69,10 @@ class PhotonTracer {
         return;
       }
       attenuation = attenuation * s.weight;
+      if (attenuation.IsBlack()) {  // e.g. red light on a pure green surface: all it carried was absorbed here
+        ++block.stats.absorbed;
+        return;
+      }
       if (attenuation.Max() > kMostPhotonAttenuation) break;  // truncated
       if (!Allowed(s.event)) return Forbid(attenuation, block.stats);
       Count(s.event, block.stats);

@@ -10,6 +10,7 @@
 
 #include "baker/bake.h"
 #include "tests/test_scenes.h"
+#include "tests/traced_scene.h"
 
 namespace pb {
 namespace {
@@ -32,6 +33,22 @@ TEST(Energy, ClosedBoxAbsorbsWhatItEmits) {
   EXPECT_EQ(r.trace.truncated, 0u);
   // Every photon ends by absorption or escape.
   EXPECT_EQ(r.trace.absorbed + r.trace.escaped, r.trace.emitted);
+}
+
+// Red walls (Kd 0.99 0 0) and a green light (its back, Kd 0 0.99 0): a photon that met both carries nothing, and
+// ends there as absorbed; it had bounced on with no flux, about a hundred more times (survival 0.99), storing empty
+// hits. No stored hit is empty, and every photon still ends absorbed or escaped.
+TEST(Energy, APhotonThatCarriesNothingEnds) {
+  const std::string dir = test::TempDirectory("energy-empty-photons");
+  const std::string scene = test::WriteClosedBox(dir, 1.0f, 0.5f, 0.2f, 10.0f);
+  test::WriteText(dir + "/box.mtl", "newmtl wall\nKd 0.99 0 0\nnewmtl light\nKd 0 0.99 0\nKe 10 10 10\n");
+  const test::TracedScene traced(scene);
+  const PhotonStore store = traced.Trace(20'000, 1);
+  uint64_t empty = 0;
+  store.ForEach([&](const PhotonHit& hit, Rgb) { empty += hit.attenuation.IsBlack(); });
+  EXPECT_EQ(empty, 0u);
+  EXPECT_EQ(store.stats.absorbed + store.stats.escaped, store.stats.emitted);
+  EXPECT_EQ(store.stats.truncated, 0u);
 }
 
 // --max-bounces N: in a closed box whose every surface (the light too) has albedo rho, survival = rho keeps each
