@@ -279,14 +279,18 @@ DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng
   return result;
 }
 
+uint32_t LightSampler::AdaptiveCount(double relativeNoise, uint32_t samples, double target, uint32_t maxSamples) {
+  const double ratio = relativeNoise / target;
+  // Rounded up to a square, so that the samples fill their stratification grid and its error estimate holds.
+  const double side = std::ceil(std::sqrt(double(samples) * std::pow(ratio, 1 / kStratifiedOrder)));
+  return uint32_t(std::clamp(side * side, double(kPilotSamples), double(std::max(maxSamples, kPilotSamples))));
+}
+
 DirectSample LightSampler::AdaptiveIrradiance(Point3 p, Normal3 n, double target, uint32_t maxSamples,
                                               Rng& rng) const {
   Rng pilotRng = PilotStream(rng);
   const DirectSample pilot = Irradiance(p, n, kPilotSamples, pilotRng);
-  const double ratio = pilot.relativeNoise / target;
-  // Rounded up to a square, so that the samples fill their stratification grid and its error estimate holds.
-  const double side = std::ceil(std::sqrt(double(kPilotSamples) * std::pow(ratio, 1 / kStratifiedOrder)));
-  const auto count = uint32_t(std::clamp(side * side, double(kPilotSamples), double(std::max(maxSamples, kPilotSamples))));
+  const uint32_t count = AdaptiveCount(pilot.relativeNoise, kPilotSamples, target, maxSamples);
   DirectSample result = Irradiance(p, n, count, rng);
   result.samples = count + kPilotSamples;
   return result;

@@ -123,6 +123,9 @@ class LightSampler {
   static constexpr uint32_t kPilotSamples = 16;
   static constexpr double kStratifiedOrder = 0.75;
   DirectSample AdaptiveIrradiance(Point3 p, Normal3 n, double target, uint32_t maxSamples, Rng& rng) const;
+  // The count S it takes after the pilot, from an estimate of `relativeNoise` at `samples` rays (the pilot's, or
+  // a whole bake's, which the rounds of --target-noise plan from).
+  static uint32_t AdaptiveCount(double relativeNoise, uint32_t samples, double target, uint32_t maxSamples);
 
   // The sky's radiance along a ray that leaves the scene in direction w [W/(m^2 sr)]: what a path that escapes
   // after a specular event sees.

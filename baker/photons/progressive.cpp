@@ -132,14 +132,6 @@ double RoundSeconds(const RoundState& state, uint64_t n, double rayGrowth) {
          state.estimateSeconds * pointGrowth;
 }
 
-// The shadow rays a point takes with LightSampler::AdaptiveIrradiance's pilot: S (r / target)^(4/3) for a direct
-// light of relative noise r at S rays, to a square in [pilot, most], and the pilot's own.
-double AdaptiveRays(double r, uint32_t s, double target, uint32_t most) {
-  const double pilot = LightSampler::kPilotSamples;
-  const double rays = r > 0 ? double(s) * std::pow(r / target, 1 / LightSampler::kStratifiedOrder) : pilot;
-  return pilot + std::clamp(double(SquareAtLeast(rays)), pilot, double(most));
-}
-
 // The shadow rays of the next round where the points hold the noise, and how much their cost grows. From rays alike
 // at every point: each takes its own count, to kPointShare of the target, the one its direct light's noise (the
 // points' noise over the direct light's share of H) predicts. From a count already per point: its target lowered as
@@ -160,7 +152,10 @@ PointRays PointRaysFor(const BakedMesh& baked, const RoundState& state, uint32_t
   for (size_t v = 0; v < n; ++v) {
     const double points = baked.irradianceNoise[v] * std::sqrt(1 - baked.photonVarianceShare[v]);
     const double share = baked.sampledShare.empty() ? 1.0 : baked.sampledShare[v];
-    rays += AdaptiveRays(share > 0 ? points / share : 0.0, state.shadowRays, next.target, next.most);
+    // LightSampler::AdaptiveIrradiance's count, from the noise of the point's direct light at today's rays, and
+    // its pilot
+    const double direct = share > 0 ? points / share : 0.0;
+    rays += LightSampler::AdaptiveCount(direct, state.shadowRays, next.target, next.most) + LightSampler::kPilotSamples;
   }
   next.growth = n > 0 ? rays / double(n) / state.shadowRays : 1.0;
   return next;
@@ -195,10 +190,11 @@ NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const R
   // A step worth a round: 1.25 times the photons, or the points' target first set or lowered by 10% or more.
   const bool lowered = next.directNoise > 0 && (state.directNoise == 0 || next.directNoise <= 0.9 * state.directNoise);
   const bool worthARound = double(next.photons) >= 1.25 * double(state.photons) || lowered;
-  const NextRound stay{state.photons, state.shadowRays, state.directNoise, ""};
-  if (!worthARound) return {stay.photons, stay.shadowRays, stay.directNoise, StopReason(remedy, state, limits)};
-  if (state.elapsed + RoundSeconds(state, next.photons, rayGrowth) <= limits.maxSeconds) return next;
-  return {stay.photons, stay.shadowRays, stay.directNoise, fmt::format("the time budget (--max-seconds {:g})", limits.maxSeconds)};
+  if (worthARound && state.elapsed + RoundSeconds(state, next.photons, rayGrowth) <= limits.maxSeconds) return next;
+  NextRound stay{state.photons, state.shadowRays, state.directNoise, ""};
+  stay.stop = worthARound ? fmt::format("the time budget (--max-seconds {:g})", limits.maxSeconds)
+                          : StopReason(remedy, state, limits);
+  return stay;
 }
 
 }  // namespace pb
