@@ -11,26 +11,37 @@
 
 #include "baker/0_prepare_scene.h"
 #include "baker/bake.h"
+#include "baker/files/image_io.h"
 #include "tests/test_scenes.h"
 
 namespace pb {
 namespace {
 
-// The mean over the box's vertices of H's green channel [W/m^2].
-double MeanScaledIrradiance(double scale, DirectLight direct) {
+// The box at `scale` metres per unit, baked with h = `h` metres at scale 1, scaled alike.
+BakeOptions ScaledBox(double scale, double h, uint64_t photons) {
   BakeOptions o;
   o.scenePath = PB_SOURCE_DIR "/data/box/box.obj";
   o.outputPath = test::TempDirectory("scale") + "/out.ply";
-  o.photons = 200'000;
+  o.photons = photons;
   o.scale = float(scale);
   o.autoBandwidth = false;
-  o.estimator.bandwidth = float(0.05 * scale);
+  o.estimator.bandwidth = float(h * scale);
+  return o;
+}
+
+// The mean of the values' green channel.
+double MeanGreen(const std::vector<Rgb>& values) {
+  double sum = 0;
+  for (const Rgb& h : values) sum += h.g;
+  return values.empty() ? 0.0 : sum / double(values.size());
+}
+
+// The mean over the box's vertices of H's green channel [W/m^2].
+double MeanScaledIrradiance(double scale, DirectLight direct) {
+  BakeOptions o = ScaledBox(scale, 0.05, 200'000);
   o.direct.mode = direct;
   o.direct.samples = 64;
-  const BakedMesh mesh = BakeMesh(o, Log(true)).mesh;
-  double sum = 0;
-  for (const Rgb& h : mesh.irradiance) sum += h.g;
-  return sum / double(mesh.irradiance.size());
+  return MeanGreen(BakeMesh(o, Log(true)).mesh.irradiance);
 }
 
 TEST(Scale, TheBoxReadsTheSameLightInMillimetresMetresAndKilometres) {
@@ -40,6 +51,46 @@ TEST(Scale, TheBoxReadsTheSameLightInMillimetresMetresAndKilometres) {
       EXPECT_NEAR(MeanScaledIrradiance(scale, direct) / metres, 1.0, 0.01) << "scale " << scale << ", direct "
                                                                            << int(direct);
   }
+}
+
+// Every estimator, and the irradiance maps (texel scaled with the scene), read the same light at any scale too.
+// With photons alone every scale traces the same photons, so the means differ by float rounding: 0.5%.
+BakeResult BakeScaledBox(double scale, EstimatorKind kind, Kernel kernel, const std::string& maps = "") {
+  BakeOptions o = ScaledBox(scale, 0.08, 50'000);
+  o.estimator.kind = kind, o.estimator.kernel = kernel;
+  o.direct.mode = DirectLight::kPhotons;
+  o.mapsDirectory = maps;
+  o.texel = float(0.04 * scale);
+  return BakeMesh(o, Log(true));  // the maps committed
+}
+
+TEST(Scale, EveryEstimatorAndTheMapsReadTheSameLightAtAnyScale) {
+  const std::pair<EstimatorKind, Kernel> estimators[] = {{EstimatorKind::kKernel, Kernel::kEpanechnikov},
+                                                         {EstimatorKind::kKernel, Kernel::kGaussian},
+                                                         {EstimatorKind::kHistogram, Kernel::kEpanechnikov},
+                                                         {EstimatorKind::kNearest, Kernel::kEpanechnikov}};
+  const auto mean = [](double scale, EstimatorKind kind, Kernel kernel) {
+    return MeanGreen(BakeScaledBox(scale, kind, kernel).mesh.irradiance);
+  };
+  for (const auto& [kind, kernel] : estimators) {
+    const double metres = mean(1, kind, kernel);
+    ASSERT_GT(metres, 0);
+    for (const double scale : {1e-3, 1e3})
+      EXPECT_NEAR(mean(scale, kind, kernel) / metres, 1.0, 0.005) << "scale " << scale << ", estimator " << int(kind);
+  }
+  const auto mapMean = [](double scale) {
+    const std::string maps = test::TempDirectory("scale-maps");
+    const BakeResult r = BakeScaledBox(scale, EstimatorKind::kKernel, Kernel::kEpanechnikov, maps);
+    std::vector<Rgb> texels;
+    for (const std::string& path : r.report.maps.paths) {
+      const Image map = ReadExr(path);
+      texels.insert(texels.end(), map.pixels.begin(), map.pixels.end());
+    }
+    return MeanGreen(texels);
+  };
+  const double metres = mapMean(1);
+  ASSERT_GT(metres, 0);
+  for (const double scale : {1e-3, 1e3}) EXPECT_NEAR(mapMean(scale) / metres, 1.0, 0.005) << "maps, scale " << scale;
 }
 
 // At the defaults (no h given: --h auto, and the cover lattice from the scene's diagonal) the box in millimetres
