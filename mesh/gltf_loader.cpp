@@ -15,6 +15,7 @@
 
 #include "mesh/errors.h"
 #include "mesh/gltf_accessor.h"
+#include "mesh/gltf_instancing.h"
 #include "mesh/input_file.h"
 #include "mesh/mtl_loader.h"
 #include "mesh/scene_builder.h"
@@ -33,7 +34,8 @@ unsigned char uchar(char c) { return static_cast<unsigned char>(c); }
 const std::set<std::string>& KnownExtensions() {
   static const std::set<std::string> known{"KHR_texture_transform", "KHR_materials_emissive_strength",
                                            "KHR_materials_transmission", "KHR_materials_ior",
-                                           "KHR_materials_unlit", "KHR_lights_punctual"};
+                                           "KHR_materials_unlit", "KHR_lights_punctual",
+                                           "EXT_mesh_gpu_instancing"};
   return known;
 }
 
@@ -204,8 +206,10 @@ class GltfReader {
   }
 
   // Every node that carries a mesh under the scene's roots, with its world transform. Iterative, so a deep
-  // hierarchy cannot overflow the stack; a node met again on its own path is a cycle.
+  // hierarchy cannot overflow the stack; a node met again on its own path is a cycle. Shared nodes and instances
+  // multiply: a walk past kMaxNodeVisits nodes or kMaxExpandedTriangles triangles is refused before it is built.
   std::vector<std::pair<int, Matrix>> SceneNodes() const {
+    uint64_t visits = 0, triangles = 0;
     std::vector<std::pair<int, Matrix>> found;
     struct Visit {
       int node;
@@ -226,6 +230,14 @@ class GltfReader {
       if (std::find(path.begin(), path.end(), v.node) != path.end()) Fail(where, "the node is its own ancestor");
       path.push_back(v.node);
       const tg::Node& n = model_.nodes[size_t(v.node)];
+      if (++visits > gltf::kMaxNodeVisits)
+        Fail(where, fmt::format("the scene's hierarchy visits more than {} nodes (nodes shared by many parents)",
+                                gltf::kMaxNodeVisits));
+      const uint64_t meshTriangles = gltf::MeshTriangles(model_, n.mesh), instances = gltf::InstanceCount(model_, n);
+      if (instances != 0 && meshTriangles > (gltf::kMaxExpandedTriangles - triangles) / instances)
+        Fail(where, fmt::format("the scene expands to more than {} triangles through shared nodes and instances",
+                                gltf::kMaxExpandedTriangles));
+      triangles += meshTriangles * instances;
       const Matrix world = Multiply(v.parent, LocalMatrix(n, where));
       if (n.mesh >= 0 || n.extensions.count("KHR_lights_punctual")) found.emplace_back(v.node, world);
       for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, world, v.depth + 1});
@@ -279,12 +291,11 @@ class GltfReader {
     const std::string where = fmt::format("/nodes/{}", node);
     if (size_t(n.mesh) >= model_.meshes.size()) Fail(where, fmt::format("mesh {} does not exist", n.mesh));
     if (n.skin >= 0) Warn("skin", where, "skins are not applied: the mesh is baked as stored");
-    if (n.extensions.count("EXT_mesh_gpu_instancing"))
-      Warn("instancing", where, "EXT_mesh_gpu_instancing is not read: only the node's own mesh is baked, not its "
-                                "instances");
     const tg::Mesh& mesh = model_.meshes[size_t(n.mesh)];
-    for (size_t p = 0; p < mesh.primitives.size(); ++p)
-      AddPrimitive(mesh.primitives[p], fmt::format("/meshes/{}/primitives/{}", n.mesh, p), world, ObjectOf(node));
+    for (const Matrix& instance : gltf::InstanceTransforms(model_, n, where, path_))
+      for (size_t p = 0; p < mesh.primitives.size(); ++p)
+        AddPrimitive(mesh.primitives[p], fmt::format("/meshes/{}/primitives/{}", n.mesh, p),
+                     Multiply(world, instance), ObjectOf(node));
   }
 
   void AddPrimitive(const tg::Primitive& primitive, const std::string& where, const Matrix& world, uint32_t object) {

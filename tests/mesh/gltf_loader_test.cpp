@@ -193,7 +193,7 @@ TEST(GltfLoader, TextureCoordinatesFollowKhrTextureTransform) {
 }
 
 // What the loader does not read is said, never dropped in silence (issue 39): vertex colours (a vertex-coloured
-// box baked grey), GPU instances (1 of 125 baked), a double-sided light; and Draco-compressed geometry is refused by
+// box baked grey), a double-sided light; and Draco-compressed geometry is refused by
 // its extension's name, not as "accessor[0] invalid bufferView".
 TEST(GltfLoader, WhatIsNotReadIsSaidByName) {
   const std::string dir = test::TempDirectory("gltf-unread");
@@ -202,12 +202,12 @@ TEST(GltfLoader, WhatIsNotReadIsSaidByName) {
   const int positions = b.AddPositions(kSquare);
   b.AddMesh(positions, b.AddIndices(kSquareIndices), 0);
   b.json()["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = positions;  // a VEC3 float accessor
-  b.SetRoots({b.AddNode({{"mesh", 0}, {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", Json::object()}}}}}})});
+  b.SetRoots({b.AddNode({{"mesh", 0}})});
   const LoadedScene loaded = LoadGltf(b.WriteGltf(dir, "unread"));
   std::string warnings;
   for (const std::string& w : loaded.warnings) warnings += w + "\n";
   for (const char* said : {"/meshes/0/primitives/0/attributes/COLOR_0: vertex colours are not read",
-                           "/nodes/0: EXT_mesh_gpu_instancing is not read", "/materials/0: doubleSided is not read"})
+                           "/materials/0: doubleSided is not read"})
     EXPECT_NE(warnings.find(said), std::string::npos) << said << "\n" << warnings;
   GltfBuilder draco = SquareMesh();
   draco.json()["extensionsUsed"] = {"KHR_draco_mesh_compression"};  // used, not listed as required
@@ -216,6 +216,66 @@ TEST(GltfLoader, WhatIsNotReadIsSaidByName) {
       {"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", {{"POSITION", 0}}}}}};
   draco.SetRoots({draco.AddNode({{"mesh", 0}})});
   ExpectError(draco.WriteGltf(dir, "draco"), "uses extension 'KHR_draco_mesh_compression' (compressed geometry)");
+}
+
+// EXT_mesh_gpu_instancing (issue 39: 1 of 125 instances was baked): each instance is the node's mesh at the node's
+// transform times the instance's own T R S.
+TEST(GltfLoader, GpuInstancesAreEachBakedAtTheirOwnTransform) {
+  const std::string dir = test::TempDirectory("gltf-instances");
+  GltfBuilder b = SquareMesh();
+  const std::vector<float> translation = {0, 0, 0, 2, 0, 0, 4, 0, 0};
+  const float h = float(std::sqrt(0.5));
+  const std::vector<float> rotation = {0, 0, 0, 1, h, 0, 0, h, 0, 0, 0, 1};  // the second turned 90 deg about x
+  const std::vector<float> scale = {1, 1, 1, 1, 1, 1, 2, 1, 1};
+  const auto attribute = [&](const std::vector<float>& v, const char* type) {
+    return b.AddAccessor(b.AddView(v.data(), v.size() * sizeof(float)), 5126, 3, type);
+  };
+  const Json attributes = {{"TRANSLATION", attribute(translation, "VEC3")},
+                           {"ROTATION", attribute(rotation, "VEC4")}, {"SCALE", attribute(scale, "VEC3")}};
+  b.SetRoots({b.AddNode({{"mesh", 0}, {"translation", {0, 1, 0}},
+                         {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attributes}}}}}})});
+  const Scene s = LoadGltf(b.WriteGltf(dir, "instances")).scene;
+  ASSERT_EQ(s.triangles.size(), 6u);
+  EXPECT_NEAR(Area(s), 1 + 1 + 2, 1e-5);
+  for (uint32_t t = 0; t < 6; ++t) {
+    const Point3 c = Centroid(s, t);
+    const Normal3 n = s.FrontNormal(t);
+    EXPECT_NEAR(c.y, 1, 0.5) << t;  // the node's translation applies to every instance
+    if (t / 2 == 1) EXPECT_NEAR(n.z, 1, 1e-5) << "turned about x, the square faces +z";
+    else EXPECT_NEAR(n.y, 1, 1e-5) << t;
+    EXPECT_NEAR(c.x, 2 * (t / 2), 0.7) << t;
+  }
+}
+
+// A small file whose shared nodes or instances multiply into more than the bake could hold is refused by what it
+// would expand to, at once (a chain of 40 nodes, each the child of the one before twice, filled 8 GB before).
+TEST(GltfLoader, HierarchiesThatMultiplyBeyondTheLimitsAreRefused) {
+  const std::string dir = test::TempDirectory("gltf-bombs");
+  {
+    GltfBuilder b = SquareMesh();
+    int child = b.AddNode({{"mesh", 0}});
+    for (int depth = 0; depth < 40; ++depth) child = b.AddNode({{"children", {child, child}}});
+    b.SetRoots({child});
+    ExpectError(b.WriteGltf(dir, "shared"), "the scene's hierarchy visits more than 1048576 nodes");
+  }
+  {
+    GltfBuilder b = SquareMesh();
+    const int zeros = b.AddAccessor(-1, 5126, size_t(1) << 24, "VEC3");  // 2^24 instances, all at the node
+    const int node = b.AddNode(
+        {{"mesh", 0}, {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", zeros}}}}}}}});
+    b.SetRoots({b.AddNode({{"children", {node, node, node}}})});
+    ExpectError(b.WriteGltf(dir, "instanced"), "the scene expands to more than 67108864 triangles");
+  }
+  {
+    GltfBuilder b = SquareMesh();
+    const std::vector<float> two = {0, 0, 0, 1, 0, 0}, three = {1, 1, 1, 1, 1, 1, 1, 1, 1};
+    const int t = b.AddAccessor(b.AddView(two.data(), two.size() * sizeof(float)), 5126, 2, "VEC3");
+    const int s = b.AddAccessor(b.AddView(three.data(), three.size() * sizeof(float)), 5126, 3, "VEC3");
+    b.SetRoots({b.AddNode({{"mesh", 0}, {"extensions", {{"EXT_mesh_gpu_instancing",
+                                                          {{"attributes", {{"TRANSLATION", t}, {"SCALE", s}}}}}}}})});
+    ExpectError(b.WriteGltf(dir, "counts"), "/nodes/0/extensions/EXT_mesh_gpu_instancing/attributes: SCALE has 3 "
+                                            "instances where the others have 2");
+  }
 }
 
 TEST(GltfLoader, FaultsNameTheJsonPath) {

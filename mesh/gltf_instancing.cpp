@@ -1,0 +1,98 @@
+#include "mesh/gltf_instancing.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "mesh/errors.h"
+
+namespace pb::gltf {
+namespace {
+
+namespace tg = tinygltf;
+
+constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
+constexpr const char* kAttributes[] = {"TRANSLATION", "ROTATION", "SCALE"};
+
+// The accessor index of instancing attribute `name`, or -1.
+int AttributeAccessor(const tg::Node& n, const char* name) {
+  const auto it = n.extensions.find(kInstancing);
+  if (it == n.extensions.end() || !it->second.Has("attributes")) return -1;
+  const tg::Value& attributes = it->second.Get("attributes");
+  if (!attributes.IsObject() || !attributes.Has(name) || !attributes.Get(name).IsNumber()) return -1;
+  return attributes.Get(name).GetNumberAsInt();
+}
+
+uint64_t AccessorCount(const tg::Model& model, int accessor) {
+  return accessor >= 0 && size_t(accessor) < model.accessors.size() ? uint64_t(model.accessors[size_t(accessor)].count) : 0;
+}
+
+// Element i of an accessor as `components` doubles, each finite.
+std::vector<double> Element(const Accessor& a, size_t i, int components, const std::string& where, const std::string& file) {
+  std::vector<double> values(static_cast<size_t>(components));
+  for (int k = 0; k < components; ++k) {
+    values[size_t(k)] = a.Get(i, k);
+    if (!std::isfinite(values[size_t(k)])) throw InputError(file, 0, fmt::format("{}: instance {} is not finite", where, i));
+  }
+  return values;
+}
+
+}  // namespace
+
+uint64_t InstanceCount(const tg::Model& model, const tg::Node& n) {
+  if (!n.extensions.count(kInstancing)) return 1;
+  uint64_t count = 0;
+  for (const char* name : kAttributes) count = std::max(count, AccessorCount(model, AttributeAccessor(n, name)));
+  return count;
+}
+
+std::vector<Matrix> InstanceTransforms(const tg::Model& model, const tg::Node& n, const std::string& where,
+                                       const std::string& file) {
+  if (!n.extensions.count(kInstancing)) return {kIdentity};
+  const std::string self = where + "/extensions/" + kInstancing + "/attributes";
+  std::vector<std::optional<Accessor>> attributes;
+  size_t count = 0;
+  for (const char* name : kAttributes) {
+    const int index = AttributeAccessor(n, name);
+    if (index < 0) {
+      attributes.emplace_back();
+      continue;
+    }
+    const bool rotation = std::string(name) == "ROTATION";
+    attributes.emplace_back(Accessor(model, index, rotation ? 4 : 3,
+                                     rotation ? std::initializer_list<int>{TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                                                          TINYGLTF_COMPONENT_TYPE_BYTE,
+                                                                          TINYGLTF_COMPONENT_TYPE_SHORT}
+                                              : std::initializer_list<int>{TINYGLTF_COMPONENT_TYPE_FLOAT},
+                                     self + "/" + name, file));
+    if (count != 0 && attributes.back()->count() != count)
+      throw InputError(file, 0, fmt::format("{}: {} has {} instances where the others have {}", self, name,
+                                            attributes.back()->count(), count));
+    count = attributes.back()->count();
+  }
+  if (count == 0) throw InputError(file, 0, self + ": no TRANSLATION, ROTATION or SCALE with any instance");
+  std::vector<Matrix> transforms;
+  transforms.reserve(count);
+  for (size_t i = 0; i < count; ++i) {
+    std::vector<double> trs[3];
+    for (int a = 0; a < 3; ++a)
+      if (attributes[size_t(a)]) trs[a] = Element(*attributes[size_t(a)], i, a == 1 ? 4 : 3, self, file);
+    transforms.push_back(FromTrs(trs[0], trs[1], trs[2]));
+  }
+  return transforms;
+}
+
+uint64_t MeshTriangles(const tg::Model& model, int mesh) {
+  if (mesh < 0 || size_t(mesh) >= model.meshes.size()) return 0;
+  uint64_t triangles = 0;
+  for (const tg::Primitive& p : model.meshes[size_t(mesh)].primitives) {
+    const auto position = p.attributes.find("POSITION");
+    const uint64_t corners = AccessorCount(model, p.indices >= 0 ? p.indices : position == p.attributes.end() ? -1 : position->second);
+    triangles += p.mode == TINYGLTF_MODE_TRIANGLES ? corners / 3 : corners > 2 ? corners - 2 : 0;
+  }
+  return triangles;
+}
+
+}  // namespace pb::gltf
