@@ -41,14 +41,27 @@ void Progress::Complete() { complete_ = true; }
 
 void Progress::Advance(uint64_t done) {
   const uint64_t now = done_.fetch_add(done) + done;
-  if (log_.Quiet()) return;
   std::unique_lock lock(drawing_, std::try_to_lock);  // a busy drawer means someone else is printing.
   if (!lock.owns_lock()) return;
   const auto t = std::chrono::steady_clock::now();
+  ForetellLength(now, t);
+  if (log_.Quiet()) return;
   const auto interval = log_.Interactive() ? std::chrono::milliseconds(100) : std::chrono::milliseconds(5000);
   if (t - lastDraw_ < interval) return;
   lastDraw_ = t;
   Draw(now, false);
+}
+
+void Progress::ForetellLength(uint64_t done, std::chrono::steady_clock::time_point now) {
+  constexpr double kMinute = 60;
+  const double seconds = std::chrono::duration<double>(now - start_).count();
+  if (foretold_ || seconds < 1 || done == 0 || done >= total_) return;
+  const double all = seconds * double(total_) / double(done);
+  if (all <= kMinute) return;
+  foretold_ = true;
+  if (log_.Interactive()) fmt::print(stderr, "\n");  // below the progress line being drawn
+  log_.Warning(fmt::format("{}: warning: about {} in all at the rate of its first {:.1f} s ({} of {}); the time left "
+                           "shows as it goes", stage_, DurationText(all), seconds, done, total_));
 }
 
 std::string DurationText(double seconds) {

@@ -3,7 +3,9 @@
 // tenth of a second has passed, the time left at that rate. On a terminal a stage redraws one line at most 10
 // times a second; otherwise (a log file, CI) it prints a line every 5 seconds, so that no long stage is silent,
 // and its final line. A stage that finishes before its count (coarsening stops when no collapse is left within
-// the tolerance) calls Complete(), so that its last line reads 100%.
+// the tolerance) calls Complete(), so that its last line reads 100%. A stage that would take over a minute at its
+// rate of its first second says so once, as a warning (quiet or not): the option that multiplies its work (photons,
+// reference paths, preview size) can be changed before the time is spent.
 #pragma once
 
 #include <atomic>
@@ -51,6 +53,7 @@ class Progress {
 
  private:
   void Draw(uint64_t done, bool final);
+  void ForetellLength(uint64_t done, std::chrono::steady_clock::time_point now);
 
   const Log& log_;
   std::string stage_;
@@ -59,6 +62,7 @@ class Progress {
   std::mutex drawing_;
   std::chrono::steady_clock::time_point start_, lastDraw_;
   std::atomic<bool> complete_{false};
+  bool foretold_ = false;  // the warning of a long stage was given
 };
 
 }  // namespace pb
