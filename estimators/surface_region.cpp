@@ -255,6 +255,8 @@ SurfaceRegion::SurfaceRegion(std::span<const Triangle2> triangles, std::span<con
   nu_ = std::clamp(int(su / cell_) + 1, 1, kMaxCellsPerAxis + 1);
   nv_ = std::clamp(int(sv / cell_) + 1, 1, kMaxCellsPerAxis + 1);
   std::vector<std::vector<uint32_t>> cells(size_t(nu_) * nv_);
+  std::vector<std::vector<std::pair<int, uint32_t>>> ends(static_cast<size_t>(nv_));
+  spanCrossings_.assign(size_t(nu_ + 1) * nv_, 0);
   // Each edge in the cells it passes through, row by row, and one either side for rounding: the cells of its
   // bounding box would be O(length^2 / cell^2) for a long slanted edge (a 65,536-corner star's spikes listed 10^8).
   for (uint32_t e = 0; e < edges_.size(); ++e) {
@@ -262,15 +264,25 @@ SurfaceRegion::SurfaceRegion(std::span<const Triangle2> triangles, std::span<con
     const int v0 = CellOf(edge.a.u, std::min(edge.a.v, edge.b.v))[1];
     const int v1 = CellOf(edge.a.u, std::max(edge.a.v, edge.b.v))[1];
     for (int cv = v0; cv <= v1; ++cv) {
-      const auto [ua, ub] = USpanInStrip(edge.a, edge.b, bounds_.lo.v + cv * cell_, bounds_.lo.v + (cv + 1) * cell_);
+      const auto [ua, ub] = USpanInStrip(edge.a, edge.b, StripLow(cv), StripHigh(cv));
       const int u0 = std::max(CellOf(ua, edge.a.v)[0] - 1, 0), u1 = std::min(CellOf(ub, edge.a.v)[0] + 1, nu_ - 1);
       for (int cu = u0; cu <= u1; ++cu) cells[size_t(cv) * nu_ + cu].push_back(e);
+      if (SpansStrip(edge, cv)) spanCrossings_[size_t(cv) * (nu_ + 1) + u1 + 1] += edge.a.v > edge.b.v ? 1 : -1;
+      else ends[size_t(cv)].emplace_back(u0, e);
     }
   }
   cellStart_.push_back(0);
   for (const auto& c : cells) {
     cellEdges_.insert(cellEdges_.end(), c.begin(), c.end());
     cellStart_.push_back(uint32_t(cellEdges_.size()));
+  }
+  rowEndStart_.push_back(0);
+  for (int cv = 0; cv < nv_; ++cv) {
+    std::sort(ends[size_t(cv)].begin(), ends[size_t(cv)].end());
+    rowEnds_.insert(rowEnds_.end(), ends[size_t(cv)].begin(), ends[size_t(cv)].end());
+    rowEndStart_.push_back(uint32_t(rowEnds_.size()));
+    int* row = &spanCrossings_[size_t(cv) * (nu_ + 1)];
+    for (int k = 1; k <= nu_; ++k) row[k] += row[k - 1];
   }
 }
 
@@ -297,22 +309,63 @@ std::vector<uint32_t> SurfaceRegion::EdgesWithin(Point2 x, double radius) const 
   return near;
 }
 
-int SurfaceRegion::CutCrossingsBeyond(Point2 x, double radius) const {
-  const double y = x.v;
-  const int row = CellOf(x.u, y)[1], last = CellOf(x.u, y)[0];
+namespace {
+
+// Where edge a -> b crosses the line v = y (u clamped to the edge's own span against round-off), and how: +1
+// downward (a at or above y, b below), -1 upward, 0 when it does not cross.
+struct LineCrossing {
+  double u = 0;
+  int sign = 0;
+};
+LineCrossing CrossingOf(Point2 a, Point2 b, double y) {
+  const bool aAbove = Offset(a.v, y) >= 0, bAbove = Offset(b.v, y) >= 0;
+  if (aAbove == bAbove) return {};
+  const double t = (y - a.v) / (double(b.v) - a.v);
+  return {std::clamp(a.u + t * (double(b.u) - a.u), double(std::min(a.u, b.u)), double(std::max(a.u, b.u))),
+          aAbove ? 1 : -1};
+}
+
+// Edge a -> b's signed crossing of the ray from x toward -u, or 0.
+int CutCrossing(Point2 a, Point2 b, Point2 x) {
+  const LineCrossing c = CrossingOf(a, b, x.v);
+  return c.u < x.u ? c.sign : 0;
+}
+
+}  // namespace
+
+int SurfaceRegion::CutCrossings(Point2 x) const {
+  if (edges_.empty()) return 0;
+  const auto [last, row] = CellOf(x.u, x.v);
+  if (!(x.v >= StripLow(row) && x.v < StripHigh(row))) return CutCrossingsScanningRow(x);
+  // The spanning edges left of x's cell cross left of x; those listed in its cell are tested; the rest lie right.
+  int crossings = spanCrossings_[size_t(row) * (nu_ + 1) + last];
+  const size_t c = size_t(row) * nu_ + last;
+  for (uint32_t i = cellStart_[c]; i < cellStart_[c + 1]; ++i) {
+    const Edge& e = edges_[cellEdges_[i]];
+    if (SpansStrip(e, row)) crossings += CutCrossing(e.a, e.b, x);
+  }
+  for (uint32_t i = rowEndStart_[row]; i < rowEndStart_[row + 1] && rowEnds_[i].first <= last; ++i) {
+    const Edge& e = edges_[rowEnds_[i].second];
+    crossings += CutCrossing(e.a, e.b, x);
+  }
+  return crossings;
+}
+
+int SurfaceRegion::CutCrossingsBeyond(Point2 x, std::span<const uint32_t> near) const {
+  int crossings = CutCrossings(x);
+  for (uint32_t i : near) crossings -= CutCrossing(edges_[i].a, edges_[i].b, x);
+  return crossings;
+}
+
+int SurfaceRegion::CutCrossingsScanningRow(Point2 x) const {
+  const auto [last, row] = CellOf(x.u, x.v);
   int crossings = 0;
   for (int cu = 0; cu <= last; ++cu) {
     const size_t c = size_t(row) * nu_ + cu;
     for (uint32_t i = cellStart_[c]; i < cellStart_[c + 1]; ++i) {
       const Edge& e = edges_[cellEdges_[i]];
-      const bool aAbove = Offset(e.a.v, y) >= 0, bAbove = Offset(e.b.v, y) >= 0;
-      if (aAbove == bAbove) continue;
-      const double t = (y - e.a.v) / (double(e.b.v) - e.a.v);
-      const double uc = std::clamp(e.a.u + t * (double(e.b.u) - e.a.u), double(std::min(e.a.u, e.b.u)),
-                                   double(std::max(e.a.u, e.b.u)));
-      if (uc >= x.u || CellOf(uc, y)[0] != cu) continue;  // not on the cut, or counted in its own cell
-      if (SegmentDistanceSquared(e.a, e.b, x) < radius * radius) continue;  // a near edge
-      crossings += aAbove ? 1 : -1;
+      const LineCrossing c = CrossingOf(e.a, e.b, x.v);
+      if (c.u < x.u && CellOf(c.u, x.v)[0] == cu) crossings += c.sign;  // counted in its own cell alone
     }
   }
   return crossings;
@@ -322,8 +375,9 @@ int SurfaceRegion::CutCrossingsBeyond(Point2 x, double radius) const {
 // add the angle they subtend over 2 pi. With theta = atan2 about x at each corner, an edge's angle is its turn
 // theta_b - theta_a plus 2 pi for each crossing of atan2's cut (the ray from x toward -u), in the sense it
 // crosses. The turns of all boundary edges add to zero, since every corner is left as often as it is reached;
-// so the far edges' turns are minus the near edges' turns, and their cut crossings are counted along one row of
-// the grid. The cost is that of the edges near x and of one row, however long the boundary is.
+// so the far edges' turns are minus the near edges' turns, and their cut crossings are all the cut's crossings
+// (CutCrossings: one cell and the row's sums) less the near edges'. The cost is that of the edges near x and of
+// the edges that end in x's row, however long the boundary is.
 double SurfaceRegion::KernelMass(Point2 x, Kernel kernel, double h) const {
   const std::vector<uint32_t> near = EdgesWithin(x, h);
   if (near.empty()) return 1.0;
@@ -334,7 +388,7 @@ double SurfaceRegion::KernelMass(Point2 x, Kernel kernel, double h) const {
     mass += EdgeMass(e.a, e.b, x, kernel, h);
     nearTurn += theta(e.b) - theta(e.a);
   }
-  const double farAngle = -nearTurn + kTwoPi * CutCrossingsBeyond(x, h);
+  const double farAngle = -nearTurn + kTwoPi * CutCrossingsBeyond(x, near);
   return std::clamp(mass + farAngle / kTwoPi, 0.0, 1.0);
 }
 
@@ -367,7 +421,7 @@ KernelMomentsAt SurfaceRegion::Moments(Point2 x, Kernel kernel, double h) const 
     for (int k = 0; k < 2; ++k) inside.first[k] += m.first[k];
     for (int k = 0; k < 3; ++k) inside.second[k] += m.second[k];
   }
-  const double angle = nearAngle - nearTurn + kTwoPi * CutCrossingsBeyond(x, h);
+  const double angle = nearAngle - nearTurn + kTwoPi * CutCrossingsBeyond(x, near);
   return {g0 * angle + inside.mass,
           {inside.first[0] - g1 * through[0], inside.first[1] - g1 * through[1]},
           {g2 * (angle / 2 - through[2] / 4) + inside.second[0], g2 * through[3] / 4 + inside.second[1],

@@ -14,10 +14,11 @@
 // integrand d G(t)/(h^2 t^2) is smooth in s and Gauss-Legendre integrates it exactly for polynomial kernels.
 // Interior edges, shared by two triangles, cancel and are dropped; T-junction edges cancel numerically. Edges
 // farther than h from x are not integrated one by one: together they add the angle they subtend, which is found
-// from the near edges and one row of a grid (surface_region.cpp), so a query costs what the edges within h cost,
-// not the whole boundary.
+// from the near edges and the crossings of one ray, read from per-row sums of a grid (surface_region.cpp), so a
+// query costs what the edges within h cost, not the whole boundary.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
@@ -52,7 +53,7 @@ class SurfaceRegion {
   KernelMomentsAt Moments(Point2 x, Kernel kernel, double h) const;
   double OverlapArea(const Bounds2& box) const;
   // Whether x lies in Omega (its winding number about Omega's boundary is positive); either on the boundary.
-  bool Contains(Point2 x) const { return CutCrossingsBeyond(x, 0) > 0; }
+  bool Contains(Point2 x) const { return CutCrossings(x) > 0; }
   // Area on the surface [m^2] of each cell of the nu x nv grid of squares of side `side` from corner `lo`,
   // row-major (v outer); each triangle is clipped only against the cells its bounding box touches.
   std::vector<double> GridOverlapAreas(Point2 lo, float side, int nu, int nv) const;
@@ -68,10 +69,22 @@ class SurfaceRegion {
   };
   // Indices of the boundary edges closer to x than `radius`, each once.
   std::vector<uint32_t> EdgesWithin(Point2 x, double radius) const;
-  // The signed count of boundary edges no closer to x than `radius` that cross the ray from x toward -u: +1 for
-  // each crossing downward (from v >= x.v to v < x.v), -1 for each upward.
-  int CutCrossingsBeyond(Point2 x, double radius) const;
+  // The signed count of boundary edges that cross the ray from x toward -u (the cut): +1 for each crossing
+  // downward (from v >= x.v to v < x.v), -1 for each upward. Its cost is that of one cell and of the edges that
+  // end in x's row of the grid, however many edges span the row.
+  int CutCrossings(Point2 x) const;
+  // The same, for the edges other than `near` (indices of edges_).
+  int CutCrossingsBeyond(Point2 x, std::span<const uint32_t> near) const;
+  // The same over every edge listed in x's row: for a point outside its row's strip (beyond the grid).
+  int CutCrossingsScanningRow(Point2 x) const;
   std::array<int, 2> CellOf(double u, double v) const;
+  double StripLow(int row) const { return bounds_.lo.v + row * cell_; }  // the v range of a row of the grid
+  double StripHigh(int row) const { return bounds_.lo.v + (row + 1) * cell_; }
+  // Whether edge e spans row's strip from below its low side to at or above its high side: it then crosses the cut
+  // of every point in the strip.
+  bool SpansStrip(const Edge& e, int row) const {
+    return std::min(e.a.v, e.b.v) < StripLow(row) && std::max(e.a.v, e.b.v) >= StripHigh(row);
+  }
 
   std::vector<Triangle2> triangles_, holes_;
   std::vector<Edge> edges_;
@@ -82,6 +95,13 @@ class SurfaceRegion {
   double cell_ = 1;
   int nu_ = 1, nv_ = 1;
   std::vector<uint32_t> cellStart_, cellEdges_;
+  // Per row: spanCrossings_[row * (nu_ + 1) + k] is the signed crossing (+1 when a is its upper end) summed over
+  // the edges that span the row's strip and are listed only in cells left of k, which cross left of any point of
+  // cell k; the row's other edges (an end within the strip) are rowEnds_[rowEndStart_[row] ..
+  // rowEndStart_[row + 1]), as (first cell listed, edge), by first cell.
+  std::vector<int> spanCrossings_;
+  std::vector<uint32_t> rowEndStart_;
+  std::vector<std::pair<int, uint32_t>> rowEnds_;
 };
 
 // Area [m^2] of a triangle clipped to an axis-aligned box.
