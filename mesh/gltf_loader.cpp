@@ -138,8 +138,8 @@ class GltfReader {
       if (model_.nodes[size_t(node)].mesh >= 0) AddNode(node, world);
       AddPunctualLight(node, world);
     }
-    if (result_.scene.triangles.empty()) RefuseEmpty();
     builder_.StorePositions(path_);
+    if (result_.scene.triangles.empty()) RefuseEmpty();
     for (auto& [light, world] : lights_) {
       if (light.kind != LightKind::kSun) light.position = result_.scene.ToLocal(world[0], world[1], world[2]);
       result_.scene.analyticLights.push_back(std::move(light));

@@ -72,8 +72,8 @@ class ObjParser {
         options_.progress(reader.Position() - told, reader.Size()), told = reader.Position();
     }
     if (options_.progress) options_.progress(reader.Size() - told, reader.Size());
-    if (result_.scene.triangles.empty()) RefuseEmpty();
     builder_.StorePositions(path_);
+    if (result_.scene.triangles.empty()) RefuseEmpty();
     result_.warnings = warnings_.Lines();
     return std::move(result_);
   }

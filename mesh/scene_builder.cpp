@@ -1,5 +1,7 @@
 #include "mesh/scene_builder.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -61,15 +63,26 @@ void SceneBuilder::StorePositions(const std::string& path) {
     size = std::max(size, hi[k] - lo[k]);
     distance = std::max(distance, std::abs(centre[k]));
   }
+  if (size > kMaxSceneSize)
+    throw InputError(path, 0, fmt::format("the scene is {:.3g} m across, more than the {:.0e} m within which its areas "
+                                          "stay finite in float; bake it with --scale", size, kMaxSceneSize));
   if (distance > size) scene_.origin = centre;
   scene_.positions.reserve(positions_.size());
-  for (const Position& p : positions_) {
-    const Point3 local = scene_.ToLocal(p[0], p[1], p[2]);
-    if (!std::isfinite(local.x) || !std::isfinite(local.y) || !std::isfinite(local.z))
-      throw InputError(path, 0, "the scene spans more than a float can hold (about 3e38 m)");
-    scene_.positions.push_back(local);
-  }
+  for (const Position& p : positions_) scene_.positions.push_back(scene_.ToLocal(p[0], p[1], p[2]));
   kept_.clear();
+  DropTrianglesWithoutAFloatNormal();
+}
+
+// Its corners in float may meet (a triangle of 1e-6 m 1 km from the origin) or its area vector's squared length
+// underflow (below 1e-19 m^2 of area): its normal would be NaN, so it is dropped as zero-area, as in double.
+void SceneBuilder::DropTrianglesWithoutAFloatNormal() {
+  size_t kept = 0;
+  for (size_t t = 0; t < scene_.triangles.size(); ++t) {
+    const float squared = LengthSquared(scene_.AreaVector(uint32_t(t)));
+    if (std::isnormal(squared)) scene_.triangles[kept++] = scene_.triangles[t];
+  }
+  scene_.degenerateTrianglesSkipped += uint32_t(scene_.triangles.size() - kept);
+  scene_.triangles.resize(kept);
 }
 
 }  // namespace pb

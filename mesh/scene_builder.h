@@ -39,9 +39,14 @@ class SceneBuilder {
   // for the message about a later repeat of it.
   Outcome AddTriangle(const Triangle& t, uint32_t tag);
 
-  // Chooses the local origin and stores every position relative to it in float. InputError naming `path` when
-  // the scene spans more than a float holds.
+  // Chooses the local origin and stores every position relative to it in float, then drops the triangles whose
+  // normal float cannot hold (counted as zero-area). InputError naming `path` when the scene spans more than
+  // kMaxSceneSize.
   void StorePositions(const std::string& path);
+
+  // The largest scene [m]: its triangles' area vectors (up to its size squared) keep a finite squared length in
+  // float (about 3e38).
+  static constexpr double kMaxSceneSize = 1e9;
 
  private:
   using Key = std::array<Position, 3>;
@@ -49,6 +54,7 @@ class SceneBuilder {
     size_t operator()(const Key& k) const;
   };
   Key FaceKey(const Triangle& t) const;
+  void DropTrianglesWithoutAFloatNormal();
 
   Scene& scene_;
   std::vector<Position> positions_;

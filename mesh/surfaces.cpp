@@ -241,7 +241,7 @@ SurfaceSet BuildSurfaces(const Scene& scene, const SurfaceOptions& options, cons
     std::vector<uint32_t> group = std::move(pending.front());
     pending.pop_front();
     const uint32_t id = uint32_t(set.surfaces.size());
-    if (IsPlanar(scene, group, options.planarDegrees)) {
+    if (group.size() == 1 || IsPlanar(scene, group, options.planarDegrees)) {  // Split cannot cut one triangle
       Surface s = MakeSurface(scene, std::move(group));
       for (uint32_t t : s.triangles)
         for (int k = 0; k < 3; ++k) set.cornerUv[t][k] = s.chart.ToUv(scene.Corner(t, k));

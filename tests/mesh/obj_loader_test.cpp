@@ -87,6 +87,22 @@ TEST(ObjLoader, SkipsAndCountsZeroAreaTriangles) {
       << loaded.warnings[0];
 }
 
+// Area in double is not enough: the rest of the bake computes normals in float. A triangle of 1e-30 m, or of 1 um
+// a kilometre from the origin (its corners meet in float), has no float normal; it is dropped as zero-area (each
+// hung the surface stage before, splitting one triangle forever). A scene wider than float areas allow is refused.
+TEST(ObjLoader, TrianglesWithoutAFloatNormalAreZeroAreaAndHugeScenesAreRefused) {
+  const std::string far = WriteScene("no-float-normal", kQuad + "v 1000 0 0\nv 1000.000001 0 0\nv 1000 0 0.000001\n"
+                                     "v 0 1e-30 0\nv 1e-30 1e-30 0\nv 0 1e-30 1e-30\nusemtl grey\nf 1 3 2\nf 5 7 6\nf 8 10 9\n");
+  const LoadedScene loaded = LoadObj(far);
+  EXPECT_EQ(loaded.scene.triangles.size(), 1u);
+  EXPECT_EQ(loaded.scene.degenerateTrianglesSkipped, 2u);
+  for (uint32_t t = 0; t < loaded.scene.triangles.size(); ++t) EXPECT_TRUE(std::isfinite(loaded.scene.FrontNormal(t).y));
+  ExpectError(WriteScene("only-tiny", "v 0 0 0\nv 1e-30 0 0\nv 0 0 1e-30\nusemtl grey\nf 1 2 3\n"), 0,
+              "scene has no faces to bake: every face has zero area");
+  ExpectError(WriteScene("huge", "v 1e38 0 0\nv -1e38 0 0\nv 0 0 1e38\nusemtl grey\nf 1 2 3\n"), 0,
+              "the scene is 2e+38 m across, more than the 1e+09 m within which its areas stay finite in float");
+}
+
 TEST(ObjLoader, SkipsRepeatedTrianglesButKeepsBackToBackCopies) {
   // Face 2 repeats face 1 from another corner and through duplicated vertices; face 3 is face 1 turned over.
   const std::string path = WriteScene("repeat", kQuad + "v 0 0 0\nv 1 0 0\nusemtl grey\nf 1 2 3\nf 3 5 6\nf 1 3 2\n");
