@@ -73,8 +73,7 @@ void DefinePhotonOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) 
                                                                   "(--target-noise 0.03), within --max-seconds"
                                                                 : ""))
       ->default_str(sceneDefaults ? "auto" : std::to_string(o.photons));
-  app.add_option("--seed", o.seed, "random seed; any integer. Same seed, same bytes, for any --threads")
-      ->capture_default_str();
+  pb::tools::AddSeedOption(app, o.seed, "random seed, 0 to 2^64 - 1. Same seed, same bytes, for any --threads");
   app.add_option("--effects", o.effectsText,
                  "light transport to simulate: 'auto' (what the scene's materials call for), 'all', or a list such as "
                  "'+caustics,-refraction' (NAME or +NAME forces on, -NAME forbids); names: " +

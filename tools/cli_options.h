@@ -7,6 +7,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include <charconv>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -56,6 +58,26 @@ inline void AddPairOption(CLI::App& app, const std::string& flag, int& a, int& b
           },
           "AxB", "pair"))
       ->default_str(std::to_string(a) + "x" + std::to_string(b));
+}
+
+// A random seed: a whole number in [0, 2^64 - 1], in decimal. CLI11 alone would read -1 and 2^64 alike as 2^64 - 1,
+// so that two seeds the user told apart gave the same bytes.
+inline bool ParseSeed(const std::string& text, uint64_t& seed) {
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(text.data(), end, seed);
+  return !text.empty() && error == std::errc() && stop == end;
+}
+
+inline void AddSeedOption(CLI::App& app, uint64_t& seed, const std::string& help) {
+  app.add_option_function<std::string>("--seed", [&seed](const std::string& text) { ParseSeed(text, seed); }, help)
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            uint64_t value = 0;
+            return ParseSeed(text, value) ? std::string() : "expects a whole number from 0 to 18446744073709551615";
+          },
+          "", "seed"))
+      ->type_name("UINT")
+      ->default_str(std::to_string(seed));
 }
 
 // Parses the command line, checks the options' ranges with `validate` (an InputError there is a bad command line,

@@ -33,8 +33,7 @@ void DefineOptions(CLI::App& app, pb::RenderOptions& o) {
   pb::tools::AddNamedOption(app, "--warp", o.path.warp, pb::ParseWarp, pb::WarpName,
                             pb::JoinNames(pb::kAllWarps, pb::WarpName), "warp",
                             "how a region is drawn: hierarchical mip-map warping, or inversion of the region CDF");
-  app.add_option("--seed", o.seed, "random seed; the same seed gives the same image for any --threads")
-      ->capture_default_str();
+  pb::tools::AddSeedOption(app, o.seed, "random seed, 0 to 2^64 - 1; the same seed gives the same image for any --threads");
   app.add_option("--threads", o.threads, "worker threads; 0 = all cores")->capture_default_str();
   app.add_option("--scale", o.scale, "metres per scene unit")->capture_default_str();
   app.add_option("--exposure", o.exposure, "PNG exposure on radiance; default automatic");

@@ -156,6 +156,11 @@ TEST(BakeCli, BadOptionsFailBeforeAnyWork) {
   EXPECT_NE(where.output.find("/nonexistent/dir/out.ply: error: cannot write here"), std::string::npos);
   const BakeRun missingOutput = RunBake(scene);
   EXPECT_EQ(missingOutput.status, 2);
+  for (const char* seed : {"-1", "18446744073709551616", "0x10"}) {  // CLI11 alone read the first two as 2^64 - 1
+    const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply --seed " + seed);
+    EXPECT_EQ(run.status, 2) << seed;
+    EXPECT_NE(run.output.find("--seed: expects a whole number from 0 to 18446744073709551615"), std::string::npos) << run.output;
+  }
   EXPECT_TRUE(NoOutputIn(dir));
 }
 
