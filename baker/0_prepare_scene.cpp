@@ -41,11 +41,16 @@ std::string UnitsNote(const Scene& scene) {
 
 // Largest flux of one light [W]: float ends at 3.4e38, and fluxes are summed over lights and multiplied by
 // exposures, so a light must leave room below it.
-constexpr double kMaxLightFlux = 1e30;
+// A light below the least flux emits nothing the bake could carry: its photons' power would underflow float.
+constexpr double kMaxLightFlux = 1e30, kMinLightFlux = 1e-30;
 
 void RequireLight(const Scene& scene, const std::vector<Light>& lights) {
   if (lights.empty())
     throw InputError(scene.path, 0, "scene has no light: no face uses a material with Ke > 0, and no light is declared");
+  const auto flux = [](const Light& light) { return double(light.Power().Max()); };
+  if (std::none_of(lights.begin(), lights.end(), [&](const Light& light) { return flux(light) >= kMinLightFlux; }))
+    throw InputError(scene.path, 0, fmt::format("the scene's lights emit nothing: each of its {} emits less than {:.0e} "
+                                                "W (its intensity or Ke times its colour)", lights.size(), kMinLightFlux));
   for (const Light& light : lights) {
     const Rgb power = light.Power();
     const double flux = std::max({power.r, power.g, power.b});

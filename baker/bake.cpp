@@ -147,7 +147,7 @@ std::vector<std::string> UnlitLightWarnings(const PreparedScene& scene, const Ph
     if (!scene.plan.lightReaches[l]) continue;
     const double power = scene.lights[l].Power().Mean();
     total += power;
-    if (photons.emitted[l] > 0) continue;
+    if (photons.emitted[l] > 0 || !(power > 0)) continue;  // a light that emits nothing misses nothing
     unlit.push_back(l), unlitFlux += power, weakest = std::min(weakest, power);
   }
   const std::string missing = sampled ? "interreflected light is missing (the direct light is sampled)" : "light is missing";
@@ -225,6 +225,15 @@ constexpr double kVisibleNoise = 0.02;
 uint64_t TwoDigits(double x) {
   const double unit = std::pow(10.0, std::max(0.0, std::floor(std::log10(std::max(x, 1.0))) - 1));
   return uint64_t(std::ceil(x / unit) * unit);
+}
+
+// Warns when every vertex reads no light: the lights shine only on back sides or along the surfaces (a sun from
+// below the ground, a point light in the plane of the only surface), so the outputs are black.
+std::vector<std::string> DarkBakeWarnings(const BakeOptions& o, const BakedMesh& baked) {
+  if (std::any_of(baked.irradiance.begin(), baked.irradiance.end(), [](Rgb h) { return h.Max() > 0; })) return {};
+  return {fmt::format("{}: warning: every vertex reads 0 W/m^2: no light reached the front side of any surface (a "
+                      "light behind or in the plane of the surfaces, a sun from below); the outputs are black",
+                      o.scenePath)};
 }
 
 // Warns when the bake's noise is visible, naming what would bring it under kVisibleNoise (RemedyForNoise): more
@@ -316,6 +325,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
     journal.Warn(UnlitLightWarnings(scene, rounds.Store(), o.direct.mode == DirectLight::kSampled), log);
     journal.Warn(BandwidthWarnings(field, rounds.Bins(), o), log);
   }
+  journal.Warn(DarkBakeWarnings(o, lit.baked), log);
   journal.Warn(VisibleNoiseWarnings(o, lit, rounds), log);
   const float exposure = DisplayExposure(lit.baked, o.exposure);
 

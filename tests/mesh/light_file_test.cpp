@@ -105,5 +105,32 @@ TEST(LightFile, ASidecarSkyBakesPiLOverAnOpenFloor) {
   EXPECT_NE(clash.output.find("the lights file"), std::string::npos) << clash.output;
 }
 
+// Lights that light nothing are said (issue 39: each gave a black PLY with exit 0, or "raise --photons to at least
+// -nan"): a scene whose every light emits nothing is refused; a dark light beside a bright one is not blamed for
+// missing light; a sun from below an open floor, which reaches no front side, is warned about.
+TEST(LightFile, LightsThatLightNothingAreSaid) {
+  const std::string dir = test::TempDirectory("lights-dark");
+  test::WriteText(dir + "/f.mtl", "newmtl grey\nKd 0.5 0.5 0.5\n");
+  test::WriteText(dir + "/f.obj", "mtllib f.mtl\nusemtl grey\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nf 1 4 3 2\n");
+  const auto bake = [&](const std::string& lights) {
+    test::WriteText(dir + "/l.json", lights);
+    return test::RunTool(PB_BAKE_EXE, dir + "/f.obj --lights " + dir + "/l.json -o " + dir + "/f.ply --photons 10000");
+  };
+  const std::string dark = R"({"type": "point", "position_m": [0, 1, 0], "intensity_W_sr": 1, "color": [0, 0, 0]})";
+  const test::ToolRun none = bake(R"({"lights": [)" + dark + "]}");
+  EXPECT_EQ(none.status, 1);
+  EXPECT_NE(none.output.find("f.obj: error: the scene's lights emit nothing: each of its 1 emits less than 1e-30 W"),
+            std::string::npos) << none.output;
+  const test::ToolRun beside = bake(R"({"lights": [)" + dark + R"(, {"type": "point", "position_m": [0, 1, 0],
+                                    "intensity_W_sr": 1}]})");
+  ASSERT_EQ(beside.status, 0) << beside.output;
+  EXPECT_EQ(beside.output.find("got no photon"), std::string::npos) << beside.output;
+  EXPECT_EQ(beside.output.find("every vertex reads 0"), std::string::npos) << beside.output;
+  const test::ToolRun below = bake(R"({"lights": [{"type": "sun", "direction": [0, 1, 0], "irradiance_W_m2": 100}]})");
+  ASSERT_EQ(below.status, 0) << below.output;
+  EXPECT_NE(below.output.find("f.obj: warning: every vertex reads 0 W/m^2: no light reached the front side"),
+            std::string::npos) << below.output;
+}
+
 }  // namespace
 }  // namespace pb
