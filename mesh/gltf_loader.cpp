@@ -484,10 +484,11 @@ class GltfReader {
     const Rgb base = Colour(pbr.baseColorFactor);
     const double metallic = pbr.metallicFactor, roughness = pbr.roughnessFactor;
     const double transmission = NumberOr(g.extensions, "KHR_materials_transmission", "transmissionFactor", 0);
+    RequireFactors(g, base, where);
     if (transmission > 0) {
       m.kind = MaterialClass::kGlass;
       m.transmittance = base * float(std::min(transmission, 1.0));
-      m.ior = float(NumberOr(g.extensions, "KHR_materials_ior", "ior", 1.5));
+      m.ior = GlassIor(g, where);
       if (roughness > 0.1) Warn("rough glass", where, "rough transmission is baked as smooth glass");
     } else if (metallic > 0 && roughness <= 0.1) {
       m.kind = MaterialClass::kMirror;
@@ -523,6 +524,29 @@ class GltfReader {
     }
     use.material = AppendMaterial(m);
     return use;
+  }
+
+  // The factors glTF bounds, where a value out of bounds would make light: a negative base or emissive colour, a
+  // metallic or roughness factor outside [0, 1] (metallic 2 gives a negative diffuse part).
+  void RequireFactors(const tg::Material& g, Rgb base, const std::string& where) const {
+    const std::string pbr = where + "/pbrMetallicRoughness";
+    if (std::min({base.r, base.g, base.b}) < 0) Fail(pbr + "/baseColorFactor", "must not be negative");
+    for (const auto& [value, name] : {std::pair{g.pbrMetallicRoughness.metallicFactor, "metallicFactor"},
+                                      std::pair{g.pbrMetallicRoughness.roughnessFactor, "roughnessFactor"}})
+      if (!(value >= 0 && value <= 1)) Fail(pbr + "/" + name, fmt::format("{} must lie in [0, 1]", value));
+    for (double e : g.emissiveFactor)
+      if (!(e >= 0)) Fail(where + "/emissiveFactor", "must not be negative");
+    if (!(NumberOr(g.extensions, "KHR_materials_emissive_strength", "emissiveStrength", 1) >= 0))
+      Fail(where + "/extensions/KHR_materials_emissive_strength/emissiveStrength", "must not be negative");
+  }
+
+  // KHR_materials_ior's index, 1.5 when absent; one outside (0, 10], which glass cannot have here (an OBJ's Ni is
+  // refused there), is read as 1.5 with a warning.
+  float GlassIor(const tg::Material& g, const std::string& where) {
+    const double ior = NumberOr(g.extensions, "KHR_materials_ior", "ior", 1.5);
+    if (ior > 0 && ior <= 10) return float(ior);
+    Warn("ior", where + "/extensions/KHR_materials_ior/ior", fmt::format("ior {} is outside (0, 10]: baked as 1.5", ior));
+    return 1.5f;
   }
 
   void WarnIgnored(const tg::Material& g, const std::string& where) {

@@ -193,21 +193,24 @@ TEST(GltfLoader, TextureCoordinatesFollowKhrTextureTransform) {
 }
 
 // What the loader does not read is said, never dropped in silence (issue 39): vertex colours (a vertex-coloured
-// box baked grey), a double-sided light; and Draco-compressed geometry is refused by
+// box baked grey), a double-sided light, a glass ior glass cannot have (read as 1.5); and Draco-compressed geometry is refused by
 // its extension's name, not as "accessor[0] invalid bufferView".
 TEST(GltfLoader, WhatIsNotReadIsSaidByName) {
   const std::string dir = test::TempDirectory("gltf-unread");
   GltfBuilder b;
   b.AddMaterial({{"name", "lamp"}, {"emissiveFactor", {1, 1, 1}}, {"doubleSided", true}});
+  b.AddMaterial({{"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}, {"KHR_materials_ior", {{"ior", 0}}}}}});
   const int positions = b.AddPositions(kSquare);
   b.AddMesh(positions, b.AddIndices(kSquareIndices), 0);
   b.json()["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = positions;  // a VEC3 float accessor
-  b.SetRoots({b.AddNode({{"mesh", 0}})});
+  b.AddMesh(positions, b.AddIndices(kSquareIndices), 1);
+  b.SetRoots({b.AddNode({{"mesh", 0}}), b.AddNode({{"mesh", 1}, {"translation", {0, 1, 0}}})});
   const LoadedScene loaded = LoadGltf(b.WriteGltf(dir, "unread"));
   std::string warnings;
   for (const std::string& w : loaded.warnings) warnings += w + "\n";
   for (const char* said : {"/meshes/0/primitives/0/attributes/COLOR_0: vertex colours are not read",
-                           "/materials/0: doubleSided is not read"})
+                           "/materials/0: doubleSided is not read",
+                           "/materials/1/extensions/KHR_materials_ior/ior: ior 0 is outside (0, 10]: baked as 1.5"})
     EXPECT_NE(warnings.find(said), std::string::npos) << said << "\n" << warnings;
   GltfBuilder draco = SquareMesh();
   draco.json()["extensionsUsed"] = {"KHR_draco_mesh_compression"};  // used, not listed as required
@@ -335,6 +338,21 @@ TEST(GltfLoader, FaultsNameTheJsonPath) {
     b.json()["accessors"][0]["count"] = 4000000000u;
     b.SetRoots({b.AddNode({{"mesh", 0}})});
     ExpectError(b.WriteGlb(dir, "zeros"), "/accessors/0 has no buffer view and 4000000000 elements");
+  }
+  // Factors out of glTF's bounds that would make light (issue 39: each baked, a negative colour into negative flux).
+  for (const auto& [material, fault] :
+       {std::pair{Json{{"pbrMetallicRoughness", {{"baseColorFactor", {-1, 0.5, 0.5, 1}}}}},
+                  "/materials/0/pbrMetallicRoughness/baseColorFactor: must not be negative"},
+        std::pair{Json{{"pbrMetallicRoughness", {{"metallicFactor", 2}}}},
+                  "/materials/0/pbrMetallicRoughness/metallicFactor: 2 must lie in [0, 1]"},
+        std::pair{Json{{"emissiveFactor", {-1, 1, 1}}}, "/materials/0/emissiveFactor: must not be negative"},
+        std::pair{Json{{"emissiveFactor", {1, 1, 1}},
+                       {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", -3}}}}}},
+                  "/materials/0/extensions/KHR_materials_emissive_strength/emissiveStrength: must not be negative"}}) {
+    GltfBuilder b = SquareMesh(0);
+    b.AddMaterial(material);
+    b.SetRoots({b.AddNode({{"mesh", 0}})});
+    ExpectError(b.WriteGltf(dir, "factors"), fault);
   }
   test::WriteText(dir + "/broken.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [");
   ExpectError(dir + "/broken.gltf", "broken.gltf: error: not a glTF 2.0 file that can be read");
