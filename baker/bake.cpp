@@ -227,6 +227,25 @@ uint64_t TwoDigits(double x) {
   return uint64_t(std::ceil(x / unit) * unit);
 }
 
+// Warns when the user's --exposure shows every lit vertex black, or every one white (each channel it has at 255):
+// within its range it can still be far from this scene's light (the automatic exposure says how far).
+std::vector<std::string> ExposureWarnings(const BakeOptions& o, const BakedMesh& baked) {
+  if (!o.exposure) return {};
+  bool black = true, white = true, lit = false;
+  for (size_t v = 0; v < baked.mesh.VertexCount(); ++v) {
+    const Rgb radiance = baked.Radiance(v);
+    if (!(radiance.Max() > 0)) continue;
+    const std::array<uint8_t, 3> shown = ToneMap(radiance, *o.exposure);
+    lit = true;
+    black = black && shown == std::array<uint8_t, 3>{0, 0, 0};
+    const float channels[3] = {radiance.r, radiance.g, radiance.b};
+    for (int c = 0; c < 3; ++c) white = white && (shown[c] == 255 || !(channels[c] > 0));
+  }
+  if (!lit || !(black || white)) return {};
+  return {fmt::format("--exposure {}: warning: the PLY's colours show every lit vertex {}; the automatic exposure "
+                      "would be {:.4g}", *o.exposure, black ? "black" : "white", DisplayExposure(baked, std::nullopt))};
+}
+
 // Warns when every vertex reads no light: the lights shine only on back sides or along the surfaces (a sun from
 // below the ground, a point light in the plane of the only surface), so the outputs are black.
 std::vector<std::string> DarkBakeWarnings(const BakeOptions& o, const BakedMesh& baked) {
@@ -328,6 +347,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   journal.Warn(DarkBakeWarnings(o, lit.baked), log);
   journal.Warn(VisibleNoiseWarnings(o, lit, rounds), log);
   const float exposure = DisplayExposure(lit.baked, o.exposure);
+  journal.Warn(ExposureWarnings(o, lit.baked), log);
 
   MapsWritten maps;
   const double secondsPerPoint = SecondsPerPoint(lit, rounds, clock);  // what a texel or a refined vertex costs

@@ -25,7 +25,8 @@ void RequirePhotons(uint64_t photons, const char* option) {
 void RequireThreads(unsigned threads) { RequireOption(threads <= 1024, "--threads", "must lie in [0, 1024]"); }
 
 void RequireExposure(const std::optional<float>& exposure) {
-  RequireOption(!exposure || (*exposure > 0 && std::isfinite(*exposure)), "--exposure", "must be a finite number > 0");
+  RequireOption(!exposure || Within(*exposure, 1e-30, 1e30), "--exposure",
+                "must lie in [1e-30, 1e30] (the display shows the tone curve of exposure x radiance)");
 }
 
 void RequireLuminousEfficacy(double lumensPerWatt) {

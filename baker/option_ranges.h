@@ -23,7 +23,7 @@ bool Within(double x, double lo, double hi);
 void RequireScale(double metresPerUnit);                       // --scale: [1e-6, 1e6] m per scene unit
 void RequirePhotons(uint64_t photons, const char* option);     // [1, 2^40]
 void RequireThreads(unsigned threads);                         // --threads: [0, 1024], 0 = all cores
-void RequireExposure(const std::optional<float>& exposure);    // --exposure: finite and > 0 when given
+void RequireExposure(const std::optional<float>& exposure);    // --exposure: in [1e-30, 1e30] when given
 void RequireLuminousEfficacy(double lumensPerWatt);            // --luminous-efficacy: [1, 683] lm/W
 void RequireImageSize(int width, int height, const char* option, int most);  // WIDTHxHEIGHT, each in [1, most]
 

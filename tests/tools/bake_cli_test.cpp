@@ -164,6 +164,24 @@ TEST(BakeCli, BadOptionsFailBeforeAnyWork) {
   EXPECT_TRUE(NoOutputIn(dir));
 }
 
+// --exposure has a range, and within it an exposure that shows every lit vertex black or white is warned about
+// (issue 39: --exposure 1e-45 wrote an all-black PLY with exit 0).
+TEST(BakeCli, AnExposureThatShowsNothingIsRefusedOrWarnedAbout) {
+  const std::string dir = test::TempDirectory("cli-exposure");
+  const std::string bake = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 2, 4) + " --photons 20000 -o " + dir + "/out.ply";
+  const BakeRun tiny = RunBake(bake + " --exposure 1e-45");
+  EXPECT_EQ(tiny.status, 2);
+  EXPECT_NE(tiny.output.find("--exposure: error: must lie in [1e-30, 1e30]"), std::string::npos) << tiny.output;
+  for (const auto& [exposure, shown] : {std::pair{"1e-20", "black"}, std::pair{"1e20", "white"}}) {
+    const BakeRun run = RunBake(bake + " --exposure " + exposure);
+    ASSERT_EQ(run.status, 0) << run.output;
+    EXPECT_NE(run.output.find(std::string("warning: the PLY's colours show every lit vertex ") + shown +
+                              "; the automatic exposure would be "), std::string::npos) << run.output;
+  }
+  const BakeRun plain = RunBake(bake + " --exposure 1");
+  EXPECT_EQ(plain.output.find("show every lit vertex"), std::string::npos) << plain.output;
+}
+
 TEST(BakeCli, RefineKeepsTheBudgetAndReportsItsWork) {
   const std::string dir = test::TempDirectory("cli-refine");
   const std::string common = PB_SOURCE_DIR "/data/box/box.obj --photons 200000 --refine -o " + dir + "/out.ply";
