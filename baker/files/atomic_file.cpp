@@ -14,6 +14,8 @@
 #include <filesystem>
 #include <optional>
 #include <streambuf>
+#include <string>
+#include <string_view>
 #include <unordered_map>
 
 #include "mesh/errors.h"
@@ -85,11 +87,17 @@ std::string DirectoryOf(const std::string& path) {
   return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
 }
 
+// A temporary's name: "<output>.tmp-<pid>-<n>", which TemporaryOf reads back.
+constexpr std::string_view kTemporaryMark = ".tmp-";
+std::string TemporaryName(const std::string& path, pid_t pid, uint64_t n) {
+  return path + std::string(kTemporaryMark) + std::to_string(pid) + "-" + std::to_string(n);
+}
+
 // Creates a new temporary file beside `path`; returns its name and descriptor.
 std::pair<std::string, int> CreateTemporary(const std::string& path) {
   static std::atomic<uint64_t> counter{0};
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const std::string name = path + ".tmp-" + std::to_string(getpid()) + "-" + std::to_string(counter++);
+    const std::string name = TemporaryName(path, getpid(), counter++);
     const int fd = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
     if (fd >= 0) return {name, fd};
     if (errno != EEXIST) throw InputError(path, 0, "cannot create output file: " + ErrnoText());
@@ -132,6 +140,9 @@ OutputFiles::~OutputFiles() {
 }
 
 void OutputFiles::MakeDirectory(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::exists(path, error) && !std::filesystem::is_directory(path, error))
+    throw InputError(path, 0, "is not a folder; name a folder to write the maps into");
   std::vector<std::string> missing;  // innermost first
   for (std::filesystem::path p = std::filesystem::path(path).lexically_normal(); !p.empty() && p != p.root_path();
        p = p.parent_path()) {
@@ -187,11 +198,11 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
 
 namespace {
 
-// The pid of a temporary's name "<output>.tmp-<pid>-<n>", with the output's name; nothing for any other name.
+// The output's name and the pid of a temporary's name (TemporaryName); nothing for any other name.
 std::optional<std::pair<std::string, pid_t>> TemporaryOf(const std::string& name) {
-  const size_t mark = name.rfind(".tmp-");
+  const size_t mark = name.rfind(kTemporaryMark);
   if (mark == std::string::npos || mark == 0) return std::nullopt;
-  const std::string rest = name.substr(mark + 5);
+  const std::string rest = name.substr(mark + kTemporaryMark.size());
   const size_t dash = rest.find('-');
   const auto digits = [](const std::string& t) {
     return !t.empty() && t.size() <= 9 && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });

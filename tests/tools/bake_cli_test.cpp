@@ -231,6 +231,12 @@ TEST(BakeCli, MapsFolderIsCreatedAndRemovedAgainOnFailure) {
   const BakeRun notFolder = RunBake(scene + " -o " + dir + "/out3.ply -q --maps " + dir + "/file/maps");
   EXPECT_EQ(notFolder.status, 1) << notFolder.output;
   EXPECT_NE(notFolder.output.find("cannot create the folder"), std::string::npos) << notFolder.output;
+  // --maps naming a file is refused before any work (it failed after the whole bake).
+  const BakeRun file = RunBake(scene + " -o " + dir + "/out4.ply --maps " + dir + "/file");
+  EXPECT_EQ(file.status, 1) << file.output;
+  EXPECT_NE(file.output.find("/file: error: is not a folder"), std::string::npos) << file.output;
+  EXPECT_EQ(file.output.find("trace photons"), std::string::npos) << file.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out4.ply"));
 }
 
 // Every bake reports its predicted noise (issue 23); above 2% it warns, naming what would bring it under 2%, and
