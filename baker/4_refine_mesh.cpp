@@ -350,14 +350,11 @@ HalfEdgeMesh Subdivide(const HalfEdgeMesh& mesh, int levels, const Log& log) {
 }  // namespace
 
 std::vector<std::string> SubdivisionTimeWarnings(size_t triangles, int levels, double secondsPerPoint) {
-  constexpr double kMinute = 60;
   if (levels <= 0) return {};
   // A closed triangle mesh has about half as many vertices as faces; each is estimated once.
-  const double vertices = 0.5 * double(triangles) * std::pow(4.0, levels), seconds = vertices * secondsPerPoint;
-  if (!(seconds > kMinute)) return {};
-  return {fmt::format("--subdivide {}: warning: about {:.3g} vertices to estimate, about {} at the {:.3g} ms a point "
-                      "of the estimate took (progress shows the time left); each level fewer takes a quarter",
-                      levels, vertices, DurationText(seconds), 1e3 * secondsPerPoint)};
+  const double vertices = 0.5 * double(triangles) * std::pow(4.0, levels);
+  return LongWorkWarnings(fmt::format("--subdivide {}", levels), fmt::format("about {:.3g} vertices to estimate", vertices),
+                          vertices, secondsPerPoint, [](double) { return "each level fewer takes a quarter"; });
 }
 
 void CheckSubdivisionMemory(size_t triangles, int levels) {

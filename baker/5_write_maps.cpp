@@ -77,14 +77,11 @@ double MapTexelCount(float texel, const SurfaceRegions& regions) {
 }
 
 std::vector<std::string> MapTimeWarnings(float texel, const SurfaceRegions& regions, double secondsPerPoint) {
-  constexpr double kMinute = 60;
-  const double texels = MapTexelCount(texel, regions), seconds = texels * secondsPerPoint;
-  if (!(seconds > kMinute)) return {};
-  // Texels go as 1 / texel^2: the texel that would take a minute.
-  const double minute = texel * std::sqrt(seconds / kMinute);
-  return {fmt::format("--texel {}: warning: the maps hold {:.3g} texels, about {} at the {:.3g} ms a point of the "
-                      "estimate took; --texel {:.2g} would take about a minute (progress shows the time left)",
-                      texel, texels, DurationText(seconds), 1e3 * secondsPerPoint, minute)};
+  const double texels = MapTexelCount(texel, regions);
+  return LongWorkWarnings(fmt::format("--texel {}", texel), fmt::format("the maps hold {:.3g} texels", texels), texels,
+                          secondsPerPoint, [&](double seconds) {  // texels go as 1 / texel^2
+                            return fmt::format("--texel {:.2g} would take about a minute", texel * std::sqrt(seconds / 60));
+                          });
 }
 
 double MapMemoryBytes(float texel, const SurfaceRegions& regions, unsigned threads) {

@@ -69,9 +69,11 @@ void DefinePhotonOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) 
   app.option_defaults()->group("Photons");
   app.add_option("--photons", o.photons,
                  fmt::format("photons emitted over all lights, split by power (N_i = n Phi_i / Phi); range 1 to 2^40, "
-                             "typical 1e6-1e7{}", sceneDefaults ? "; default: rounds from 1,000,000 until the noise is 3% "
-                                                                  "(--target-noise 0.03), within --max-seconds"
-                                                                : ""))
+                             "typical 1e6-1e7{}",
+                             sceneDefaults ? fmt::format("; default: rounds from {} until the noise is {:g}% "
+                                                         "(--target-noise {:g}), within --max-seconds",
+                                                         o.photons, 100 * pb::kDefaultTargetNoise, pb::kDefaultTargetNoise)
+                                           : ""))
       ->default_str(sceneDefaults ? "auto" : std::to_string(o.photons));
   pb::tools::AddSeedOption(app, o.seed, "random seed, 0 to 2^64 - 1. Same seed, same bytes, for any --threads");
   app.add_option("--effects", o.effectsText,

@@ -90,7 +90,7 @@ bool PhotonRounds::Grow(const HitSink* sink) {
 }
 
 void PhotonRounds::TraceRound() {
-  roundStartElapsed_ = clock_.Elapsed(), roundStartTraced_ = clock_.Seconds("trace"), roundStartBinned_ = clock_.Seconds("bin");
+  roundStart_ = ReadClock();
   const BinningPlan plan = PlanBinning(scene_, options_.estimator, options_.autoBandwidth, photons_);
   if (distribution_ != nullptr) RequireBinningWhileTracing(plan), RequireAllReady(*distribution_);
   std::optional<PhotonBinner> binner;
@@ -112,15 +112,15 @@ void PhotonRounds::TraceRound() {
 RoundState PhotonRounds::StateAfterRound() const {
   const bool sampled = direct_.mode == DirectLight::kSampled;
   const double emitted = double(std::max<uint64_t>(store_.stats.emitted, 1));
-  const double elapsed = clock_.Elapsed(), traced = clock_.Seconds("trace"), binned = clock_.Seconds("bin");
+  const ClockReading now = ReadClock(), start = roundStart_;
   return {.photons = photons_,
           .shadowRays = sampled ? direct_.samples : 0,
           .directNoise = sampled ? direct_.noise : 0,
           .raiseShadowRays = sampled && !direct_.fixedSamples,
-          .elapsed = elapsed,
-          .traceSeconds = traced,
-          .binSeconds = binned - roundStartBinned_,
-          .estimateSeconds = elapsed - roundStartElapsed_ - (traced - roundStartTraced_) - (binned - roundStartBinned_),
+          .elapsed = now.elapsed,
+          .traceSeconds = now.traced,
+          .binSeconds = now.binned - start.binned,
+          .estimateSeconds = now.elapsed - start.elapsed - (now.traced - start.traced) - (now.binned - start.binned),
           .bytesPerPhoton = double(store_.StoredHits() * sizeof(PhotonHit)) / emitted};
 }
 

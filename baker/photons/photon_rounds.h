@@ -77,8 +77,12 @@ class PhotonRounds {
   ProgressiveReport report_;
   uint64_t photons_ = 0;                // the round's count over all lights
   std::vector<float> heldBandwidths_;
-  // The bake's wall, tracing and binning time when the round began [s].
-  double roundStartElapsed_ = 0, roundStartTraced_ = 0, roundStartBinned_ = 0;
+  // The bake's wall, tracing and binning time [s], read together.
+  struct ClockReading {
+    double elapsed = 0, traced = 0, binned = 0;
+  };
+  ClockReading ReadClock() const { return {clock_.Elapsed(), clock_.Seconds("trace"), clock_.Seconds("bin")}; }
+  ClockReading roundStart_;  // when the round began
 };
 
 }  // namespace pb

@@ -71,6 +71,15 @@ std::string DurationText(double seconds) {
   return fmt::format("{} h {:02} min", s / 3600, (s % 3600) / 60);
 }
 
+std::vector<std::string> LongWorkWarnings(const std::string& option, const std::string& what, double points,
+                                          double secondsPerPoint, const std::function<std::string(double)>& remedy) {
+  constexpr double kMinute = 60;
+  const double seconds = points * secondsPerPoint;
+  if (!(seconds > kMinute)) return {};
+  return {fmt::format("{}: warning: {}, about {} at the {:.3g} ms a point of the estimate took (progress shows the "
+                      "time left); {}", option, what, DurationText(seconds), 1e3 * secondsPerPoint, remedy(seconds))};
+}
+
 namespace {
 
 // 1234567 -> "1.23 M".

@@ -21,6 +21,12 @@ namespace pb {
 // "42 s", "3 min 20 s", "2 h 05 min".
 std::string DurationText(double seconds);
 
+// The warning, before it starts, for work an option multiplies when it would take over a minute: "OPTION: warning:
+// WHAT, about T at the X ms a point of the estimate took (progress shows the time left); REMEDY", with `remedy`
+// told the predicted seconds. None within a minute.
+std::vector<std::string> LongWorkWarnings(const std::string& option, const std::string& what, double points,
+                                          double secondsPerPoint, const std::function<std::string(double)>& remedy);
+
 // Info lines go to stderr unless quiet, warnings always; both also to `listener` when given (an application's own
 // log, or a test that acts at a point of the bake), which hears "STAGE: done" too as each Progress ends.
 class Log {
