@@ -15,7 +15,7 @@
 
 #include "mesh/errors.h"
 #include "mesh/gltf_accessor.h"
-#include "mesh/gltf_instancing.h"
+#include "mesh/gltf_hierarchy.h"
 #include "mesh/input_file.h"
 #include "mesh/mtl_loader.h"
 #include "mesh/scene_builder.h"
@@ -134,7 +134,7 @@ class GltfReader {
     PB_CHECK(options_.scale > 0.0f && std::isfinite(options_.scale), "LoadOptions::scale is finite and > 0");
     Parse();
     RequireKnownExtensions();
-    for (const auto& [node, world] : SceneNodes()) {
+    for (const auto& [node, world] : gltf::SceneNodes(model_, path_)) {
       if (model_.nodes[size_t(node)].mesh >= 0) AddNode(node, world);
       AddPunctualLight(node, world);
     }
@@ -203,75 +203,6 @@ class GltfReader {
       if (!KnownExtensions().count(model_.extensionsRequired[i]))
         Fail(fmt::format("/extensionsRequired/{}", i),
              "the file requires extension '" + model_.extensionsRequired[i] + "', which photonbake does not read");
-  }
-
-  // Every node that carries a mesh under the scene's roots, with its world transform. Iterative, so a deep
-  // hierarchy cannot overflow the stack; a node met again on its own path is a cycle. Shared nodes and instances
-  // multiply: a walk past kMaxNodeVisits nodes or kMaxExpandedTriangles triangles is refused before it is built.
-  std::vector<std::pair<int, Matrix>> SceneNodes() const {
-    uint64_t visits = 0, triangles = 0;
-    std::vector<std::pair<int, Matrix>> found;
-    struct Visit {
-      int node;
-      Matrix parent;
-      size_t depth;
-    };
-    std::vector<Visit> stack;
-    const std::vector<int> roots = Roots();
-    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, kIdentity, 0});
-    std::vector<int> path;  // the nodes from the root to the current one
-    while (!stack.empty()) {
-      const Visit v = stack.back();
-      stack.pop_back();
-      path.resize(v.depth);
-      const std::string where = fmt::format("/nodes/{}", v.node);
-      if (v.node < 0 || size_t(v.node) >= model_.nodes.size())
-        Fail(where, fmt::format("node {} does not exist ({} nodes)", v.node, model_.nodes.size()));
-      if (std::find(path.begin(), path.end(), v.node) != path.end()) Fail(where, "the node is its own ancestor");
-      path.push_back(v.node);
-      const tg::Node& n = model_.nodes[size_t(v.node)];
-      if (++visits > gltf::kMaxNodeVisits)
-        Fail(where, fmt::format("the scene's hierarchy visits more than {} nodes (nodes shared by many parents)",
-                                gltf::kMaxNodeVisits));
-      const uint64_t meshTriangles = gltf::MeshTriangles(model_, n.mesh), instances = gltf::InstanceCount(model_, n);
-      if (instances != 0 && meshTriangles > (gltf::kMaxExpandedTriangles - triangles) / instances)
-        Fail(where, fmt::format("the scene expands to more than {} triangles through shared nodes and instances",
-                                gltf::kMaxExpandedTriangles));
-      triangles += meshTriangles * instances;
-      const Matrix world = Multiply(v.parent, LocalMatrix(n, where));
-      if (n.mesh >= 0 || n.extensions.count("KHR_lights_punctual")) found.emplace_back(v.node, world);
-      for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, world, v.depth + 1});
-    }
-    return found;
-  }
-
-  // The default scene's root nodes; with no scene, every node that is no other node's child.
-  std::vector<int> Roots() const {
-    if (!model_.scenes.empty()) {
-      const int s = model_.defaultScene >= 0 ? model_.defaultScene : 0;
-      if (size_t(s) >= model_.scenes.size()) Fail("/scene", fmt::format("scene {} does not exist", s));
-      return model_.scenes[size_t(s)].nodes;
-    }
-    std::vector<bool> child(model_.nodes.size());
-    for (const tg::Node& n : model_.nodes)
-      for (int c : n.children)
-        if (c >= 0 && size_t(c) < child.size()) child[size_t(c)] = true;
-    std::vector<int> roots;
-    for (size_t i = 0; i < child.size(); ++i)
-      if (!child[i]) roots.push_back(int(i));
-    return roots;
-  }
-
-  Matrix LocalMatrix(const tg::Node& n, const std::string& where) const {
-    Matrix m = kIdentity;
-    if (n.matrix.size() == 16) {
-      std::copy(n.matrix.begin(), n.matrix.end(), m.begin());
-    } else {
-      m = FromTrs(n.translation, n.rotation, n.scale);
-    }
-    for (double x : m)
-      if (!std::isfinite(x)) Fail(where, "the node's transform is not finite");
-    return m;
   }
 
   uint32_t ObjectOf(int node) {

@@ -1,4 +1,4 @@
-#include "mesh/gltf_instancing.h"
+#include "mesh/gltf_hierarchy.h"
 
 #include <fmt/format.h>
 
@@ -39,7 +39,77 @@ std::vector<double> Element(const Accessor& a, size_t i, int components, const s
   return values;
 }
 
+[[noreturn]] void Fail(const std::string& file, const std::string& where, const std::string& message) {
+  throw InputError(file, 0, where + ": " + message);
+}
+
+// The default scene's root nodes; with no scene, every node that is no other node's child.
+std::vector<int> Roots(const tg::Model& model, const std::string& file) {
+  if (!model.scenes.empty()) {
+    const int s = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (size_t(s) >= model.scenes.size()) Fail(file, "/scene", fmt::format("scene {} does not exist", s));
+    return model.scenes[size_t(s)].nodes;
+  }
+  std::vector<bool> child(model.nodes.size());
+  for (const tg::Node& n : model.nodes)
+    for (int c : n.children)
+      if (c >= 0 && size_t(c) < child.size()) child[size_t(c)] = true;
+  std::vector<int> roots;
+  for (size_t i = 0; i < child.size(); ++i)
+    if (!child[i]) roots.push_back(int(i));
+  return roots;
+}
+
+Matrix LocalMatrix(const tg::Node& n, const std::string& file, const std::string& where) {
+  Matrix m = kIdentity;
+  if (n.matrix.size() == 16) {
+    std::copy(n.matrix.begin(), n.matrix.end(), m.begin());
+  } else {
+    m = FromTrs(n.translation, n.rotation, n.scale);
+  }
+  for (double x : m)
+    if (!std::isfinite(x)) Fail(file, where, "the node's transform is not finite");
+  return m;
+}
+
 }  // namespace
+
+std::vector<std::pair<int, Matrix>> SceneNodes(const tg::Model& model, const std::string& file) {
+  uint64_t visits = 0, triangles = 0;
+  std::vector<std::pair<int, Matrix>> found;
+  struct Visit {
+    int node;
+    Matrix parent;
+    size_t depth;
+  };
+  std::vector<Visit> stack;
+  const std::vector<int> roots = Roots(model, file);
+  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, kIdentity, 0});
+  std::vector<int> path;  // the nodes from the root to the current one
+  while (!stack.empty()) {
+    const Visit v = stack.back();
+    stack.pop_back();
+    path.resize(v.depth);
+    const std::string where = fmt::format("/nodes/{}", v.node);
+    if (v.node < 0 || size_t(v.node) >= model.nodes.size())
+      Fail(file, where, fmt::format("node {} does not exist ({} nodes)", v.node, model.nodes.size()));
+    if (std::find(path.begin(), path.end(), v.node) != path.end()) Fail(file, where, "the node is its own ancestor");
+    path.push_back(v.node);
+    const tg::Node& n = model.nodes[size_t(v.node)];
+    if (++visits > kMaxNodeVisits)
+      Fail(file, where, fmt::format("the scene's hierarchy visits more than {} nodes (nodes shared by many parents)",
+                                    kMaxNodeVisits));
+    const uint64_t meshTriangles = MeshTriangles(model, n.mesh), instances = InstanceCount(model, n);
+    if (instances != 0 && meshTriangles > (kMaxExpandedTriangles - triangles) / instances)
+      Fail(file, where, fmt::format("the scene expands to more than {} triangles through shared nodes and instances",
+                                    kMaxExpandedTriangles));
+    triangles += meshTriangles * instances;
+    const Matrix world = Multiply(v.parent, LocalMatrix(n, file, where));
+    if (n.mesh >= 0 || n.extensions.count("KHR_lights_punctual")) found.emplace_back(v.node, world);
+    for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, world, v.depth + 1});
+  }
+  return found;
+}
 
 uint64_t InstanceCount(const tg::Model& model, const tg::Node& n) {
   if (!n.extensions.count(kInstancing)) return 1;
