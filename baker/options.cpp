@@ -46,44 +46,76 @@ std::string QualityNames() { return "draft, medium, high, production"; }
 std::string DirectLightName(DirectLight mode) { return mode == DirectLight::kSampled ? "sampled" : "photons"; }
 std::string DirectLightNames() { return "photons, sampled"; }
 
-void BakeOptions::Validate() const {
-  // Lengths far outside these lose the estimate to float precision (h^2 under- or overflows against the scene).
-  RequireOption(Within(estimator.bandwidth, kMinOptionLength, 1e4), "--h", "must be a length in [1e-6, 1e4] m");
-  RequireOption(estimator.neighbours >= 2 && estimator.neighbours <= 1'000'000, "--k", "must lie in [2, 1000000]");
-  RequirePhotons(photons, "--photons");
-  RequireThreads(threads);
-  RequireScale(scale);
-  RequireOption(direct.samples >= 1 && direct.samples <= 1'000'000, "--direct-samples", "must lie in [1, 1000000]");
-  RequireOption(direct.noise == 0 || (direct.noise >= 1e-4 && direct.noise <= 1), "--direct-noise",
-                "must be 0 (off) or lie in [0.0001, 1]");
-  RequireOption(gaps.paths <= 1'000'000, "--gap-paths", "must lie in [0, 1000000] paths per point");
-  RequireOption(gaps.noise == 0 || (gaps.noise >= 1e-4 && gaps.noise <= 1), "--gap-noise",
-                "must be 0 (off) or lie in [0.0001, 1]");
-  RequireOption(gaps.smallArea >= 0 && gaps.smallArea <= 1000, "--gap-small-area", "must lie in [0, 1000] h^2");
-  RequireOption(referencePaths <= 10'000'000, "--reference", "must lie in [0, 10000000] paths per point");
-  RequireOption(referencePaths == 0 || (resumePath.empty() && savePhotonsPath.empty() && !targetNoise), "--reference",
-                "traces no photons, so it cannot be combined with --resume, --save-photons or --target-noise");
-  RequireOption(maxBounces <= kDefaultMaxBounces, "--max-bounces",
-                fmt::format("must lie in [0, {}]", kDefaultMaxBounces));
-  RequireExposure(exposure);
-  RequireOption(Within(texel, kMinOptionLength, 1e4), "--texel", "must be a length in [1e-6, 1e4] m");
-  RequireImageSize(previewWidth, previewHeight, "--preview-size", 8192);
-  RequireOption(cameraPath.empty() || !previewPath.empty(), "--camera",
-                "is the --preview's camera; give --preview too");
-  RequireOption(refine.tolerance > 0 && refine.tolerance < 1, "--tolerance", "must lie in (0, 1)");
-  RequireOption(refine.subdivide >= 0 && refine.subdivide <= 8, "--subdivide", "must lie in [0, 8]");
-  RequireOption(refine.maxVertices >= 3 && refine.maxVertices <= 1'000'000'000, "--max-vertices",
-                "must lie in [3, 1e9]");
-  RequireOption(!targetNoise || (*targetNoise > 0 && *targetNoise < 1), "--target-noise", "must lie in (0, 1)");
-  RequireOption(!targetNoise || maxPhotons >= photons, "--max-photons",
+void DirectSettings::Validate() const {
+  RequireOption(samples >= 1 && samples <= 1'000'000, "--direct-samples", "must lie in [1, 1000000]");
+  RequireOption(noise == 0 || (noise >= 1e-4 && noise <= 1), "--direct-noise", "must be 0 (off) or lie in [0.0001, 1]");
+}
+
+void GapSettings::Validate() const {
+  RequireOption(paths <= 1'000'000, "--gap-paths", "must lie in [0, 1000000] paths per point");
+  RequireOption(noise == 0 || (noise >= 1e-4 && noise <= 1), "--gap-noise", "must be 0 (off) or lie in [0.0001, 1]");
+  RequireOption(smallArea >= 0 && smallArea <= 1000, "--gap-small-area", "must lie in [0, 1000] h^2");
+}
+
+void RefineSettings::Validate() const {
+  RequireOption(tolerance > 0 && tolerance < 1, "--tolerance", "must lie in (0, 1)");
+  RequireOption(subdivide >= 0 && subdivide <= 8, "--subdivide", "must lie in [0, 8]");
+  RequireOption(maxVertices >= 3 && maxVertices <= 1'000'000'000, "--max-vertices", "must lie in [3, 1e9]");
+}
+
+namespace {
+
+void ValidateScene(const BakeOptions& o) {
+  RequireScale(o.scale);
+  RequireLuminousEfficacy(o.luminousEfficacy);
+  ParseEffectOverrides(o.effectsText);
+}
+
+void ValidatePhotons(const BakeOptions& o) {
+  RequirePhotons(o.photons, "--photons");
+  RequireThreads(o.threads);
+  RequireOption(o.maxBounces <= kDefaultMaxBounces, "--max-bounces", fmt::format("must lie in [0, {}]", kDefaultMaxBounces));
+  RequireOption(o.referencePaths <= 10'000'000, "--reference", "must lie in [0, 10000000] paths per point");
+  RequireOption(o.referencePaths == 0 || (o.resumePath.empty() && o.savePhotonsPath.empty() && !o.targetNoise),
+                "--reference", "traces no photons, so it cannot be combined with --resume, --save-photons or --target-noise");
+}
+
+// Lengths far outside these lose the estimate to float precision (h^2 under- or overflows against the scene).
+void ValidateEstimator(const EstimatorSettings& e) {
+  RequireOption(Within(e.bandwidth, kMinOptionLength, 1e4), "--h", "must be a length in [1e-6, 1e4] m");
+  RequireOption(e.neighbours >= 2 && e.neighbours <= 1'000'000, "--k", "must lie in [2, 1000000]");
+}
+
+void ValidateRounds(const BakeOptions& o) {
+  RequireOption(!o.targetNoise || (*o.targetNoise > 0 && *o.targetNoise < 1), "--target-noise", "must lie in (0, 1)");
+  RequireOption(!o.targetNoise || o.maxPhotons >= o.photons, "--max-photons",
                 "must be at least --photons, the first round of --target-noise");
-  RequireOption(maxPhotons <= kMostPhotons, "--max-photons", "must be at most 2^40");
-  RequireOption(Within(maxSeconds, 1, 1e7), "--max-seconds", "must lie in [1, 1e7] seconds");
-  RequireOption(maxRounds <= 1000, "--max-rounds", "must lie in [0, 1000]");
-  if (targetNoise) RequireReachableNoise(estimator, *targetNoise);
-  RequireLuminousEfficacy(luminousEfficacy);
-  RequireOption(!asciiPly || !HasGltfExtension(outputPath), "--ascii", "writes ASCII PLY; -o names a glTF file");
-  ParseEffectOverrides(effectsText);
+  RequireOption(o.maxPhotons <= kMostPhotons, "--max-photons", "must be at most 2^40");
+  RequireOption(Within(o.maxSeconds, 1, 1e7), "--max-seconds", "must lie in [1, 1e7] seconds");
+  RequireOption(o.maxRounds <= 1000, "--max-rounds", "must lie in [0, 1000]");
+  if (o.targetNoise) RequireReachableNoise(o.estimator, *o.targetNoise);
+}
+
+void ValidateOutputOptions(const BakeOptions& o) {
+  RequireExposure(o.exposure);
+  RequireOption(Within(o.texel, kMinOptionLength, 1e4), "--texel", "must be a length in [1e-6, 1e4] m");
+  RequireImageSize(o.previewWidth, o.previewHeight, "--preview-size", 8192);
+  RequireOption(o.cameraPath.empty() || !o.previewPath.empty(), "--camera", "is the --preview's camera; give --preview too");
+  RequireOption(!o.asciiPly || !HasGltfExtension(o.outputPath), "--ascii", "writes ASCII PLY; -o names a glTF file");
+}
+
+}  // namespace
+
+// Each stage's settings checked beside them, in the pipeline's order.
+void BakeOptions::Validate() const {
+  ValidateScene(*this);
+  ValidatePhotons(*this);
+  ValidateEstimator(estimator);
+  direct.Validate();
+  gaps.Validate();
+  ValidateRounds(*this);
+  refine.Validate();
+  ValidateOutputOptions(*this);
 }
 
 void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given) {

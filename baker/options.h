@@ -36,6 +36,7 @@ struct DirectSettings {
   // --direct-samples or --direct-noise given: the rounds of --target-noise keep the shadow rays as they are
   // (otherwise they raise them where the points' own noise holds the bake's; baker/photons/progressive.h).
   bool fixedSamples = false;
+  void Validate() const;  // the ranges above; an InputError naming the option
 };
 
 // Gathering in narrow gaps, with --direct sampled (baker/3_gap_gather.h).
@@ -46,6 +47,7 @@ struct GapSettings {
   float facing = 0.3f;   // the fraction of them that must meet a near parallel surface
   float reach = 0.5f;    // how near, as a fraction of the point's h
   float smallArea = 0;   // a surface of area below smallArea h^2 is gathered everywhere, and never read
+  void Validate() const;  // --gap-paths, --gap-noise, --gap-small-area; an InputError naming the option
 };
 
 // --quality: photons, h and shadow rays per point together, chosen from the box's measured error against time
@@ -72,6 +74,7 @@ struct RefineSettings {
   // Edges are not cut below this fraction of their surface's h [m]: the estimate is smooth at scale h.
   float minimumEdgeFraction = 0.125f;
   bool Enabled() const { return adaptive || subdivide > 0; }
+  void Validate() const;  // the ranges above; an InputError naming the option
 };
 
 struct BakeOptions {
