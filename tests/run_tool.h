@@ -13,4 +13,9 @@ struct ToolRun {
 // `arguments` is passed through the shell, so quote paths with spaces.
 ToolRun RunTool(const std::string& executable, const std::string& arguments);
 
+#ifdef PB_BAKE_EXE
+// The bake command with `arguments`.
+inline ToolRun RunBake(const std::string& arguments) { return RunTool(PB_BAKE_EXE, arguments); }
+#endif
+
 }  // namespace pb::test

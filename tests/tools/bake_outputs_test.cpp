@@ -1,0 +1,179 @@
+// The bake's outputs as a user's files meet them: Ctrl-C finishes the batch in flight and writes valid outputs; a
+// bake killed while it writes, or one that fails late, replaces no earlier output and leaves no temporary; outputs
+// that collide with each other or an input are refused before any work; a planted symlink is never followed
+// (docs/bake.md, "Outputs are one transaction"). The command line's other contracts are in bake_cli_test.cpp.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "baker/files/atomic_file.h"
+#include "tests/ply_reader.h"
+#include "tests/run_tool.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+using BakeRun = test::ToolRun;
+using test::RunBake;
+
+// ---- progressive bakes as a user runs them (tests/baker/progressive_test.cpp tests the library) ----
+
+// A lamp 50 m above a 4 x 4 m floor: 99.8% of photons escape, so hundreds of millions of them are cheap in memory.
+std::string WriteFarLamp(const std::string& dir) {
+  return test::WriteFloorWithLamps(dir, 0.5f, 1.0f, {{-0.5f, 0.5f, -0.5f, 0.5f, 50.0f}});
+}
+
+TEST(BakeCli, CtrlCFinishesTheBatchAndWritesValidOutputs) {
+  const std::string dir = test::TempDirectory("cli-ctrl-c");
+  const std::string scene = WriteFarLamp(dir);
+  const std::string bake = std::string(PB_BAKE_EXE) + " " + scene + " -o " + dir + "/out.ply --photons 400000000 "
+                           "--save-photons " + dir + "/s.photons --report " + dir + "/r.json";
+  // 400M photons take about half a minute; Ctrl-C comes after one second.
+  const BakeRun run = test::RunTool("sh -c '" + bake + " & p=$!; sleep 1; kill -INT $p; wait $p'", "");
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("interrupted: tracing stopped after"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("INTERRUPTED"), std::string::npos) << "the summary says so";
+  const nlohmann::json report = nlohmann::json::parse(test::ReadBytes(dir + "/r.json"));
+  EXPECT_TRUE(report.at("progressive").at("interrupted").get<bool>());
+  const uint64_t emitted = report.at("photons").at("emitted").get<uint64_t>();
+  EXPECT_GT(emitted, 0u);
+  EXPECT_LT(emitted, 400'000'000u);
+  EXPECT_GT(test::ReadPly(dir + "/out.ply").VertexCount(), 0u);
+  // The photon file is valid: it resumes, and the resumed bake holds at least the photons it had.
+  const BakeRun resumed = RunBake(scene + " -o " + dir + "/more.ply --photons 1000000 --resume " + dir +
+                                  "/s.photons --report " + dir + "/more.json");
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  const nlohmann::json more = nlohmann::json::parse(test::ReadBytes(dir + "/more.json"));
+  EXPECT_EQ(more.at("progressive").at("resumed_photons").get<uint64_t>(), emitted);
+  EXPECT_GE(more.at("photons").at("emitted").get<uint64_t>(), emitted);
+}
+
+TEST(BakeCli, ABakeKilledWhileWritingPhotonsLeavesThePreviousFileIntact) {
+  const std::string dir = test::TempDirectory("cli-killed-write");
+  const std::string common = PB_SOURCE_DIR "/data/box/box.obj -q -o " + dir + "/out.ply --save-photons " + dir + "/s.photons";
+  ASSERT_EQ(RunBake(common + " --photons 20000").status, 0);
+  const std::string before = test::ReadBytes(dir + "/s.photons");
+  // A file size limit of 1 MB kills the second bake (SIGXFSZ) part-way through its 35 MB photon file.
+  const BakeRun killed = test::RunTool("sh -c 'ulimit -f 2048; " + std::string(PB_BAKE_EXE) + " " + common +
+                                       " --photons 1000000'", "");
+  EXPECT_NE(killed.status, 0);
+  EXPECT_TRUE(test::ReadBytes(dir + "/s.photons") == before) << "the previous photon file changed";
+  EXPECT_EQ(RunBake(PB_SOURCE_DIR "/data/box/box.obj -q -o " + dir + "/again.ply --resume " + dir + "/s.photons").status, 0);
+}
+
+bool NoTemporariesIn(const std::string& dir) {
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.path().filename().string().find(".tmp-") != std::string::npos) return false;
+  return true;
+}
+
+// All outputs are one transaction: a bake whose PLY cannot be written (a 1 MB file-size limit, with SIGXFSZ
+// ignored so that write() fails with EFBIG) after its photon file and maps were complete replaces none of them.
+TEST(BakeCli, ALateFailureReplacesNoOutput) {
+  const std::string dir = test::TempDirectory("cli-transaction");
+  std::filesystem::create_directories(dir + "/maps");
+  const std::string common = PB_SOURCE_DIR "/data/box/box.obj -q -o " + dir + "/out.ply --save-photons " + dir +
+                             "/s.photons --report " + dir + "/r.json --maps " + dir + "/maps --texel 0.1";
+  ASSERT_EQ(RunBake(common + " --photons 2000").status, 0);
+  const std::vector<std::string> files = {"/out.ply", "/s.photons", "/r.json", "/maps/surface_0.exr"};
+  std::vector<std::string> before;
+  for (const std::string& f : files) before.push_back(test::ReadBytes(dir + f));
+  // 3000 photons make a photon file of about 0.2 MB; three levels of subdivision a PLY of about 7 MB.
+  const BakeRun failed = test::RunTool("bash -c \"trap '' XFSZ; ulimit -f 1024; exec " + std::string(PB_BAKE_EXE) +
+                                       " " + common + " --photons 3000 --subdivide 3\"", "");
+  EXPECT_EQ(failed.status, 1) << failed.output;
+  EXPECT_NE(failed.output.find("out.ply: error: write failed"), std::string::npos) << failed.output;
+  for (size_t i = 0; i < files.size(); ++i)
+    EXPECT_TRUE(test::ReadBytes(dir + files[i]) == before[i]) << files[i] << " was replaced by a failed bake";
+  EXPECT_TRUE(NoTemporariesIn(dir) && NoTemporariesIn(dir + "/maps")) << "a failed bake left temporary files";
+}
+
+// Outputs that collide with each other or with an input, a directory as -o, and a device as an output are
+// refused before any work, and nothing is written.
+TEST(BakeCli, CollidingOrNonRegularOutputsAreRefusedAtOnce) {
+  const std::string dir = test::TempDirectory("cli-collisions");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 4, 8);
+  const std::string sceneBytes = test::ReadBytes(scene);
+  ASSERT_EQ(RunBake(scene + " -q -o " + dir + "/keep.ply --photons 1000 --save-photons " + dir + "/s.photons").status, 0);
+  const std::string keepBytes = test::ReadBytes(dir + "/keep.ply");
+  struct Case {
+    std::string arguments, expected;
+  };
+  const std::vector<Case> cases = {
+      {"-o " + scene, "-o would overwrite the input the scene"},
+      {"-o " + dir + "/x.ply --report " + dir + "/x.ply", "--report and -o name the same file"},
+      {"-o " + dir + "/keep.ply --save-photons " + dir + "/./keep.ply", "--save-photons and -o name the same file"},
+      {"-o " + dir + "/y.ply --report " + dir + "/s.photons --resume " + dir + "/s.photons",
+       "--report would overwrite the input --resume"},
+      {"-o " + dir, "is a directory"},
+      {"-o " + dir + "/", "is a directory"},
+      {"-o /dev/null", "is not a regular file"},
+  };
+  for (const Case& c : cases) {
+    const BakeRun run = RunBake(scene + " --photons 400000000 " + c.arguments);
+    EXPECT_EQ(run.status, 1) << c.arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find(c.expected), std::string::npos) << c.arguments << "\n" << run.output;
+  }
+  EXPECT_TRUE(test::ReadBytes(scene) == sceneBytes);
+  EXPECT_TRUE(test::ReadBytes(dir + "/keep.ply") == keepBytes);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.ply"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/y.ply"));
+  // --save-photons may name the --resume file: the photons are read before the new file is written.
+  EXPECT_EQ(RunBake(scene + " -q -o " + dir + "/z.ply --photons 2000 --resume " + dir + "/s.photons --save-photons " +
+                    dir + "/s.photons").status, 0);
+  // The scene's material library and textures are inputs too: refused once the scene is loaded, before tracing.
+  const std::string texture = test::AddTexture(dir + "/scene.mtl");
+  const std::string mtlBytes = test::ReadBytes(dir + "/scene.mtl"), textureBytes = test::ReadBytes(texture);
+  for (const Case& c : std::vector<Case>{{"-o " + dir + "/scene.mtl", "-o would overwrite the input the material library"},
+                                         {"-o " + dir + "/o.ply --report " + texture, "--report would overwrite the input the texture"}}) {
+    const BakeRun run = RunBake(scene + " --photons 400000000 " + c.arguments);
+    EXPECT_EQ(run.status, 1) << c.arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find(c.expected), std::string::npos) << c.arguments << "\n" << run.output;
+  }
+  EXPECT_TRUE(test::ReadBytes(dir + "/scene.mtl") == mtlBytes && test::ReadBytes(texture) == textureBytes);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/o.ply"));
+  // So are the --maps files, once the surfaces are known: -o maps/surface_0.exr --maps maps was accepted, and the
+  // map and the PLY were written over each other (issue 39).
+  ASSERT_EQ(RunBake(scene + " -q -o " + dir + "/m.ply --photons 2000 --maps " + dir + "/maps").status, 0);
+  const std::string mapBytes = test::ReadBytes(dir + "/maps/surface_0.exr");
+  for (const Case& c : std::vector<Case>{{"-o " + dir + "/maps/surface_0.exr --maps " + dir + "/maps", "--maps and -o name the same file"},
+                                         {"-o " + dir + "/o.ply --report " + dir + "/maps/./surface_1.exr --maps " + dir + "/maps",
+                                          "--maps and --report name the same file"}}) {
+    const BakeRun run = RunBake(scene + " --photons 400000000 " + c.arguments);
+    EXPECT_EQ(run.status, 1) << c.arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find(c.expected), std::string::npos) << c.arguments << "\n" << run.output;
+  }
+  EXPECT_TRUE(test::ReadBytes(dir + "/maps/surface_0.exr") == mapBytes);
+  EXPECT_TRUE(NoTemporariesIn(dir + "/maps"));
+}
+
+// A planted symlink at a temporary file's name is never followed: the temporary is created with O_EXCL |
+// O_NOFOLLOW, so the bake takes another name and the symlink's target is untouched.
+TEST(BakeCli, APlantedSymlinkIsNotFollowed) {
+  const std::string dir = test::TempDirectory("cli-symlink");
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 4, 8);
+  test::WriteText(dir + "/victim", "precious");
+  OutputFiles outputs;
+  // The temporary names a fresh process tries first for out.ply: "<path>.tmp-<pid>-<n>" for n = 0, 1, ... (ctest
+  // runs each test in a process of its own).
+  for (int n = 0; n < 50; ++n)
+    std::filesystem::create_symlink(dir + "/victim", dir + "/out.ply.tmp-" + std::to_string(getpid()) + "-" + std::to_string(n));
+  outputs.Write(dir + "/out.ply", [](std::ostream& out) { out << "new"; });
+  outputs.Commit();
+  EXPECT_EQ(test::ReadBytes(dir + "/victim"), "precious");
+  EXPECT_EQ(test::ReadBytes(dir + "/out.ply"), "new");
+}
+
+}  // namespace
+}  // namespace pb
