@@ -242,7 +242,7 @@ std::vector<std::string> ExposureWarnings(const BakeOptions& o, const BakedMesh&
     for (int c = 0; c < 3; ++c) white = white && (shown[c] == 255 || !(channels[c] > 0));
   }
   if (!lit || !(black || white)) return {};
-  return {fmt::format("--exposure {}: warning: the PLY's colours show every lit vertex {}; the automatic exposure "
+  return {fmt::format("--exposure {}: warning: the display colours show every lit vertex {}; the automatic exposure "
                       "would be {:.4g}", *o.exposure, black ? "black" : "white", DisplayExposure(baked, std::nullopt))};
 }
 
@@ -310,6 +310,19 @@ Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const Bak
   return lit;
 }
 
+// What the estimated light warns about: with photons, lights that got none and bandwidths below the photons'
+// spacing; then a bake that reads 0 everywhere, noise that shows, and an --exposure that shows nothing.
+void WarnAboutTheLight(Journal& journal, const BakeOptions& o, const PreparedScene& scene, const PhotonRounds& rounds,
+                       const Lit& lit, const Log& log) {
+  if (o.referencePaths == 0) {
+    journal.Warn(UnlitLightWarnings(scene, rounds.Store(), o.direct.mode == DirectLight::kSampled), log);
+    journal.Warn(BandwidthWarnings(*lit.field, rounds.Bins(), o), log);
+  }
+  journal.Warn(DarkBakeWarnings(o, lit.baked), log);
+  journal.Warn(VisibleNoiseWarnings(o, lit, rounds), log);
+  journal.Warn(ExposureWarnings(o, lit.baked), log);
+}
+
 // The scene as the options describe it. Covered parts are found on a lattice of spacing h / 2, at most 1/175 of
 // the scene's diagonal (10 mm on the box, whose 1.74 m includes the light behind the camera), so that a block's
 // corner is kept past the vertices of a mesh finer than h, and the lattice scales with the scene
@@ -340,14 +353,8 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   PhotonRounds rounds(scene, o, distribution, clock, log);
   Lit lit = TraceAndEstimate(rounds, scene, o, outputs, distribution, clock, log);
   const IrradianceField& field = *lit.field;
-  if (o.referencePaths == 0) {  // warnings about the photons
-    journal.Warn(UnlitLightWarnings(scene, rounds.Store(), o.direct.mode == DirectLight::kSampled), log);
-    journal.Warn(BandwidthWarnings(field, rounds.Bins(), o), log);
-  }
-  journal.Warn(DarkBakeWarnings(o, lit.baked), log);
-  journal.Warn(VisibleNoiseWarnings(o, lit, rounds), log);
+  WarnAboutTheLight(journal, o, scene, rounds, lit, log);
   const float exposure = DisplayExposure(lit.baked, o.exposure);
-  journal.Warn(ExposureWarnings(o, lit.baked), log);
 
   MapsWritten maps;
   const double secondsPerPoint = SecondsPerPoint(lit, rounds, clock);  // what a texel or a refined vertex costs

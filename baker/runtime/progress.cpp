@@ -52,12 +52,17 @@ void Progress::Advance(uint64_t done) {
   Draw(now, false);
 }
 
+namespace {
+
+constexpr double kLongWork = 60;  // [s]: work that would take longer is foretold
+
+}  // namespace
+
 void Progress::ForetellLength(uint64_t done, std::chrono::steady_clock::time_point now) {
-  constexpr double kMinute = 60;
   const double seconds = std::chrono::duration<double>(now - start_).count();
   if (foretold_ || seconds < 1 || done == 0 || done >= total_) return;
   const double all = seconds * double(total_) / double(done);
-  if (all <= kMinute) return;
+  if (all <= kLongWork) return;
   foretold_ = true;
   if (log_.Interactive()) fmt::print(stderr, "\n");  // below the progress line being drawn
   log_.Warning(fmt::format("{}: warning: about {} in all at the rate of its first {:.1f} s ({} of {}); the time left "
@@ -73,9 +78,8 @@ std::string DurationText(double seconds) {
 
 std::vector<std::string> LongWorkWarnings(const std::string& option, const std::string& what, double points,
                                           double secondsPerPoint, const std::function<std::string(double)>& remedy) {
-  constexpr double kMinute = 60;
   const double seconds = points * secondsPerPoint;
-  if (!(seconds > kMinute)) return {};
+  if (!(seconds > kLongWork)) return {};
   return {fmt::format("{}: warning: {}, about {} at the {:.3g} ms a point of the estimate took (progress shows the "
                       "time left); {}", option, what, DurationText(seconds), 1e3 * secondsPerPoint, remedy(seconds))};
 }

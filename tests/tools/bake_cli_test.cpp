@@ -175,7 +175,7 @@ TEST(BakeCli, AnExposureThatShowsNothingIsRefusedOrWarnedAbout) {
   for (const auto& [exposure, shown] : {std::pair{"1e-20", "black"}, std::pair{"1e20", "white"}}) {
     const BakeRun run = RunBake(bake + " --exposure " + exposure);
     ASSERT_EQ(run.status, 0) << run.output;
-    EXPECT_NE(run.output.find(std::string("warning: the PLY's colours show every lit vertex ") + shown +
+    EXPECT_NE(run.output.find(std::string("warning: the display colours show every lit vertex ") + shown +
                               "; the automatic exposure would be "), std::string::npos) << run.output;
   }
   const BakeRun plain = RunBake(bake + " --exposure 1");
