@@ -8,6 +8,7 @@
 
 #include "estimators/emission.h"
 #include "estimators/scatter.h"
+#include "estimators/surface_hit.h"
 #include "estimators/rng.h"
 #include "baker/runtime/interrupt.h"
 #include "mesh/errors.h"
@@ -47,22 +48,18 @@ class PhotonTracer {
     for (uint32_t bounce = 0; bounce <= maxBounces_; ++bounce) {
       const auto hit = rays_.Intersect(origin, direction);
       if (!hit) return Escape(attenuation, block.stats);
-      const Normal3 front = scene_.FrontNormal(hit->triangle);
-      const bool onFront = Dot(direction, front) < 0;
-      const Normal3 side = onFront ? front : -front;  // the side the photon arrived on
-      const Material& material = scene_.MaterialOf(hit->triangle);
-      if (kSpecular && afterSpecular && !material.IsSpecular()) {
+      const SurfaceHit at = SurfaceHit::Meet(scene_, *hit, direction);
+      if (kSpecular && afterSpecular && !at.material->IsSpecular()) {
         if (!caustics_) return Forbid(attenuation, block.stats);
         ++block.stats.causticHits;
       }
-      if (bounce > 0 || storeDirect_) block.hits.emplace_back(attenuation, -direction, hit->triangle, onFront, hit->b1, hit->b2);
-      const Rgb albedo = scene_.AlbedoAt(material, hit->triangle, hit->b1, hit->b2);
-      if constexpr (!kInterreflect && !kSpecular) return StopAtFirstSurface(albedo, attenuation, block.stats);
+      if (bounce > 0 || storeDirect_) block.hits.emplace_back(attenuation, -direction, hit->triangle, at.onFront, hit->b1, hit->b2);
+      if constexpr (!kInterreflect && !kSpecular) return StopAtFirstSurface(at.albedo, attenuation, block.stats);
       const float uEvent = rng.Uniform();
       const Point2 uDirection = rng.Uniform2();
-      const ScatterSample s = kSpecular ? SampleScatter(material, albedo, -direction, front, TransportMode::kImportance,
-                                                        uEvent, uDirection)
-                                        : ScatterDiffuse(albedo, side, uEvent, uDirection);
+      const ScatterSample s = kSpecular ? SampleScatter(*at.material, at.albedo, -direction, at.front,
+                                                        TransportMode::kImportance, uEvent, uDirection)
+                                        : ScatterDiffuse(at.albedo, at.side, uEvent, uDirection);
       block.stats.fluxAbsorbed.Add(attenuation * s.expectedAbsorbed);
       if (s.Absorbed()) {
         ++block.stats.absorbed;
@@ -76,7 +73,7 @@ class PhotonTracer {
       if (attenuation.Max() > kMostPhotonAttenuation) break;  // truncated
       if (!Allowed(s.event)) return Forbid(attenuation, block.stats);
       Count(s.event, block.stats);
-      origin = rays_.SpawnPoint(scene_.PointAt(hit->triangle, hit->b1, hit->b2), s.transmitted ? -side : side);
+      origin = at.NextOrigin(rays_, s.transmitted);
       direction = s.wi;
       afterSpecular = s.Specular();
     }

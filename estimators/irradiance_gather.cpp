@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "estimators/scatter.h"
+#include "estimators/surface_hit.h"
 #include "estimators/warps.h"
 
 namespace pb {
@@ -21,27 +22,23 @@ Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, co
       if (countEmission) radiance = radiance + throughput * lights_.SkyRadiance(d);
       break;
     }
-    const Normal3 front = scene_.FrontNormal(hit->triangle);
-    const bool onFront = Dot(d, front) < 0;
-    const Normal3 side = onFront ? front : -front;
-    const Material& material = scene_.MaterialOf(hit->triangle);
-    if (countEmission && onFront) radiance = radiance + throughput * material.emission;
-    const Point3 y = scene_.PointAt(hit->triangle, hit->b1, hit->b2);
-    const Rgb albedo = scene_.AlbedoAt(material, hit->triangle, hit->b1, hit->b2);
+    const SurfaceHit y = SurfaceHit::Meet(scene_, *hit, d);
+    if (countEmission && y.onFront) radiance = radiance + throughput * y.material->emission;
     const float uEvent = rng.Uniform();
     const Point2 uDirection = rng.Uniform2();
-    const ScatterSample s = SampleScatter(material, albedo, -d, front, TransportMode::kRadiance, uEvent, uDirection);
+    const ScatterSample s =
+        SampleScatter(*y.material, y.albedo, -d, y.front, TransportMode::kRadiance, uEvent, uDirection);
     if (s.Absorbed()) break;
     if (s.event == ScatterEvent::kDiffuse) {
       // Kd / pi E_d(y), over the probability of this lobe: s.weight is Kd / P(diffuse) for cosine sampling.
-      const DirectSample direct = lights_.Irradiance(y, side, 1, rng);
-      const std::optional<Rgb> scattered = field ? field->ScatteredAt(*hit, onFront) : std::nullopt;
+      const DirectSample direct = lights_.Irradiance(y.point, y.side, 1, rng);
+      const std::optional<Rgb> scattered = field ? field->ScatteredAt(*hit, y.onFront) : std::nullopt;
       radiance = radiance + throughput * s.weight * (direct.irradiance + scattered.value_or(Rgb{})) * float(kInvPi);
       if (scattered) break;  // the field holds the rest of this path's light
     }
     countEmission = s.Specular();
     throughput = throughput * s.weight;
-    origin = rays_.SpawnPoint(y, s.transmitted ? -side : side);
+    origin = y.NextOrigin(rays_, s.transmitted);
     d = s.wi;
   }
   return radiance;

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "estimators/scatter.h"
+#include "estimators/surface_hit.h"
 #include "mesh/errors.h"
 
 namespace pb {
@@ -58,31 +59,27 @@ Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& s
     ++stats.rays;
     const auto hit = rays_.Intersect(origin, direction);
     if (!hit) break;
-    const Normal3 front = scene_.FrontNormal(hit->triangle);
-    const bool onFront = Dot(direction, front) < 0;
-    const Normal3 side = onFront ? front : -front;
-    const Material& material = scene_.MaterialOf(hit->triangle);
-    if (onFront && material.IsEmissive()) radiance += throughput * material.emission;
-    const Point3 p = scene_.PointAt(hit->triangle, hit->b1, hit->b2);
+    const SurfaceHit at = SurfaceHit::Meet(scene_, *hit, direction);
+    const Material& material = *at.material;
+    if (at.onFront && material.IsEmissive()) radiance += throughput * material.emission;
     const float uEvent = rng.Uniform();
     const Point2 uDirection = rng.Uniform2();
     bool transmitted = false;
-    const Rgb albedo = scene_.AlbedoAt(material, hit->triangle, hit->b1, hit->b2);
     if (settings_.sampling == DirectionSampling::kPhotons && material.kind == MaterialClass::kDiffuse) {
-      const float survival = albedo.Max();
+      const float survival = at.albedo.Max();
       if (uEvent >= survival) break;
-      const Direction d = SampleByPhotons(p, side, albedo, uDirection, scratch, stats);
+      const Direction d = SampleByPhotons(at.point, at.side, at.albedo, uDirection, scratch, stats);
       throughput = throughput * d.weight / survival;
       direction = d.wi;
     } else {
       const ScatterSample s =
-          SampleScatter(material, albedo, -direction, front, TransportMode::kRadiance, uEvent, uDirection);
+          SampleScatter(material, at.albedo, -direction, at.front, TransportMode::kRadiance, uEvent, uDirection);
       if (s.Absorbed()) break;
       throughput = throughput * s.weight;
       direction = s.wi;
       transmitted = s.transmitted;
     }
-    origin = rays_.SpawnPoint(p, transmitted ? -side : side);
+    origin = at.NextOrigin(rays_, transmitted);
   }
   return radiance;
 }
