@@ -139,7 +139,7 @@ void DefineDirectOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("--gap-paths", o.gaps.paths,
                  "with --direct sampled: paths gathered at each point in a narrow gap (between books, behind a "
                  "mirror), where no kernel can follow the light, instead of the photons' estimate (docs/bake.md, "
-                 "'Narrow gaps'); 0 = none; range 0-1e6, typical 64-1024")
+                 "'Narrow gaps'); 0 = off; range 0-1e6, typical 64-1024")
       ->capture_default_str();
   app.add_option("--gap-noise", o.gaps.noise,
                  "with --gap-paths: each gathered point takes the paths that bring its relative standard error to "
@@ -186,7 +186,7 @@ void DefineOutputOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_flag("--report-all", o.reportAll,
                "list every surface and light in --report's JSON; by default the 1,000 largest surfaces and 1,000 "
                "brightest lights, with a summary of all");
-  app.add_option("--exposure", o.exposure, "display exposure on radiance for the PLY's uchar colours; range > 0; "
+  app.add_option("--exposure", o.exposure, "display exposure on radiance for the PLY's uchar colours; range 1e-30 to 1e30; "
                                            "default automatic (log-average luminance to 0.18)");
   app.add_flag("--ascii", o.asciiPly, "write ASCII PLY instead of binary");
 }

@@ -7,34 +7,33 @@
 #   camera       camera JSON files (mesh/camera.h)
 #   light_file   lights JSON files (mesh/light_file.h)
 #   photon_file  photon files for --resume (baker/files/photon_file.h), their CRC recomputed so mutations get past it
-# Usage: tools/fuzz.sh [SECONDS per target, default 60] [TARGET ...; default all]. Installs clang if it is
-# missing. Seeds come from tests/fuzz/corpus/TARGET (the photon files are written by photon_file_seeds); new
-# interesting inputs land in build-fuzz/corpus/TARGET, and a crash, leak, sanitizer finding or 10 s hang fails the
-# run with the input that caused it in build-fuzz/findings/.
+# Usage: tools/fuzz.sh [SECONDS per target, default 60] [TARGET ...; default all]. The targets are built in the
+# sanitized tree (tools/build-sanitized.sh, which installs clang if it is missing). Seeds come from
+# tests/fuzz/corpus/TARGET (the photon files are written by photon_file_seeds); new interesting inputs land in
+# build-asan/fuzz/corpus/TARGET, and a crash, leak, sanitizer finding or 10 s hang fails the run with the input that
+# caused it in build-asan/fuzz/findings/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(obj_loader gltf_loader texture camera light_file photon_file)
-bash tools/install-clang.sh
-bash tools/install-deps.sh
-cmake -S . -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPB_FUZZ=ON >/dev/null
-cmake --build build-fuzz --target photon_file_seeds "${targets[@]/#/fuzz_}"
-rm -rf build-fuzz/seeds && mkdir -p build-fuzz/seeds build-fuzz/findings
-build-fuzz/photon_file_seeds build-fuzz/seeds/photon_file
+bash tools/build-sanitized.sh photon_file_seeds "${targets[@]/#/fuzz_}"
+bin=build-asan out=build-asan/fuzz
+rm -rf "$out/seeds" && mkdir -p "$out/seeds" "$out/findings"
+"$bin/photon_file_seeds" "$out/seeds/photon_file"
 # One target: its result lines, or the log's tail and the finding, with libFuzzer's exit status.
 fuzz_one() {
-  local target=$1 seeds=tests/fuzz/corpus/$1 log=build-fuzz/$1.log status=0
-  [ "$target" != photon_file ] || seeds=build-fuzz/seeds/photon_file
-  mkdir -p "build-fuzz/corpus/$target"
-  "build-fuzz/fuzz_$target" "build-fuzz/corpus/$target" "$seeds" -max_total_time="$seconds" -max_len=4096 \
-    -timeout=10 -artifact_prefix="build-fuzz/findings/$target-" -print_final_stats=1 >"$log" 2>&1 || status=$?
+  local target=$1 seeds=tests/fuzz/corpus/$1 log=$out/$1.log status=0
+  [ "$target" != photon_file ] || seeds=$out/seeds/photon_file
+  mkdir -p "$out/corpus/$target"
+  "$bin/fuzz_$target" "$out/corpus/$target" "$seeds" -max_total_time="$seconds" -max_len=4096 \
+    -timeout=10 -artifact_prefix="$out/findings/$target-" -print_final_stats=1 >"$log" 2>&1 || status=$?
   echo "== fuzz_$target for $seconds s, seeds in $seeds"
   grep -E "^(Done [0-9]+ runs|stat::number_of_executed_units|stat::new_units_added)" "$log" || true
   if [ "$status" -ne 0 ]; then
     tail -n 60 "$log"
-    echo "fuzz_$target found a bug (exit $status); the input is in build-fuzz/findings/, the log in $log"
+    echo "fuzz_$target found a bug (exit $status); the input is in $out/findings/, the log in $log"
   fi
   return "$status"
 }

@@ -36,7 +36,7 @@ void DefineOptions(CLI::App& app, pb::RenderOptions& o) {
   pb::tools::AddSeedOption(app, o.seed, "random seed, 0 to 2^64 - 1; the same seed gives the same image for any --threads");
   app.add_option("--threads", o.threads, "worker threads; 0 = all cores")->capture_default_str();
   app.add_option("--scale", o.scale, "metres per scene unit")->capture_default_str();
-  app.add_option("--exposure", o.exposure, "PNG exposure on radiance; default automatic");
+  app.add_option("--exposure", o.exposure, "PNG exposure on radiance; range 1e-30 to 1e30; default automatic");
   app.add_option("--report", o.reportPath, "write the summary figures as JSON to this file");
   app.add_flag("-q,--quiet", o.quiet, "no progress or summary");
 }

@@ -89,9 +89,10 @@ TEST(BakeCli, ALateFailureReplacesNoOutput) {
   const std::vector<std::string> files = {"/out.ply", "/s.photons", "/r.json", "/maps/surface_0.exr"};
   std::vector<std::string> before;
   for (const std::string& f : files) before.push_back(test::ReadBytes(dir + f));
-  // 3000 photons make a photon file of about 0.2 MB; three levels of subdivision a PLY of about 7 MB.
-  const BakeRun failed = test::RunTool("bash -c \"trap '' XFSZ; ulimit -f 1024; exec " + std::string(PB_BAKE_EXE) +
-                                       " " + common + " --photons 3000 --subdivide 3\"", "");
+  // 3000 photons make a photon file of about 60 kB; two levels of subdivision a PLY of about 1.5 MB, over the
+  // limit of 512 kB.
+  const BakeRun failed = test::RunTool("bash -c \"trap '' XFSZ; ulimit -f 512; exec " + std::string(PB_BAKE_EXE) +
+                                       " " + common + " --photons 3000 --subdivide 2\"", "");
   EXPECT_EQ(failed.status, 1) << failed.output;
   EXPECT_NE(failed.output.find("out.ply: error: write failed"), std::string::npos) << failed.output;
   for (size_t i = 0; i < files.size(); ++i)
