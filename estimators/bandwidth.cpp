@@ -10,6 +10,8 @@ namespace {
 constexpr double kPilotPhotonsPerCell = 400;
 constexpr int kMinPilotCells = 4, kMaxPilotCells = 64;
 constexpr double kFallbackPhotons = 50, kMinPhotons = 20;
+// The roughness a level of the pilot measures must stand this many of its own standard errors above 0.
+constexpr double kRoughnessSignificance = 3;
 
 // Pilot histogram: per cell, the flux, the sum of squared flux, and the cell's area on the surface.
 struct Pilot {
@@ -21,11 +23,13 @@ struct Pilot {
   double H(int i, int j) const { return flux[Index(i, j)] / area[Index(i, j)]; }
 };
 
+// The finest pilot: a power of two of cells per axis, about kPilotPhotonsPerCell photons each.
 Pilot BuildPilot(const SurfaceRegion& region, std::span<const Point2> uv, std::span<const Rgb> flux) {
   Pilot p;
   const Bounds2& b = region.Bounds();
   p.side = std::max(double(b.hi.u) - b.lo.u, double(b.hi.v) - b.lo.v);
-  p.n = std::clamp(int(std::sqrt(double(uv.size()) / kPilotPhotonsPerCell)), kMinPilotCells, kMaxPilotCells);
+  p.n = kMinPilotCells;
+  while (p.n < kMaxPilotCells && double(2 * p.n) * double(2 * p.n) * kPilotPhotonsPerCell <= double(uv.size())) p.n *= 2;
   p.side /= p.n;
   const size_t cells = size_t(p.n) * p.n;
   p.flux.assign(cells, 0), p.flux2.assign(cells, 0);
@@ -39,16 +43,61 @@ Pilot BuildPilot(const SurfaceRegion& region, std::span<const Point2> uv, std::s
   return p;
 }
 
-// integral(phi2 / H^2) and integral((lap H / H)^2) over the surface, from the pilot; the second is scaled
-// from the cells where the stencil fits to the whole surface area.
+// The pilot with cells twice as wide: each the sum of four.
+Pilot Coarsen(const Pilot& fine) {
+  Pilot p;
+  p.n = fine.n / 2, p.side = fine.side * 2;
+  const size_t cells = size_t(p.n) * p.n;
+  p.flux.assign(cells, 0), p.flux2.assign(cells, 0), p.area.assign(cells, 0);
+  for (int j = 0; j < fine.n; ++j)
+    for (int i = 0; i < fine.n; ++i) {
+      const int from = fine.Index(i, j), to = p.Index(i / 2, j / 2);
+      p.flux[to] += fine.flux[from], p.flux2[to] += fine.flux2[from], p.area[to] += fine.area[from];
+    }
+  return p;
+}
+
+// What the bias grows with: the kernels' with h^2 lap H (symmetric, second order), the histogram's with
+// b grad H (a point's offset from its bucket's centre, first order).
+enum class Roughness { kLaplacian, kGradient };
+
+// integral(phi2 / H^2) and the roughness integral, integral((lap H / H)^2) or integral(|grad H / H|^2), over the
+// surface from one pilot, with the roughness's standard error; the roughness is scaled from the cells where its
+// stencils fit to the whole surface.
 struct PilotIntegrals {
-  double variance = 0, curvature = 0;
+  double variance = 0, roughness = 0, roughnessError = 0;
   int stencils = 0;
+  bool Significant() const { return stencils > 0 && roughness > kRoughnessSignificance * roughnessError; }
 };
 
-PilotIntegrals Integrate(const Pilot& p, double surfaceArea) {
+// One linear stencil on the pilot's H about cell (i, j): its value sum w H and its noise variance sum w^2 Var(H).
+struct Stencil {
+  double value = 0, noise = 0;
+  void Add(const Pilot& p, int i, int j, double w) {
+    const double g2 = p.side * p.side;
+    value += w * p.H(i, j), noise += w * w * p.flux2[p.Index(i, j)] / (g2 * g2);
+  }
+};
+
+// The stencils whose squares sum to the roughness at full cell (i, j) (its four neighbours full too).
+std::vector<Stencil> StencilsAt(const Pilot& p, int i, int j, Roughness kind) {
+  if (kind == Roughness::kLaplacian) {
+    const double w = 1 / (p.side * p.side);
+    Stencil lap;
+    for (const auto& [a, b] : {std::pair{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}}) lap.Add(p, a, b, w);
+    lap.Add(p, i, j, -4 * w);
+    return {lap};
+  }
+  const double w = 1 / (2 * p.side);
+  Stencil du, dv;
+  du.Add(p, i + 1, j, w), du.Add(p, i - 1, j, -w);
+  dv.Add(p, i, j + 1, w), dv.Add(p, i, j - 1, -w);
+  return {du, dv};
+}
+
+PilotIntegrals Integrate(const Pilot& p, double surfaceArea, Roughness kind) {
   PilotIntegrals r;
-  double stencilArea = 0;
+  double stencilArea = 0, roughnessVariance = 0;
   const double g2 = p.side * p.side;
   for (int j = 0; j < p.n; ++j)
     for (int i = 0; i < p.n; ++i) {
@@ -57,15 +106,36 @@ PilotIntegrals Integrate(const Pilot& p, double surfaceArea) {
       const double H = p.flux[c] / p.area[c];
       r.variance += (p.flux2[c] / p.area[c]) / (H * H) * p.area[c];
       if (!(p.Full(i, j) && p.Full(i - 1, j) && p.Full(i + 1, j) && p.Full(i, j - 1) && p.Full(i, j + 1))) continue;
-      const double lap = (p.H(i - 1, j) + p.H(i + 1, j) + p.H(i, j - 1) + p.H(i, j + 1) - 4 * H) / g2;
-      const auto var = [&](int a, int b) { return p.flux2[p.Index(a, b)] / (g2 * g2); };  // Var of a cell's H
-      const double lapNoise = (var(i - 1, j) + var(i + 1, j) + var(i, j - 1) + var(i, j + 1) + 16 * var(i, j)) / (g2 * g2);
-      r.curvature += (lap * lap - lapNoise) / (H * H) * g2;  // unbiased; clipped only in total
+      const double scale = g2 / (H * H);
+      for (const Stencil& s : StencilsAt(p, i, j, kind)) {
+        r.roughness += (s.value * s.value - s.noise) * scale;  // unbiased; clipped only in total
+        // Var(x^2) of a normal x: 2 noise^2 + 4 x^2 noise, with x^2 itself less its noise.
+        roughnessVariance += (2 * s.noise * s.noise + 4 * std::max(s.value * s.value - s.noise, 0.0) * s.noise) * scale * scale;
+      }
       stencilArea += g2;
       ++r.stencils;
     }
-  if (stencilArea > 0) r.curvature *= surfaceArea / stencilArea;
+  if (stencilArea > 0) {
+    r.roughness *= surfaceArea / stencilArea;
+    r.roughnessError = std::sqrt(roughnessVariance) * surfaceArea / stencilArea;
+  }
   return r;
+}
+
+// The roughness integral of the finest pilot level that measures one significantly (finer cells smooth the
+// light less, coarser ones hold more photons: a stencil's signal grows with the cell's side, its noise falls as
+// one over the side). Where no level does, the least roughness that no level can rule out (its estimate plus
+// kRoughnessSignificance standard errors, the smallest over the levels): an h no wider than the photons can
+// vouch for. 0 where no stencil fits at any level.
+double MeasuredRoughness(Pilot pilot, double surfaceArea, Roughness kind) {
+  double bound = INFINITY;
+  for (;;) {
+    const PilotIntegrals I = Integrate(pilot, surfaceArea, kind);
+    if (I.Significant()) return I.roughness;
+    if (I.stencils > 0) bound = std::min(bound, std::max(I.roughness, 0.0) + kRoughnessSignificance * I.roughnessError);
+    if (pilot.n / 2 < 3) return std::isfinite(bound) ? bound : 0;  // a stencil needs 3 cells per axis
+    pilot = Coarsen(pilot);
+  }
 }
 
 }  // namespace
@@ -76,10 +146,17 @@ float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& re
   const double hMax = 0.25 * std::sqrt(area);
   if (n < kPilotPhotonsPerCell * 9) return float(std::min(hMax, std::sqrt(kFallbackPhotons * area / (M_PI * std::max(n, 1.0)))));
   const double hMin = std::sqrt(kMinPhotons * area / (M_PI * n));
-  const KernelMoments m = kind == EstimatorKind::kHistogram ? KernelMoments{1.0, 1.0 / 12.0} : MomentsOf(kernel);
-  const PilotIntegrals I = Integrate(BuildPilot(region, uv, flux), area);
-  if (I.stencils == 0 || !(I.curvature > 0)) return float(hMax);
-  const double h = std::pow(2 * m.roughness * I.variance / (m.moment2 * m.moment2 * I.curvature), 1.0 / 6.0);
+  const Pilot pilot = BuildPilot(region, uv, flux);
+  const double variance = Integrate(pilot, area, Roughness::kLaplacian).variance;
+  double h = hMax;
+  if (kind == EstimatorKind::kHistogram) {  // b^4 = 12 V / integral(|grad H / H|^2)
+    const double gradient = MeasuredRoughness(pilot, area, Roughness::kGradient);
+    if (gradient > 0) h = std::pow(12 * variance / gradient, 0.25);
+  } else {  // h^6 = 2 R V / (mu2^2 integral((lap H / H)^2))
+    const KernelMoments m = MomentsOf(kernel);
+    const double curvature = MeasuredRoughness(pilot, area, Roughness::kLaplacian);
+    if (curvature > 0) h = std::pow(2 * m.roughness * variance / (m.moment2 * m.moment2 * curvature), 1.0 / 6.0);
+  }
   return float(std::clamp(h, hMin, std::max(hMin, hMax)));
 }
 

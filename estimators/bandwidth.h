@@ -7,12 +7,18 @@
 //   bias / H       = h^2 mu2 lap(H) / (2 H),
 // and integrating both over the surface and minimising over h gives
 //   h^6 = 2 R integral(phi2 / H^2) / (mu2^2 integral((lap H / H)^2)).
-// Both integrals come from a pilot histogram of ~400 photons per cell; lap H by the 5-point stencil on cells
-// whose neighbours lie wholly on the surface, with the stencil's own noise variance subtracted cell by cell and
-// the sum clipped at 0 only as a whole (clipping each cell would add the noise back where the light is flat). Where the
-// light is flat (no measurable curvature), h is capped at a quarter of the surface's size; where photons are
-// too few for a pilot, h holds 50 photons on average. h is never below the radius that holds 20 photons.
-// A histogram bucket of side b is the box kernel with R = 1 and mu2 = 1/12 (in units of b).
+// The histogram's bias is first order instead (a point's offset from its bucket's centre times grad H): for a
+// bucket of side b, bias^2 averages b^2 |grad H|^2 / 12, and b^4 = 12 integral(phi2 / H^2) / integral(|grad H / H|^2).
+// Both integrals come from a pilot histogram of ~400 photons per cell (a power of two of cells per axis, 4 to 64),
+// and the roughness (lap H by the 5-point stencil, grad H by central differences, on cells whose neighbours lie
+// wholly on the surface) from the finest level of that pilot's pyramid (cells merged 2 x 2, down to 4 per axis)
+// where it stands 3 standard errors above 0: a stencil's signal grows with the cell's side and its noise falls,
+// so fine cells of many photons measure only noise (the single pilot at 400 photons per cell did, and h came out
+// by luck). Each stencil's own noise variance is subtracted and the sum clipped at 0 only as a whole. Where no
+// level measures it, the least roughness no level can rule out (estimate plus 3 standard errors) sets an h no
+// wider than the photons vouch for; where no stencil fits at all, h is capped at a quarter of the surface's size;
+// where photons are too few for a pilot, h holds 50 photons on average. h is never below the radius that holds
+// 20 photons.
 #pragma once
 
 #include <span>
