@@ -10,7 +10,11 @@
 // within `reach` x its surface's h, a surface within 60 degrees of parallel to its own (facing it or turned
 // away). A floor meeting a wall sees the wall at right angles and is not a gap; its kernel, corrected at the
 // boundary, follows the light there. With `smallArea` > 0, every point of a surface of area below smallArea h^2
-// (smaller than its kernel: a book's face at a wide h) is gathered too. A path's hit is read from the photons
+// (smaller than its kernel: a book's face at a wide h) is gathered too. With `edges`, every point on a planar
+// surface's boundary (where RayStart steps it inward: a floor's line along a wall, a block's contact line, a
+// wall's corner) is gathered too: there the scattered light turns in a concave corner closer than any h (the
+// floor darkens into its corner with the wall), and the kernel's local linear fit reads the turn as a line,
+// 0.5-1.3% high on the box's edge vertices on average and 2.4% RMS. A path's hit is read from the photons
 // when it lies on a surface's front, at least that surface's h from the path's last vertex, and on a surface
 // that is not smaller than its kernel.
 //
@@ -39,7 +43,8 @@ class GapGather final : public ScatteredLightField {
   GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const LightSampler& lights,
             const GapSettings& settings, uint64_t seed);
 
-  // Whether p, whose rays start at `start` (RayStart), lies in a gap or on a surface smaller than its kernel.
+  // Whether p, whose rays start at `start` (RayStart), lies in a gap, on a surface smaller than its kernel, or
+  // (with `edges`) on a planar surface's boundary.
   bool InGap(const SurfacePoint& p, const SurfacePoint& start) const;
   // E_s at p by `paths` gathered paths, and its relative noise.
   NoisyIrradiance Gathered(const SurfacePoint& p, const SurfacePoint& start) const;
@@ -49,6 +54,7 @@ class GapGather final : public ScatteredLightField {
  private:
   // Whether surface s is smaller than its kernel: its area below smallArea h^2.
   bool SmallerThanKernel(uint32_t s) const;
+  static bool OnBoundary(const SurfacePoint& p, const SurfacePoint& start);
 
   const PreparedScene& scene_;
   const PhotonIrradiance& photons_;

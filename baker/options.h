@@ -47,6 +47,7 @@ struct GapSettings {
   float facing = 0.3f;   // the fraction of them that must meet a near parallel surface
   float reach = 0.5f;    // how near, as a fraction of the point's h
   float smallArea = 0;   // a surface of area below smallArea h^2 is gathered everywhere, and never read
+  bool edges = false;    // --gap-edges: also gather at every point on a planar surface's boundary
   void Validate() const;  // --gap-paths, --gap-noise, --gap-small-area; an InputError naming the option
 };
 

@@ -79,6 +79,7 @@ struct Config {
     if (direct.mode == pb::DirectLight::kSampled && gaps.paths != pb::GapSettings{}.paths)
       s += gaps.noise > 0 ? fmt::format(" gaps noise {} (<= {})", gaps.noise, gaps.paths) : fmt::format(" gaps={}", gaps.paths);
     if (direct.mode == pb::DirectLight::kSampled && gaps.smallArea > 0) s += fmt::format(" small<{}h2", gaps.smallArea);
+    if (direct.mode == pb::DirectLight::kSampled && gaps.edges) s += " edges";
     return s;
   }
 };
@@ -631,6 +632,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--gap-facing", one.gaps.facing, "with --photons: the gaps' probe fraction")->capture_default_str();
   app.add_option("--gap-reach", one.gaps.reach, "with --photons: the gaps' probe reach, in h")->capture_default_str();
+  app.add_flag("--gap-edges", one.gaps.edges, "with --photons: every point on a flat surface's boundary is gathered");
   app.add_option("--gap-small-area", one.gaps.smallArea, "with --photons: surfaces below this many h^2 are gathered")
       ->capture_default_str();
   const auto validate = [&] {  // with bake's ranges (baker/option_ranges.h)

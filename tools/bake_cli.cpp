@@ -146,6 +146,10 @@ void DefineDirectOptions(CLI::App& app, pb::BakeOptions& o) {
                  "this, up to --gap-paths (a pilot of 64 chooses; docs/bake.md, 'Narrow gaps'); 0 = off, always "
                  "--gap-paths; range 0 or 1e-4 to 1, typical 0.01-0.03")
       ->capture_default_str();
+  app.add_flag("--gap-edges", o.gaps.edges,
+               "with --direct sampled and --gap-paths: also gather at every vertex on a flat surface's boundary (a "
+               "floor along a wall, a block's contact line), where the light turns closer than h (docs/bake.md, "
+               "'Narrow gaps'); best with --gap-noise");
   app.add_option("--gap-small-area", o.gaps.smallArea,
                  "with --direct sampled and --gap-paths: also gather on every surface whose area is below this many "
                  "h^2, smaller than its kernel (books, table legs at a wide h; docs/bake.md, 'Narrow gaps'); 0 = off; "
