@@ -23,11 +23,6 @@ bool GapGather::SmallerThanKernel(uint32_t s) const {
   return scene_.surfaces.surfaces[s].area < settings_.smallArea * h * h;
 }
 
-// Whether RayStart stepped p inward: p lies on its planar surface's boundary.
-bool GapGather::OnBoundary(const SurfacePoint& p, const SurfacePoint& start) {
-  return !(start.uv.u == p.uv.u && start.uv.v == p.uv.v);
-}
-
 bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
   if (SmallerThanKernel(p.surface)) return true;
   if (settings_.edges && OnBoundary(p, start)) return true;

@@ -54,7 +54,6 @@ class GapGather final : public ScatteredLightField {
  private:
   // Whether surface s is smaller than its kernel: its area below smallArea h^2.
   bool SmallerThanKernel(uint32_t s) const;
-  static bool OnBoundary(const SurfacePoint& p, const SurfacePoint& start);
 
   const PreparedScene& scene_;
   const PhotonIrradiance& photons_;

@@ -19,4 +19,9 @@ Rng PointStream(uint64_t seed, const SurfacePoint& p);
 // limit from inside its surface, so a point on a planar surface's boundary starts just inside it.
 SurfacePoint RayStart(const PreparedScene& scene, const SurfacePoint& p);
 
+// Whether RayStart stepped p inward to `start`: p lies on its planar surface's boundary (an edge, a contact line).
+inline bool OnBoundary(const SurfacePoint& p, const SurfacePoint& start) {
+  return !(start.uv.u == p.uv.u && start.uv.v == p.uv.v);
+}
+
 }  // namespace pb

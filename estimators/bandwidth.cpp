@@ -61,11 +61,21 @@ Pilot Coarsen(const Pilot& fine) {
 // b grad H (a point's offset from its bucket's centre, first order).
 enum class Roughness { kLaplacian, kGradient };
 
-// integral(phi2 / H^2) and the roughness integral, integral((lap H / H)^2) or integral(|grad H / H|^2), over the
-// surface from one pilot, with the roughness's standard error; the roughness is scaled from the cells where its
-// stencils fit to the whole surface.
+// integral(phi2 / H^2) over the surface, from one pilot: the variance's share of the relative error.
+double VarianceIntegral(const Pilot& p) {
+  double variance = 0;
+  for (size_t c = 0; c < p.flux.size(); ++c) {
+    if (p.area[c] <= 0 || p.flux[c] <= 0) continue;
+    const double H = p.flux[c] / p.area[c];
+    variance += (p.flux2[c] / p.area[c]) / (H * H) * p.area[c];
+  }
+  return variance;
+}
+
+// The roughness integral, integral((lap H / H)^2) or integral(|grad H / H|^2), over the surface from one pilot,
+// with its standard error; scaled from the cells where its stencils fit to the whole surface.
 struct PilotIntegrals {
-  double variance = 0, roughness = 0, roughnessError = 0;
+  double roughness = 0, roughnessError = 0;
   int stencils = 0;
   bool Significant() const { return stencils > 0 && roughness > kRoughnessSignificance * roughnessError; }
 };
@@ -104,7 +114,6 @@ PilotIntegrals Integrate(const Pilot& p, double surfaceArea, Roughness kind) {
       const int c = p.Index(i, j);
       if (p.area[c] <= 0 || p.flux[c] <= 0) continue;
       const double H = p.flux[c] / p.area[c];
-      r.variance += (p.flux2[c] / p.area[c]) / (H * H) * p.area[c];
       if (!(p.Full(i, j) && p.Full(i - 1, j) && p.Full(i + 1, j) && p.Full(i, j - 1) && p.Full(i, j + 1))) continue;
       const double scale = g2 / (H * H);
       for (const Stencil& s : StencilsAt(p, i, j, kind)) {
@@ -147,7 +156,7 @@ float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& re
   if (n < kPilotPhotonsPerCell * 9) return float(std::min(hMax, std::sqrt(kFallbackPhotons * area / (M_PI * std::max(n, 1.0)))));
   const double hMin = std::sqrt(kMinPhotons * area / (M_PI * n));
   const Pilot pilot = BuildPilot(region, uv, flux);
-  const double variance = Integrate(pilot, area, Roughness::kLaplacian).variance;
+  const double variance = VarianceIntegral(pilot);
   double h = hMax;
   if (kind == EstimatorKind::kHistogram) {  // b^4 = 12 V / integral(|grad H / H|^2)
     const double gradient = MeasuredRoughness(pilot, area, Roughness::kGradient);
