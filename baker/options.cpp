@@ -34,10 +34,10 @@ std::optional<DirectLight> ParseDirectLight(std::string_view name) {
 }
 
 std::optional<QualityPreset> ParseQuality(std::string_view name) {
-  if (name == "draft") return QualityPreset{250'000, 0.08f, 64};
-  if (name == "medium") return QualityPreset{1'000'000, 0.08f, 256};
-  if (name == "high") return QualityPreset{4'000'000, 0.05f, 256};
-  if (name == "production") return QualityPreset{16'000'000, 0.03f, 1024};
+  if (name == "draft") return QualityPreset{0.08f, 250'000};
+  if (name == "medium") return QualityPreset{kDefaultTargetNoise, 1'000'000};
+  if (name == "high") return QualityPreset{0.02f, 2'000'000};
+  if (name == "production") return QualityPreset{0.01f, 8'000'000, true, 4096};
   return std::nullopt;
 }
 
@@ -124,6 +124,16 @@ void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given) {
   if (!given.bandwidth) o.autoBandwidth = true;
   if (!given.photons && !o.targetNoise && o.referencePaths == 0 && o.resumePath.empty())
     o.targetNoise = kDefaultTargetNoise;
+}
+void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions& o) {
+  const std::optional<QualityPreset> preset = ParseQuality(name);
+  if (!preset)
+    throw InputError("--quality", 0, fmt::format("unknown preset '{}'; choose one of: {}", name, QualityNames()));
+  if (!given.photons) o.photons = preset->photons;
+  if (preset->gatherEdges) o.gaps.edges = true;
+  if (preset->gatherEdges && !given.gapPaths) o.gaps.paths = preset->gapPaths;
+  const bool rounds = o.referencePaths == 0 && o.estimator.kind != EstimatorKind::kNearest;
+  if (rounds && !o.targetNoise) o.targetNoise = preset->targetNoise;
 }
 
 }  // namespace pb

@@ -51,16 +51,18 @@ struct GapSettings {
   void Validate() const;  // --gap-paths, --gap-noise, --gap-small-area; an InputError naming the option
 };
 
-// --quality: photons, h and shadow rays per point together, chosen from the box's measured error against time
-// (accuracy --box; docs/bake.md, "Quality presets"). Options given explicitly win over the preset's.
-//   draft       250,000 photons, h 0.08 m,    64 shadow rays   (box: 4.3% error against the reference, 0.16 s)
-//   medium    1,000,000 photons, h 0.08 m,   256 shadow rays   (box: 2.8%, 0.6 s)
-//   high      4,000,000 photons, h 0.05 m,   256 shadow rays   (box: 2.1%, 2 s)
-//   production 16,000,000 photons, h 0.03 m, 1,024 shadow rays
+// --quality: a name for a noise target (--target-noise) and the first round's photons (--photons). h is chosen per
+// surface from the photons (--h auto) and the shadow rays by the rounds, so a preset suits a scene of any size;
+// options given explicitly win (docs/bake.md, "Quality presets", has what each reaches on the box and the office).
+//   draft       8% noise, first round   250,000 photons
+//   medium      3% noise, first round 1,000,000 photons (the defaults)
+//   high        2% noise, first round 2,000,000 photons
+//   production  1% noise, first round 8,000,000 photons, and the edges gathered (--gap-edges --gap-paths 4096)
 struct QualityPreset {
-  uint64_t photons;
-  float bandwidth;  // h [m]
-  uint32_t directSamples;
+  float targetNoise;  // the 95th percentile of the vertices' predicted relative noise (baker/photons/progressive.h)
+  uint64_t photons;   // the first round's, over all lights
+  bool gatherEdges = false;  // --gap-edges, with gapPaths paths per point (baker/3_gap_gather.h)
+  uint32_t gapPaths = 0;
 };
 // "draft", "medium", "high" or "production"; nullopt for any other name.
 std::optional<QualityPreset> ParseQuality(std::string_view name);
@@ -136,16 +138,21 @@ struct BakeOptions {
 // (baker/photons/progressive.h; docs/bake.md, "Defaults that suit the scene").
 constexpr float kDefaultTargetNoise = 0.03f;
 
-// Which of the options that the defaults choose were given on the command line (or by --quality).
+// Which of the options that the defaults choose were given on the command line (or, for photons, by --quality).
 struct GivenOptions {
   bool bandwidth = false;   // --h
   bool photons = false;     // --photons
   bool shadowRays = false;  // --direct-samples or --direct-noise
+  bool gapPaths = false;    // --gap-paths
 };
 // `bake`'s defaults that suit the scene, for what was not given: h chosen per surface from its photons (--h auto),
 // and photons and shadow rays raised in rounds to kDefaultTargetNoise within --max-seconds (--target-noise). The
 // kernel and histogram estimators only (knn has no h, and its noise is set by k); not with --reference (no
 // photons) or --resume (which continues to --photons).
 void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given);
+// --quality NAME, for what was not given: its target (unless --target-noise is given, or the bake has no rounds:
+// --reference, knn), its first round's photons and its gathered edges' paths. Before ApplySceneDefaults, whose
+// `given.photons` it then implies. An InputError naming --quality for an unknown name.
+void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions& o);
 
 }  // namespace pb

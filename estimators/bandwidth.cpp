@@ -9,7 +9,12 @@ namespace {
 
 constexpr double kPilotPhotonsPerCell = 400;
 constexpr int kMinPilotCells = 4, kMaxPilotCells = 64;
-constexpr double kFallbackPhotons = 50, kMinPhotons = 20;
+// A surface with too few photons for a pilot: h holds this many on average, whose noise (about 1/sqrt(1000), 3%) is
+// the defaults' target; 50 left the table legs and books of the office 40-70% in error (docs/accuracy.md).
+constexpr double kFallbackPhotons = 1000, kMinPhotons = 20;
+// h is at most this times the square root of the surface's area, its own size: a kernel that wide averages the
+// whole of a compact surface (a quarter of it kept small surfaces' kernels to tens of photons).
+constexpr double kMaxBandwidthOfSize = 1;
 // The roughness a level of the pilot measures must stand this many of its own standard errors above 0.
 constexpr double kRoughnessSignificance = 3;
 
@@ -152,7 +157,7 @@ double MeasuredRoughness(Pilot pilot, double surfaceArea, Roughness kind) {
 float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
                       std::span<const Rgb> flux) {
   const double area = std::max(region.Area(), 1e-30), n = double(uv.size());
-  const double hMax = 0.25 * std::sqrt(area);
+  const double hMax = kMaxBandwidthOfSize * std::sqrt(area);
   if (n < kPilotPhotonsPerCell * 9) return float(std::min(hMax, std::sqrt(kFallbackPhotons * area / (M_PI * std::max(n, 1.0)))));
   const double hMin = std::sqrt(kMinPhotons * area / (M_PI * n));
   const Pilot pilot = BuildPilot(region, uv, flux);

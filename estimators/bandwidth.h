@@ -16,9 +16,9 @@
 // so fine cells of many photons measure only noise (the single pilot at 400 photons per cell did, and h came out
 // by luck). Each stencil's own noise variance is subtracted and the sum clipped at 0 only as a whole. Where no
 // level measures it, the least roughness no level can rule out (estimate plus 3 standard errors) sets an h no
-// wider than the photons vouch for; where no stencil fits at all, h is capped at a quarter of the surface's size;
-// where photons are too few for a pilot, h holds 50 photons on average. h is never below the radius that holds
-// 20 photons.
+// wider than the photons vouch for. h is at most the surface's own size (the square root of its area); where
+// photons are too few for a pilot (under 3,600), h holds 1,000 photons on average (a noise of about 3%), up to that
+// size; it is never below the radius that holds 20 photons.
 #pragma once
 
 #include <span>

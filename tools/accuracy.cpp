@@ -56,6 +56,7 @@ struct Config {
   pb::EstimatorSettings estimator;
   bool autoBandwidth = false;
   uint64_t photons = 0;
+  std::optional<float> targetNoise;  // rounds to this noise (bake --target-noise), the first of `photons`
   pb::DirectSettings direct{pb::DirectLight::kPhotons};  // --direct, --direct-samples (the closed form: photons)
   uint32_t referencePaths = 0;  // > 0: a path tracer's vertex bake (--reference) instead of photons
   pb::GapSettings gaps;         // --gap-paths, with --direct sampled
@@ -80,6 +81,7 @@ struct Config {
       s += gaps.noise > 0 ? fmt::format(" gaps noise {} (<= {})", gaps.noise, gaps.paths) : fmt::format(" gaps={}", gaps.paths);
     if (direct.mode == pb::DirectLight::kSampled && gaps.smallArea > 0) s += fmt::format(" small<{}h2", gaps.smallArea);
     if (direct.mode == pb::DirectLight::kSampled && gaps.edges) s += " edges";
+    if (targetNoise) s += fmt::format(" target {}", *targetNoise);
     return s;
   }
 };
@@ -158,6 +160,7 @@ pb::BakeOptions OptionsOf(const std::string& scene, const Config& c, uint64_t se
   o.estimator = c.estimator;
   o.autoBandwidth = c.autoBandwidth;
   o.photons = c.photons;
+  o.targetNoise = c.targetNoise;
   o.seed = seed;
   o.threads = threads;
   return o;
@@ -440,18 +443,18 @@ void WriteCsv(const std::string& path, const std::vector<Run>& runs) {
   pb::WriteFileAtomically(path, [&](std::ostream& out) {
     out << "estimator,kernel,h_m,auto_h,k,edge_correction,photons,seconds,trace_s,estimate_s,peak_mib,rmse_rel,"
            "rmse_interior_rel,rmse_edge_rel,mean_bias_rel,max_error_rel,noise_rel,bias_rel,direct,direct_samples,"
-           "reference_paths,truth_noise_rel,edge_vertices,edge_bias_rel,covered_vertices,covered_mean_rel,direct_noise\n";
+           "reference_paths,truth_noise_rel,edge_vertices,edge_bias_rel,covered_vertices,covered_mean_rel,direct_noise,target_noise\n";
     for (const Run& r : runs) {
       const pb::EstimatorSettings& e = r.config.estimator;
       out << fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.1f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},"
-                         "{},{},{},{:.5f},{},{:.5f},{},{:.5f},{}\n",
+                         "{},{},{},{:.5f},{},{:.5f},{},{:.5f},{},{}\n",
                          pb::EstimatorName(e.kind), pb::KernelName(e.kernel), e.bandwidth, r.config.autoBandwidth,
                          e.neighbours, e.edgeCorrection, r.config.photons, r.seconds, r.traceSeconds,
                          r.estimateSeconds, r.peakMiB, r.error.rmse, r.error.rmseInterior, r.error.rmseEdge,
                          r.error.bias, r.error.maxError, r.error.noise, r.error.systematic,
                          pb::DirectLightName(r.config.direct.mode), r.config.direct.samples, r.config.referencePaths,
                          r.error.truthNoise, r.error.edgeVertices, r.error.edgeBias, r.error.coveredVertices,
-                         r.error.coveredMean, r.config.direct.noise);
+                         r.error.coveredMean, r.config.direct.noise, r.config.targetNoise.value_or(0));
     }
   });
 }
@@ -596,6 +599,14 @@ std::string ScenePath(Bench bench, const std::string& out) {
   }
 }
 
+// --quality NAME as bake applies it: the preset's target and first round, unless given, and h per surface unless --h.
+void ApplyQuality(const std::string& name, const pb::GivenOptions& given, Config& c) {
+  pb::BakeOptions o = OptionsOf("", c, 1, 0);
+  pb::ApplyQuality(name, given, o);
+  c.photons = o.photons, c.targetNoise = o.targetNoise, c.gaps = o.gaps;
+  c.autoBandwidth = c.autoBandwidth || !given.bandwidth;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -620,6 +631,10 @@ int main(int argc, char** argv) {
   one.direct.mode = pb::DirectLight::kSampled;
   app.add_option("--photons", one.photons, "box, office: measure only --direct sampled with this many photons");
   app.add_option("--h", one.estimator.bandwidth, "with --photons: h [m]")->capture_default_str();
+  app.add_option("--target-noise", one.targetNoise, "with --photons: rounds to this noise, the first of --photons (bake --target-noise)");
+  std::string quality;
+  app.add_option("--quality", quality, "box, office: one bake of this preset, as bake --quality (" + pb::QualityNames() +
+                                       "; h per surface unless --h)");
   app.add_flag("--h-auto", one.autoBandwidth, "with --photons: h chosen per surface from its photons (bake --h auto)");
   app.add_option("--direct-samples", one.direct.samples,
                  "with --photons: shadow rays per point (with --direct-noise: at most)")
@@ -637,6 +652,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   const auto validate = [&] {  // with bake's ranges (baker/option_ranges.h)
     pb::RequireThreads(threads);
+    if (!quality.empty())
+      ApplyQuality(quality, {.bandwidth = app.count("--h") > 0, .photons = app.count("--photons") > 0,
+                             .gapPaths = app.count("--gap-paths") > 0}, one);
     pb::RequireOption(truthPaths >= 1 && truthPaths <= 10'000'000, "--truth-paths",
                       "must lie in [1, 10000000] paths per point");
     if (one.photons > 0) OptionsOf(sceneName, one, 1, threads).Validate();

@@ -149,7 +149,7 @@ void DefineDirectOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_flag("--gap-edges", o.gaps.edges,
                "with --direct sampled and --gap-paths: also gather at every vertex on a flat surface's boundary (a "
                "floor along a wall, a block's contact line), where the light turns closer than h (docs/bake.md, "
-               "'Narrow gaps'); best with --gap-noise");
+               "'Narrow gaps'); typical with --gap-paths 4096 for 1% accuracy");
   app.add_option("--gap-small-area", o.gaps.smallArea,
                  "with --direct sampled and --gap-paths: also gather on every surface whose area is below this many "
                  "h^2, smaller than its kernel (books, table legs at a wide h; docs/bake.md, 'Narrow gaps'); 0 = off; "
@@ -214,33 +214,25 @@ void DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
   DefineRunOptions(app, o);
 }
 
-// --quality sets --photons, --h and --direct-samples, except those given on the command line.
-void ApplyQuality(const CLI::App& app, const std::string& quality, pb::BakeOptions& o) {
-  if (quality.empty()) return;
-  const std::optional<pb::QualityPreset> preset = pb::ParseQuality(quality);
-  if (!preset) throw pb::InputError("--quality", 0, "unknown preset '" + quality + "'; choose one of: " + pb::QualityNames());
-  if (app.count("--photons") == 0) o.photons = preset->photons;
-  if (app.count("--h") == 0) o.estimator.bandwidth = preset->bandwidth;
-  if (app.count("--direct-samples") == 0) o.direct.samples = preset->directSamples;
-}
-
 }  // namespace
 
 void DefineBakeCommandLine(CLI::App& app, BakeCommandLine& c) {
   DefineOptions(app, c.options, c.sceneDefaults);
   app.option_defaults()->group("Photons");
-  app.add_option("--quality", c.quality, "photons, h and shadow rays together, from the box's measured error against "
-                                         "time: " + pb::QualityNames() + " (docs/bake.md, 'Quality presets'); options given "
-                                         "explicitly win");
+  if (c.sceneDefaults)  // a preset is a noise target, met in rounds, which bake-mpi does not trace
+    app.add_option("--quality", c.quality, "a noise target and the first round's photons, with h and shadow rays chosen "
+                                           "for the scene: " + pb::QualityNames() + " (8%, 3%, 2%, 1%; docs/bake.md, "
+                                           "'Quality presets'; production also gathers the edges); options given "
+                                           "explicitly win");
   app.option_defaults()->group("Options");  // CLI11's own group, for what the tools add after
 }
 
 void ApplyBakeCommandLine(const CLI::App& app, BakeCommandLine& c) {
-  ApplyQuality(app, c.quality, c.options);
-  const bool preset = !c.quality.empty();
-  const pb::GivenOptions given{.bandwidth = preset || app.count("--h") > 0,
-                               .photons = preset || app.count("--photons") > 0,
-                               .shadowRays = preset || app.count("--direct-samples") + app.count("--direct-noise") > 0};
+  pb::GivenOptions given{.bandwidth = app.count("--h") > 0,
+                         .photons = app.count("--photons") > 0,
+                         .shadowRays = app.count("--direct-samples") + app.count("--direct-noise") > 0,
+                         .gapPaths = app.count("--gap-paths") > 0};
+  if (!c.quality.empty()) pb::ApplyQuality(c.quality, given, c.options), given.photons = true;
   if (c.sceneDefaults) pb::ApplySceneDefaults(c.options, given);  // bake-mpi has no rounds, whose rays it fixes
   c.options.Validate();
 }

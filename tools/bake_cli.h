@@ -1,5 +1,5 @@
 // The bake command line, shared by bake and bake-mpi (tools/bake.cpp, tools/bake_mpi.cpp): every option of
-// BakeOptions, and --quality, which sets --photons, --h and --direct-samples except those given.
+// BakeOptions, and --quality, which sets --target-noise and the first round's --photons except those given.
 #pragma once
 
 #include <string>
@@ -18,7 +18,7 @@ int RunBake(int argc, char** argv);
 
 struct BakeCommandLine {
   BakeOptions options;
-  std::string quality;  // --quality, or empty
+  std::string quality;  // --quality, or empty (bake only)
   // Options not given take the defaults that suit the scene (pb::ApplySceneDefaults); bake-mpi, which needs a
   // fixed h and photon count, keeps BakeOptions' own.
   bool sceneDefaults = true;

@@ -21,6 +21,7 @@
 #include "baker/files/atomic_file.h"
 #include "baker/runtime/memory_budget.h"
 #include "baker/report.h"
+#include "tests/lambert.h"
 #include "tests/ply_reader.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
@@ -340,23 +341,47 @@ TEST(BakeCli, EveryStageEndsAt100PercentWithItsRate) {
     EXPECT_TRUE(last.count(stage)) << stage << " printed no progress line:\n" << run.output;
 }
 
-// --quality sets photons, h and shadow rays together; what the command line gives explicitly wins.
-TEST(BakeCli, QualityPresetsSetPhotonsBandwidthAndShadowRays) {
+// --quality names a noise target and the first round's photons; h is the scene's (--h auto) and the rounds choose
+// the shadow rays. On the square light over a grey floor (Lambert's formula is H), with the photons carrying the
+// direct light too (so that the photons' noise is the error), draft's 8% is met, and the floor vertices' relative
+// RMS error, weighted by H as the target weights them, stays below it: 3.3% (the predicted noise's 95th percentile
+// 2.2%, and the automatic h's smoothing bias about 0.7 of the noise). production also gathers the edges. What the
+// command line gives explicitly wins.
+TEST(BakeCli, QualityPresetsAreNoiseTargetsWithTheScenesH) {
   const std::string dir = test::TempDirectory("cli-quality");
-  const std::string scene = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 2.0f, 4, 0.5f);
-  const auto options = [&](const std::string& args) {
+  const std::string scene = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 40, 0.5f);
+  const auto report = [&](const std::string& args) {
     const BakeRun run = RunBake(scene + " -o " + dir + "/out.ply -q --report " + dir + "/r.json " + args);
     EXPECT_EQ(run.status, 0) << args << ": " << run.output;
-    return nlohmann::json::parse(test::ReadBytes(dir + "/r.json")).at("options");
+    return nlohmann::json::parse(test::ReadBytes(dir + "/r.json"));
   };
-  const nlohmann::json draft = options("--quality draft");
-  EXPECT_EQ(draft.at("photons"), 250000);
-  EXPECT_FLOAT_EQ(draft.at("h_m").get<float>(), 0.08f);
-  EXPECT_EQ(draft.at("direct_samples"), 64);
-  const nlohmann::json mixed = options("--quality draft --photons 1000 --h 0.2 --direct-samples 9");
-  EXPECT_EQ(mixed.at("photons"), 1000);
-  EXPECT_FLOAT_EQ(mixed.at("h_m").get<float>(), 0.2f);
-  EXPECT_EQ(mixed.at("direct_samples"), 9);
+  const nlohmann::json draft = report("--quality draft --direct photons --ascii");
+  EXPECT_EQ(draft.at("options").at("photons"), 250000);
+  EXPECT_EQ(draft.at("options").at("h_m"), "auto");
+  EXPECT_FLOAT_EQ(draft.at("options").at("target_noise").get<float>(), 0.08f);
+  const nlohmann::json& rounds = draft.at("progressive").at("rounds");
+  ASSERT_FALSE(rounds.empty());
+  EXPECT_LE(rounds.back().at("noise").get<double>(), 0.08);
+  EXPECT_TRUE(draft.at("progressive").at("target_met").get<bool>());
+  const test::PlyData ply = test::ReadPly(dir + "/out.ply");
+  double weight = 0, squared = 0;
+  for (size_t v = 0; v < ply.VertexCount(); ++v) {
+    if (ply.vertex.at("y")[v] != 0) continue;
+    const double exact = test::SquareLightIrradiance(ply.vertex.at("x")[v], ply.vertex.at("z")[v]);
+    const double error = ply.vertex.at("irradiance_g")[v] / exact - 1;
+    weight += exact, squared += exact * error * error;
+  }
+  const double rmse = std::sqrt(squared / weight);
+  std::printf("draft: relative RMS error %.4f against its target 0.08\n", rmse);
+  EXPECT_LT(rmse, 0.08);
+  const nlohmann::json given = report("--quality production --photons 1000 --h 0.2 --direct-samples 9 --target-noise 0.5");
+  EXPECT_EQ(given.at("options").at("photons"), 1000);
+  EXPECT_FLOAT_EQ(given.at("options").at("h_m").get<float>(), 0.2f);
+  EXPECT_EQ(given.at("options").at("direct_samples"), 9);
+  EXPECT_FLOAT_EQ(given.at("options").at("target_noise").get<float>(), 0.5f);
+  EXPECT_EQ(given.at("options").at("gap_edges"), true);  // production gathers the edges, with 4,096 paths
+  EXPECT_EQ(given.at("options").at("gap_paths"), 4096);
+  EXPECT_EQ(report("--quality production --photons 1000 --target-noise 0.5 --gap-paths 16").at("options").at("gap_paths"), 16);
   const BakeRun bad = RunBake(scene + " -o " + dir + "/out.ply --quality ultra");
   EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_NE(bad.output.find("draft, medium, high, production"), std::string::npos) << bad.output;
