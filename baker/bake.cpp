@@ -179,6 +179,11 @@ struct Lit {
   double noise = 0;  // the bake's predicted noise (BakeNoise)
 };
 
+// --only's surfaces (every surface without it).
+std::vector<bool> EstimatedSurfaces(const BakeOptions& o, const PreparedScene& scene) {
+  return o.only.empty() ? std::vector<bool>{} : SurfacesNamed(scene.scene, scene.surfaces, o.only, "--only");
+}
+
 FieldSettings FieldSettingsOf(const BakeOptions& o, const PhotonRounds& rounds) {
   return {o.estimator, o.autoBandwidth, rounds.HeldBandwidths(), rounds.Direct(), o.referencePaths, o.seed, o.gaps};
 }
@@ -209,7 +214,8 @@ bool EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, c
     return d == nullptr || d->TakesChunk(chunk);
   };
   BakedMesh baked = clock.Time("estimate", [&] {
-    return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces), log, /*withNoise=*/true, owns);
+    return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces, EstimatedSurfaces(o, scene)), log,
+                              /*withNoise=*/true, owns);
   });
   if (stopped) return false;
   lit.baked = std::move(baked);
@@ -347,6 +353,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
 
   const PreparedScene scene = PrepareScene(SceneOf(o), clock, &log);
   RequireDistinctFiles(OutputsWithMaps(o, scene.surfaces.surfaces.size()), scene.scene.InputFiles());
+  EstimatedSurfaces(o, scene);  // --only names something, before any photon is traced
   scene.warningsShown ? journal.Record(scene.warnings) : journal.Warn(scene.warnings, log);
   if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions, threads.Count());
   if (o.refine.subdivide > 0) CheckSubdivisionMemory(scene.scene.triangles.size(), o.refine.subdivide);

@@ -102,6 +102,8 @@ void ValidateOutputOptions(const BakeOptions& o) {
   RequireImageSize(o.previewWidth, o.previewHeight, "--preview-size", 8192);
   RequireOption(o.cameraPath.empty() || !o.previewPath.empty(), "--camera", "is the --preview's camera; give --preview too");
   RequireOption(!o.asciiPly || !HasGltfExtension(o.outputPath), "--ascii", "writes ASCII PLY; -o names a glTF file");
+  RequireOption(o.only.empty() || (!o.refine.Enabled() && o.mapsDirectory.empty()), "--only",
+                "cannot yet be combined with --refine, --subdivide or --maps");
 }
 
 }  // namespace

@@ -111,6 +111,9 @@ struct BakeOptions {
   // --no-cover: do not find the parts of surfaces that other geometry covers (estimators/surface_cover.h); they
   // are found on a lattice of spacing h / 2 (the default h's with --h auto).
   bool findCovers = true;
+  // --only: comma-separated globs of object or material names (mesh/split_mesh.h, SurfacesNamed); only their
+  // surfaces are estimated and written, the light still traced through the whole scene. Empty: every surface.
+  std::string only;
   std::string mapsDirectory;      // --maps: one irradiance map (EXR) per surface here; empty for none.
   // --preview: a PNG of the baked mesh as a viewer shows it (baker/5_write_preview.h); empty for none. Seen from
   // --camera, or the scene's sidecar SCENE.camera.json; --preview-size pixels, each in [1, 8192].

@@ -1,8 +1,14 @@
 #include "mesh/split_mesh.h"
 
+#include <fmt/format.h>
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <unordered_map>
+
+#include "mesh/errors.h"
 
 namespace pb {
 namespace {
@@ -77,10 +83,11 @@ void FinishCurvedVertices(const Scene& scene, const SurfaceSet& surfaces, const 
 
 }  // namespace
 
-SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces) {
+SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces, const std::vector<bool>& keep) {
   SplitMesh mesh;
   mesh.origin = scene.origin;
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
+    if (!keep.empty() && !keep[s]) continue;
     const Surface& surface = surfaces.surfaces[s];
     const size_t first = mesh.positions.size();
     // (scene position, texture coordinate) -> this surface's copy: a textured surface is also split at texture
@@ -102,6 +109,33 @@ SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces) {
     if (!surface.planar) FinishCurvedVertices(scene, surfaces, surface, first, mesh);
   }
   return mesh;
+}
+
+std::vector<bool> SurfacesNamed(const Scene& scene, const SurfaceSet& surfaces, std::string_view patterns,
+                                const char* option) {
+  std::vector<std::string> globs;
+  for (size_t start = 0; start <= patterns.size();) {
+    const size_t end = std::min(patterns.find(',', start), patterns.size());
+    if (end > start) globs.emplace_back(patterns.substr(start, end - start));
+    start = end + 1;
+  }
+  const auto matches = [&](const std::string& name) {
+    for (const std::string& glob : globs)
+      if (!name.empty() && fnmatch(glob.c_str(), name.c_str(), 0) == 0) return true;
+    return false;
+  };
+  std::vector<bool> keep(surfaces.surfaces.size(), false);
+  bool any = false;
+  for (size_t s = 0; s < keep.size(); ++s) {
+    const Surface& surface = surfaces.surfaces[s];
+    const uint32_t object = scene.triangles[surface.triangles.front()].object;
+    const std::string& objectName = object < scene.objectNames.size() ? scene.objectNames[object] : std::string();
+    keep[s] = matches(objectName) || matches(scene.materials[surface.material].name);
+    any = any || keep[s];
+  }
+  if (!any)
+    throw InputError(option, 0, fmt::format("'{}' names no object or material of the scene", patterns));
+  return keep;
 }
 
 std::array<double, 2> BarycentricsIn(const Scene& scene, uint32_t t, const Point3d& p) {

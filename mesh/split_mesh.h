@@ -8,6 +8,7 @@
 
 #include <array>
 #include <optional>
+#include <string_view>
 #include <cstdint>
 #include <vector>
 
@@ -52,8 +53,16 @@ struct SplitMesh {
   }
 };
 
-// Vertices are ordered by surface, then by first use; faces by surface, then by scene order.
-SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces);
+// Vertices are ordered by surface, then by first use; faces by surface, then by scene order. With `keep` (one flag
+// per surface), only the kept surfaces, in the same order: their vertices are those of the whole mesh, less the
+// others.
+SplitMesh SplitBySurface(const Scene& scene, const SurfaceSet& surfaces, const std::vector<bool>& keep = {});
+
+// The surfaces whose object or material name matches one of `patterns`, comma-separated shell globs ("table*,
+// book_?"; fnmatch); an object without a name ('o' missing in an OBJ) matches by its material only. InputError
+// naming `option` when no surface matches.
+std::vector<bool> SurfacesNamed(const Scene& scene, const SurfaceSet& surfaces, std::string_view patterns,
+                                const char* option);
 
 // Barycentrics (b1, b2) of point p (local [m], double precision) in scene triangle t; p need not lie inside it.
 using Point3d = std::array<double, 3>;

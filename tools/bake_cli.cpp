@@ -178,6 +178,9 @@ void DefineMeshOptions(CLI::App& app, pb::BakeOptions& o) {
 
 void DefineOutputOptions(CLI::App& app, pb::BakeOptions& o) {
   app.option_defaults()->group("Outputs");
+  app.add_option("--only", o.only, "estimate and write only the objects or materials these comma-separated names or "
+                                   "globs match ('table*,book_?'), the light still traced through the whole scene; "
+                                   "their vertices are those of the whole bake (docs/bake.md, 'Baking part of a scene')");
   app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
                                             "this folder, created if missing (surface_N.exr; docs/bake.md, 'Irradiance maps')");
   app.add_option("--texel", o.texel, "texel side of --maps [m]; range 1e-6 to 1e4, typical 0.005-0.05")->capture_default_str();

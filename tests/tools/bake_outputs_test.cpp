@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -174,6 +175,46 @@ TEST(BakeCli, APlantedSymlinkIsNotFollowed) {
   outputs.Commit();
   EXPECT_EQ(test::ReadBytes(dir + "/victim"), "precious");
   EXPECT_EQ(test::ReadBytes(dir + "/out.ply"), "new");
+}
+
+// --only bakes part of a scene: the named objects' surfaces are estimated and written, the light traced through
+// the whole scene as before. Every point's random streams are keyed by its surface and position, so each written
+// vertex is the whole bake's vertex, every property equal (the colours too, at one --exposure; the automatic one
+// would be the part's own), in the whole bake's order; the parts named apart add up to the parts named together.
+// A name that matches nothing is refused before any photon is traced, and --maps and --refine are refused with it.
+std::vector<std::vector<double>> VertexRows(const test::PlyData& ply) {
+  std::vector<std::vector<double>> rows(ply.VertexCount());
+  for (const std::string& property : ply.vertexProperties)
+    for (size_t v = 0; v < rows.size(); ++v) rows[v].push_back(ply.vertex.at(property)[v]);
+  return rows;
+}
+
+TEST(BakeCli, OnlyWritesTheNamedObjectsVerticesOfTheWholeBake) {
+  const std::string dir = test::TempDirectory("cli-only");
+  const std::string common = PB_SOURCE_DIR "/data/box/box.obj -q --photons 100000 --exposure 1 -o " + dir;
+  const auto rows = [&](const std::string& name, const std::string& only) {
+    const BakeRun run = RunBake(common + "/" + name + ".ply" + (only.empty() ? "" : " --only '" + only + "'"));
+    EXPECT_EQ(run.status, 0) << run.output;
+    return VertexRows(test::ReadPly(dir + "/" + name + ".ply"));
+  };
+  const auto whole = rows("whole", ""), part = rows("part", "short_block*,floor");
+  ASSERT_GT(part.size(), 0u);
+  ASSERT_LT(part.size(), whole.size());
+  size_t next = 0;  // each part vertex is a whole-bake vertex, in the whole bake's order
+  for (const auto& row : part) {
+    while (next < whole.size() && whole[next] != row) ++next;
+    ASSERT_LT(next, whole.size()) << "a vertex of --only is not the whole bake's";
+    ++next;
+  }
+  EXPECT_EQ(rows("floor", "floor").size() + rows("blocks", "short_block*").size(), part.size());
+  EXPECT_EQ(rows("white", "white").size() + rows("coloured", "red,green").size() + rows("lights", "*_light").size(),
+            whole.size()) << "by material, the box's white, red, green and light surfaces are all of it";
+  const BakeRun none = RunBake(common + "/none.ply --only 'tall_blocks*'");
+  EXPECT_EQ(none.status, 1);
+  EXPECT_NE(none.output.find("--only: error: 'tall_blocks*' names no object or material of the scene"), std::string::npos)
+      << none.output;
+  EXPECT_EQ(RunBake(common + "/maps.ply --only floor --maps " + dir + "/maps").status, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/none.ply") || std::filesystem::exists(dir + "/maps.ply"));
 }
 
 }  // namespace
