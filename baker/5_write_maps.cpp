@@ -115,21 +115,26 @@ std::vector<std::string> MapPaths(const std::string& directory, size_t surfaces)
 }
 
 MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,
-                                const SplitMesh& base, const Log& log) {
+                                const SplitMesh& base, const Log& log, const std::vector<bool>& only) {
   const PreparedScene& prepared = field.Prepared();
   const SurfaceSet& surfaces = prepared.surfaces;
   const SurfaceRegions& regions = prepared.regions;
   RequireWritableLocation(directory + "/surface_0.exr");
   CheckMapTexels(texel, regions, 1);
-  MapsWritten written{MapPaths(directory, surfaces.surfaces.size())};
+  const std::vector<std::string> paths = MapPaths(directory, surfaces.surfaces.size());
+  std::vector<uint32_t> mapped;  // the surfaces whose maps are written
+  MapsWritten written;
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
+    if (!only.empty() && !only[s]) continue;
+    mapped.push_back(s);
+    written.paths.push_back(paths[s]);
     const auto [nu, nv] = TexelGrid(regions[s]->Bounds(), texel);
     written.texels += size_t(nu) * size_t(nv);
   }
   const SurfacePointSampler sampler(prepared.scene, surfaces, base);
   Progress progress(log, "irradiance maps (texels)", written.texels);
-  tbb::parallel_for(size_t(0), surfaces.surfaces.size(), [&](size_t s) {
-    WriteSurfaceMap(outputs, written.paths[s], texel, field, sampler, uint32_t(s), progress);
+  tbb::parallel_for(size_t(0), mapped.size(), [&](size_t i) {
+    WriteSurfaceMap(outputs, written.paths[i], texel, field, sampler, mapped[i], progress);
   });
   return written;
 }

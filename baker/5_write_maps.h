@@ -42,8 +42,9 @@ std::vector<std::string> MapTimeWarnings(float texel, const SurfaceRegions& regi
 // Bytes of the `threads` largest maps at once.
 double MapMemoryBytes(float texel, const SurfaceRegions& regions, unsigned threads);
 
-// `base` is SplitBySurface of the field's scene.
+// `base` is SplitBySurface of the field's scene, every surface. With `only` (a flag per surface, --only), the maps
+// of those surfaces alone, each the same as in a bake of them all.
 MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,
-                                const SplitMesh& base, const Log& log);
+                                const SplitMesh& base, const Log& log, const std::vector<bool>& only = {});
 
 }  // namespace pb

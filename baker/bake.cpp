@@ -368,7 +368,11 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   journal.Warn(SubdivisionTimeWarnings(scene.scene.triangles.size(), o.refine.subdivide, secondsPerPoint), log);
   if (!o.mapsDirectory.empty()) {
     journal.Warn(MapTimeWarnings(o.texel, scene.regions, secondsPerPoint), log);
-    maps = clock.Time("maps", [&] { return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, lit.baked.mesh, log); });
+    maps = clock.Time("maps", [&] {
+      if (o.only.empty()) return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, lit.baked.mesh, log);
+      return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, SplitBySurface(scene.scene, scene.surfaces),
+                                 log, EstimatedSurfaces(o, scene));
+    });
   }
   RefineReport refine;
   if (o.refine.adaptive) journal.Warn(NoiseWarnings(field, rounds.Bins(), exposure, o.refine.tolerance), log);

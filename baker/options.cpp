@@ -102,8 +102,7 @@ void ValidateOutputOptions(const BakeOptions& o) {
   RequireImageSize(o.previewWidth, o.previewHeight, "--preview-size", 8192);
   RequireOption(o.cameraPath.empty() || !o.previewPath.empty(), "--camera", "is the --preview's camera; give --preview too");
   RequireOption(!o.asciiPly || !HasGltfExtension(o.outputPath), "--ascii", "writes ASCII PLY; -o names a glTF file");
-  RequireOption(o.only.empty() || (!o.refine.Enabled() && o.mapsDirectory.empty()), "--only",
-                "cannot yet be combined with --refine, --subdivide or --maps");
+  RequireOption(o.only.empty() || !o.refine.Enabled(), "--only", "cannot yet be combined with --refine or --subdivide");
 }
 
 }  // namespace
@@ -127,6 +126,7 @@ void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given) {
   if (!given.photons && !o.targetNoise && o.referencePaths == 0 && o.resumePath.empty())
     o.targetNoise = kDefaultTargetNoise;
 }
+
 void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions& o) {
   const std::optional<QualityPreset> preset = ParseQuality(name);
   if (!preset)

@@ -129,8 +129,8 @@ std::vector<bool> SurfacesNamed(const Scene& scene, const SurfaceSet& surfaces, 
   for (size_t s = 0; s < keep.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
     const uint32_t object = scene.triangles[surface.triangles.front()].object;
-    const std::string& objectName = object < scene.objectNames.size() ? scene.objectNames[object] : std::string();
-    keep[s] = matches(objectName) || matches(scene.materials[surface.material].name);
+    keep[s] = (object < scene.objectNames.size() && matches(scene.objectNames[object])) ||
+              matches(scene.materials[surface.material].name);
     any = any || keep[s];
   }
   if (!any)

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -91,9 +92,10 @@ TEST(BakeCli, ALateFailureReplacesNoOutput) {
   std::vector<std::string> before;
   for (const std::string& f : files) before.push_back(test::ReadBytes(dir + f));
   // 3000 photons make a photon file of about 60 kB; two levels of subdivision a PLY of about 1.5 MB, over the
-  // limit of 512 kB.
+  // limit of 512 kB. h is given: the automatic h of so few photons is a surface's size, and every point of the
+  // subdivided box then lies in a "gap" and gathers paths (13 s where h = 0.05 m takes 3 s).
   const BakeRun failed = test::RunTool("bash -c \"trap '' XFSZ; ulimit -f 512; exec " + std::string(PB_BAKE_EXE) +
-                                       " " + common + " --photons 3000 --subdivide 2\"", "");
+                                       " " + common + " --photons 3000 --h 0.05 --subdivide 2\"", "");
   EXPECT_EQ(failed.status, 1) << failed.output;
   EXPECT_NE(failed.output.find("out.ply: error: write failed"), std::string::npos) << failed.output;
   for (size_t i = 0; i < files.size(); ++i)
@@ -181,7 +183,8 @@ TEST(BakeCli, APlantedSymlinkIsNotFollowed) {
 // the whole scene as before. Every point's random streams are keyed by its surface and position, so each written
 // vertex is the whole bake's vertex, every property equal (the colours too, at one --exposure; the automatic one
 // would be the part's own), in the whole bake's order; the parts named apart add up to the parts named together.
-// A name that matches nothing is refused before any photon is traced, and --maps and --refine are refused with it.
+// With --maps, only the named surfaces' maps are written, each the whole bake's bytes. A name that matches nothing is
+// refused before any photon is traced, and --refine is refused with it.
 std::vector<std::vector<double>> VertexRows(const test::PlyData& ply) {
   std::vector<std::vector<double>> rows(ply.VertexCount());
   for (const std::string& property : ply.vertexProperties)
@@ -213,8 +216,15 @@ TEST(BakeCli, OnlyWritesTheNamedObjectsVerticesOfTheWholeBake) {
   EXPECT_EQ(none.status, 1);
   EXPECT_NE(none.output.find("--only: error: 'tall_blocks*' names no object or material of the scene"), std::string::npos)
       << none.output;
-  EXPECT_EQ(RunBake(common + "/maps.ply --only floor --maps " + dir + "/maps").status, 2);
-  EXPECT_FALSE(std::filesystem::exists(dir + "/none.ply") || std::filesystem::exists(dir + "/maps.ply"));
+  const std::string maps = " --maps " + dir + "/MAPS --texel 0.05";
+  ASSERT_EQ(RunBake(common + "/all-maps.ply" + std::regex_replace(maps, std::regex("MAPS"), "all")).status, 0);
+  ASSERT_EQ(RunBake(common + "/floor-maps.ply --only floor" + std::regex_replace(maps, std::regex("MAPS"), "floor")).status, 0);
+  std::vector<std::filesystem::path> floorMaps;
+  for (const auto& entry : std::filesystem::directory_iterator(dir + "/floor")) floorMaps.push_back(entry.path());
+  ASSERT_EQ(floorMaps.size(), 1u) << "--only floor writes the floor's map alone";
+  EXPECT_TRUE(test::ReadBytes(floorMaps[0].string()) == test::ReadBytes(dir + "/all/" + floorMaps[0].filename().string()));
+  EXPECT_EQ(RunBake(common + "/refined.ply --only floor --refine").status, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/none.ply") || std::filesystem::exists(dir + "/refined.ply"));
 }
 
 }  // namespace
