@@ -197,12 +197,12 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
   gather(baked.irradianceNoise), gather(baked.photonVarianceShare), gather(baked.sampledShare);
 }
 
-// Stage 3 from the round's photons, with each vertex's noise and the bake's; with a distribution, each process
-// estimates its share of the vertices for rank 0. A later round's estimate (lit holds the round before's) stops at
+// Stage 3 from the round's photons at the vertices of `base`, with each vertex's noise and the bake's; with a
+// distribution, each process estimates its share of the vertices for rank 0. A later round's estimate (lit holds the round before's) stops at
 // Ctrl-C, on one process: lit then keeps the vertices of the round before, with the new round's field, and false
 // is returned.
-bool EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, const PhotonRounds& rounds,
-                   const Distribution* d, StageClock& clock, const Log& log) {
+bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, const BakeOptions& o,
+                   const PhotonRounds& rounds, const Distribution* d, StageClock& clock, const Log& log) {
   lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock, &log));
   const bool mayStop = d == nullptr && lit.baked.mesh.VertexCount() > 0;
   std::atomic<bool> stopped{false};
@@ -214,8 +214,7 @@ bool EstimateLight(Lit& lit, const PreparedScene& scene, const BakeOptions& o, c
     return d == nullptr || d->TakesChunk(chunk);
   };
   BakedMesh baked = clock.Time("estimate", [&] {
-    return EstimateIrradiance(*lit.field, SplitBySurface(scene.scene, scene.surfaces, EstimatedSurfaces(o, scene)), log,
-                              /*withNoise=*/true, owns);
+    return EstimateIrradiance(*lit.field, base, log, /*withNoise=*/true, owns);
   });
   if (stopped) return false;
   lit.baked = std::move(baked);
@@ -304,10 +303,13 @@ double SecondsPerPoint(const Lit& lit, const PhotonRounds& rounds, const StageCl
 Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs,
                      const Distribution* distribution, StageClock& clock, const Log& log) {
   const InterruptScope interrupt;
+  // The vertices estimated in every round: every surface's, or --only's (refused here, before any photon is
+  // traced, when it names nothing).
+  const SplitMesh base = SplitBySurface(scene.scene, scene.surfaces, EstimatedSurfaces(o, scene));
   Lit lit;
   do {
     rounds.TraceRound();
-    if (!EstimateLight(lit, scene, o, rounds, distribution, clock, log)) {
+    if (!EstimateLight(lit, scene, base, o, rounds, distribution, clock, log)) {
       rounds.EstimateInterrupted();
       break;
     }
@@ -353,7 +355,6 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
 
   const PreparedScene scene = PrepareScene(SceneOf(o), clock, &log);
   RequireDistinctFiles(OutputsWithMaps(o, scene.surfaces.surfaces.size()), scene.scene.InputFiles());
-  EstimatedSurfaces(o, scene);  // --only names something, before any photon is traced
   scene.warningsShown ? journal.Record(scene.warnings) : journal.Warn(scene.warnings, log);
   if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions, threads.Count());
   if (o.refine.subdivide > 0) CheckSubdivisionMemory(scene.scene.triangles.size(), o.refine.subdivide);
