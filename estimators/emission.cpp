@@ -53,14 +53,40 @@ EmissionSample FromPortal(const Light& light, Rng& rng) {
   return e;
 }
 
+// A point light's photon: by its profile when it has one (in the profile's frame), else uniform over the sphere.
+EmissionSample FromPointLight(const AnalyticLight& a, Rng& rng) {
+  if (!a.profile) return FromPoint(a.position, {0, 0, 1}, SampleUniformSphere(rng.Uniform2()));
+  const std::optional<DirectionSample> d = SampleProfile(*a.profile, rng);
+  PB_CHECK(d.has_value(), "a light that emits photons has flux");
+  const Vector3 w = ProfileFrame(a).ToWorld(d->direction);
+  return {a.position, NormalFrom(w), false, w, 0, 0, d->pdf};
+}
+
 }  // namespace
+
+std::optional<DirectionSample> SampleProfile(const IntensityProfile& profile, Rng& rng) {
+  const auto pick = SampleDiscreteCdf(profile.CellCdf(), rng.Uniform());
+  if (!pick) return std::nullopt;
+  const IntensityProfile::Cell cell = profile.CellAt(pick->index);
+  const double cos0 = std::cos(cell.gamma0), cos1 = std::cos(cell.gamma1);
+  double gamma = 0, c = 0;
+  for (int i = 0; i < kProfileTries; ++i) {
+    const Point2 u = rng.Uniform2();
+    gamma = std::acos(std::clamp(cos0 + (cos1 - cos0) * double(u.u), -1.0, 1.0));  // uniform in solid angle
+    c = cell.c0 + (cell.c1 - cell.c0) * double(u.v);
+    if (double(rng.Uniform()) * cell.maxIntensity < profile.Intensity(gamma, c)) break;
+  }
+  const double sinGamma = std::sin(gamma);
+  const Vector3 local{float(sinGamma * std::cos(c)), float(sinGamma * std::sin(c)), float(std::cos(gamma))};
+  return DirectionSample{local, float(profile.Intensity(gamma, c) / profile.Flux())};
+}
 
 EmissionSample SampleEmission(const Scene& scene, const Light& light, Rng& rng) {
   const AnalyticLight& a = light.analytic;
   if (!light.portals.empty()) return FromPortal(light, rng);
   switch (light.kind) {
     case LightKind::kArea: return FromArea(scene, light, rng);
-    case LightKind::kPoint: return FromPoint(a.position, {0, 0, 1}, SampleUniformSphere(rng.Uniform2()));
+    case LightKind::kPoint: return FromPointLight(a, rng);
     case LightKind::kSpot:
       return FromPoint(a.position, NormalFrom(a.direction), SampleSpotCone(rng.Uniform2(), a.cosInner, a.cosOuter));
     case LightKind::kSun: return FromDisc(light, a.direction, rng.Uniform2(), 0);

@@ -3,7 +3,11 @@
 // (mesh/lights.h) splits into N equal parts:
 //   area:  position uniform over the light's area (pdf 1/A per unit area [1/m^2]), direction cosine-distributed
 //          about the front normal (pdf cos(theta)/pi [1/sr]): Ke cos / (N pdfArea pdfDirection) = Phi / N;
-//   point: from its position, direction uniform over the sphere;
+//   point: from its position, direction uniform over the sphere; with a profile (mesh/intensity_profile.h), in
+//          proportion to its intensity: a cell of the profile's table by its share of the flux, then directions
+//          uniform over the cell's solid angle until one is kept, with probability I / (the cell's largest corner),
+//          so that the pdf is I / flux [1/sr] (rejection sampling; a cell keeps at least 1/6 of its proposals, so
+//          that kProfileTries of them all fail with probability below 1e-20, when the last is kept);
 //   spot:  from its position, direction in proportion to its falloff (estimators/warps.h, SampleSpotCone);
 //   sun:   direction its own, position uniform on the disc of the bounding sphere's radius R facing along it, R
 //          behind the sphere's centre (pdf 1/(pi R^2));
@@ -14,9 +18,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "estimators/rng.h"
+#include "estimators/warps.h"
 #include "mesh/lights.h"
 #include "mesh/scene.h"
 
@@ -32,6 +38,11 @@ struct EmissionSample {
   float pdfDirection = 0;  // [1/sr]; area, point, spot and sky lights
   bool carriesLight = true;  // false for a portal's sky photon from below the horizon: it ends at once
 };
+
+// A direction in the profile's frame (mesh/lights.h, ProfileFrame), z the nadir, and its pdf [1/sr]. Empty when
+// the profile's flux is 0.
+inline constexpr int kProfileTries = 256;
+std::optional<DirectionSample> SampleProfile(const IntensityProfile& profile, Rng& rng);
 
 EmissionSample SampleEmission(const Scene& scene, const Light& light, Rng& rng);
 

@@ -242,7 +242,7 @@ Rgb LightSampler::DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 
   const Vector3 w = toLight * (1.0f / std::sqrt(d2));
   const float cosX = Dot(w, n);
   if (cosX <= 0) return {};
-  const float falloff = light.kind == LightKind::kSpot ? SpotFalloff(light, -Dot(w, light.direction)) : 1.0f;
+  const float falloff = RelativeIntensity(light, -w);
   if (falloff <= 0) return {};
   const Vector3 span = light.position - origin;
   const float length = Length(span);

@@ -7,6 +7,8 @@
 
 #include "mesh/camera.h"
 #include "mesh/errors.h"
+#include "mesh/ies_file.h"
+#include "mesh/input_file.h"
 #include "mesh/json_input.h"
 
 namespace pb {
@@ -28,7 +30,12 @@ class LightReader {
       light.kind = type == "point" ? LightKind::kPoint : LightKind::kSpot;
       const auto p = ReadTriple(in_, j_, "position_m", owner_, from_);
       light.position = scene.ToLocal(p[0], p[1], p[2]);
-      light.intensity = Strength("intensity_W_sr", "intensity_cd");
+      if (j_.contains("ies")) {
+        if (light.kind == LightKind::kSpot) Fail("ies", "an IES profile is a point light's: its cone is the profile's");
+        Profile(light);
+      } else {
+        light.intensity = Strength("intensity_W_sr", "intensity_cd");
+      }
       if (light.kind == LightKind::kSpot) Cone(light);
     } else if (type == "sun") {
       light.kind = LightKind::kSun;
@@ -70,13 +77,34 @@ class LightReader {
     const bool r = j_.contains(radiometric), p = j_.contains(photometric);
     if (r == p) Fail("type", "give exactly one of '" + radiometric + "' and '" + photometric + "'");
     const double value = r ? Number(radiometric, 0, 1e30) : Number(photometric, 0, 1e30) / efficacy_;
-    Rgb colour{1, 1, 1};
-    if (j_.contains("color")) {
-      const auto c = ReadTriple(in_, j_, "color", owner_, from_);
-      if (c[0] < 0 || c[1] < 0 || c[2] < 0) Fail("color", "'color' must not be negative");
-      colour = {float(c[0]), float(c[1]), float(c[2])};
-    }
-    return colour * float(value);
+    return Colour() * float(value);
+  }
+
+  Rgb Colour() const {
+    if (!j_.contains("color")) return {1, 1, 1};
+    const auto c = ReadTriple(in_, j_, "color", owner_, from_);
+    if (c[0] < 0 || c[1] < 0 || c[2] < 0) Fail("color", "'color' must not be negative");
+    return {float(c[0]), float(c[1]), float(c[2])};
+  }
+
+  // A point light's IES profile: the file (found as the scene's files are, from the lights file's folder), its
+  // candela values times "scale" and "color" over the luminous efficacy, its nadir "direction" and "c0".
+  void Profile(AnalyticLight& light) const {
+    if (!j_["ies"].is_string()) Fail("ies", "'ies' must name an IES file");
+    for (const char* strength : {"intensity_W_sr", "intensity_cd"})
+      if (j_.contains(strength)) Fail(strength, fmt::format("'{}' and 'ies' both give the intensity: give one", strength));
+    const std::string name = j_["ies"].get<std::string>();
+    const std::optional<std::string> file = FindNamedFile(in_.path, name);
+    if (!file) Fail("ies", "the IES file '" + name + "' is not there");
+    light.profile = std::make_shared<const IntensityProfile>(LoadIesFile(*file));
+    const double scale = j_.contains("scale") ? Number("scale", 0, 1e30) : 1;
+    light.intensity = Colour() * float(scale / efficacy_);
+    light.direction = j_.contains("direction") ? Direction("direction") : Vector3{0, -1, 0};
+    const Vector3 c0 = j_.contains("c0") ? Direction("c0") : std::fabs(light.direction.x) < 0.9f ? Vector3{1, 0, 0}
+                                                                                                 : Vector3{0, 0, 1};
+    const Vector3 across = c0 - light.direction * Dot(c0, light.direction);
+    if (!(Length(across) > 1e-3f * Length(c0))) Fail("c0", "'c0' must not be parallel to 'direction'");
+    light.c0 = Normalize(across);
   }
 
   void Cone(AnalyticLight& light) const {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace pb {
 namespace {
@@ -53,6 +54,19 @@ float SpotFalloff(const AnalyticLight& spot, float cosAngle) {
   return t * t;
 }
 
+Frame ProfileFrame(const AnalyticLight& light) {
+  const Normal3 nadir = NormalFrom(light.direction);
+  return {light.c0, Cross(light.c0, AsVector(nadir)), nadir};
+}
+
+float RelativeIntensity(const AnalyticLight& light, Vector3 w) {
+  if (light.kind == LightKind::kSpot) return SpotFalloff(light, Dot(w, light.direction));
+  if (!light.profile) return 1;
+  const Vector3 local = ProfileFrame(light).ToLocal(w);
+  const double c = std::atan2(double(local.y), double(local.x));
+  return float(light.profile->Intensity(std::acos(std::clamp(double(local.z), -1.0, 1.0)), c < 0 ? c + 2 * std::numbers::pi : c));
+}
+
 Rgb Light::Power() const {
   const AnalyticLight& a = analytic;
   if (!portals.empty()) {
@@ -63,7 +77,7 @@ Rgb Light::Power() const {
   const double disc = kPi * double(boundsRadius) * boundsRadius;
   switch (kind) {
     case LightKind::kArea: return radiance * float(kPi * area);
-    case LightKind::kPoint: return a.intensity * float(4 * kPi);
+    case LightKind::kPoint: return a.intensity * float(a.profile ? a.profile->Flux() : 4 * kPi);
     case LightKind::kSpot: return a.intensity * float(SpotSolidAngle(a.cosInner, a.cosOuter));
     case LightKind::kSun: return a.intensity * float(disc);
     case LightKind::kSky: return a.intensity * float(disc * (a.wholeSphere ? 4 : 2) * kPi);

@@ -2,7 +2,7 @@
 //   area: one emissive surface, radiance Ke [W/(m^2 sr)] leaving its front side with a cosine distribution, area
 //         A [m^2]: Phi = pi Ke A. The triangle CDF (by area) lets estimators/emission.h pick a point uniformly over
 //         it (pdf 1/A per unit area).
-//   point: Phi = 4 pi I.
+//   point: Phi = 4 pi I; with a goniometric profile (an IES file), I [W/sr per cd] times the profile's flux [lm].
 //   spot: Phi = I 2 pi [(1 - cos inner) + (cos inner - cos outer) / 3], the integral of glTF's falloff
 //         (mesh/scene.h) over the sphere.
 //   sun: its photons leave a disc of radius R (the radius of the scene's bounding sphere) facing along its
@@ -49,6 +49,13 @@ struct Light {
 double SpotSolidAngle(float cosInner, float cosOuter);
 // The spot's falloff at cos t from its axis, in [0, 1].
 float SpotFalloff(const AnalyticLight& spot, float cosAngle);
+
+// The frame of a point light's profile: s is its horizontal angle 0 (c0), t = s x n its horizontal angle 90
+// degrees (counter-clockwise seen from above), n its nadir (direction). Type C photometry, as LM-63 measures.
+Frame ProfileFrame(const AnalyticLight& light);
+// The factor by which a point or spot light's intensity is multiplied toward the unit direction w leaving it: the
+// spot's falloff, a profile's I [cd], or 1.
+float RelativeIntensity(const AnalyticLight& light, Vector3 w);
 
 // "point", "spot", "sun", "sky" or "area".
 const char* LightKindName(LightKind kind);

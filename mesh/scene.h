@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,6 +22,7 @@
 
 #include "mesh/color.h"
 #include "mesh/geometry.h"
+#include "mesh/intensity_profile.h"
 #include "mesh/texture.h"
 
 namespace pb {
@@ -82,6 +84,11 @@ struct AnalyticLight {
   float cosInner = 1, cosOuter = 0.70710678f;  // spot: cosines of its cone angles, cosOuter < cosInner
   Vector3 up{0, 1, 0};           // sky: unit
   bool wholeSphere = false;      // sky: from every direction, not only above the horizon
+  // point: its goniometric distribution (an IES file, mesh/ies_file.h), or null for the same intensity every way.
+  // With one, I(w) = intensity [W/sr per cd] x the profile's I [cd], `direction` is the profile's nadir (vertical
+  // angle 0) and `c0` its horizontal angle 0: unit, perpendicular to `direction`.
+  std::shared_ptr<const IntensityProfile> profile;
+  Vector3 c0{1, 0, 0};
   std::string source;            // where it was declared ("scene.gltf: /extensions/KHR_lights_punctual/lights/0")
 };
 
@@ -131,6 +138,8 @@ struct Scene {
     for (const std::string& library : materialLibraries) files.emplace_back("the material library", library);
     for (const Texture& texture : textures) files.emplace_back("the texture", texture.path);
     if (!lightsFile.empty()) files.emplace_back("the lights file", lightsFile);
+    for (const AnalyticLight& light : analyticLights)
+      if (light.profile) files.emplace_back("the IES file", light.profile->Source());
     return files;
   }
 

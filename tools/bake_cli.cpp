@@ -57,7 +57,7 @@ void DefineSceneOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("-o,--output", o.outputPath, "PLY to write (binary little-endian unless --ascii), or glTF 2.0 when it ends in .glb or .gltf; written to a "
                                               "temporary file and renamed into place")
       ->required();
-  app.add_option("--lights", o.lightsPath, "lights file: point, spot, sun and sky lights (JSON; docs/bake.md, \"Lights that are not surfaces\"); "
+  app.add_option("--lights", o.lightsPath, "lights file: point (plain or by an IES profile), spot, sun and sky lights (JSON; docs/bake.md, \"Lights that are not surfaces\"); "
                                           "default SCENE.lights.json where it exists");
   app.add_option("--luminous-efficacy", o.luminousEfficacy, "lm/W that turn glTF's candela and lux into watts; "
                                                           "range [1, 683], default 683");

@@ -6,7 +6,8 @@
 //   glass Tf, Ni        -> KHR_materials_transmission 1, baseColorFactor Tf, KHR_materials_ior Ni
 //   Ke                  -> emissiveFactor Ke / max(Ke), KHR_materials_emissive_strength max(Ke)
 //   point, spot, sun    -> KHR_lights_punctual (W/sr and W/m^2 times --luminous-efficacy: candela and lux)
-//   sky, portals        -> glTF has none: written to OUT.lights.json beside the output, which bake reads
+//   sky, IES lamps,     -> glTF has none: written to OUT.lights.json beside the output, which bake reads (an IES
+//   portals                lamp names its file by its absolute path)
 // One node per object, one primitive per material; --without MATERIAL leaves that material's faces out.
 //   scene-to-gltf SCENE -o OUT.glb|OUT.gltf [--lights FILE] [--without MATERIAL]... [--scale S]
 #include <CLI/CLI.hpp>
@@ -30,6 +31,10 @@
 #include "tools/cli_options.h"
 
 namespace {
+
+// Lights that glTF cannot hold, which go to the lights file beside the output.
+bool InSidecar(const pb::AnalyticLight& light) { return light.kind == pb::LightKind::kSky || light.profile; }
+
 
 namespace tg = tinygltf;
 using pb::Rgb;
@@ -56,7 +61,7 @@ class Converter {
     tg::Scene s;
     for (const auto& [object, faces] : FacesByObject()) s.nodes.push_back(MeshNode(object, faces));
     for (const pb::AnalyticLight& light : scene_.analyticLights)
-      if (light.kind != pb::LightKind::kSky) s.nodes.push_back(LightNode(light));
+      if (!InSidecar(light)) s.nodes.push_back(LightNode(light));
     model_.scenes.push_back(s);
     model_.defaultScene = 0;
     model_.extensionsUsed.assign(used_.begin(), used_.end());
@@ -216,13 +221,23 @@ class Converter {
   std::set<std::string> used_;
 };
 
-void WriteSky(pb::OutputFiles& outputs, const std::string& path, const pb::Scene& scene) {
+// The lights file's entry of a sky or an IES lamp.
+nlohmann::json SidecarEntry(const pb::Scene& scene, const pb::AnalyticLight& l) {
+  if (l.kind == pb::LightKind::kSky)
+    return {{"type", "sky"}, {"name", l.name}, {"radiance_W_m2_sr", 1},  // L as its colour: exact
+            {"color", {l.intensity.r, l.intensity.g, l.intensity.b}}, {"up", {l.up.x, l.up.y, l.up.z}},
+            {"whole_sphere", l.wholeSphere}};
+  const pb::Rgb perCandela = l.intensity * float(pb::kDefaultLuminousEfficacy);  // the file's default efficacy
+  const std::array<double, 3> p = scene.ToWorld(l.position);
+  return {{"type", "point"}, {"name", l.name}, {"ies", std::filesystem::absolute(l.profile->Source()).string()},
+          {"position_m", {p[0], p[1], p[2]}}, {"direction", {l.direction.x, l.direction.y, l.direction.z}},
+          {"c0", {l.c0.x, l.c0.y, l.c0.z}}, {"color", {perCandela.r, perCandela.g, perCandela.b}}};
+}
+
+void WriteSidecarLights(pb::OutputFiles& outputs, const std::string& path, const pb::Scene& scene) {
   nlohmann::json lights = nlohmann::json::array();
   for (const pb::AnalyticLight& l : scene.analyticLights)
-    if (l.kind == pb::LightKind::kSky)
-      lights.push_back({{"type", "sky"}, {"name", l.name}, {"radiance_W_m2_sr", 1},  // L as its colour: exact
-                        {"color", {l.intensity.r, l.intensity.g, l.intensity.b}}, {"up", {l.up.x, l.up.y, l.up.z}},
-                        {"whole_sphere", l.wholeSphere}});
+    if (InSidecar(l)) lights.push_back(SidecarEntry(scene, l));
   nlohmann::json portals = nlohmann::json::array();
   for (const pb::Portal& p : scene.portals) {
     nlohmann::json corners = nlohmann::json::array();
@@ -266,7 +281,7 @@ int main(int argc, char** argv) {
         Converter(loaded.scene, {without.begin(), without.end()}, efficacy, folder.empty() ? "." : folder).Convert();
     pb::OutputFiles outputs;
     pb::WriteGltfModel(outputs, outputPath, model);
-    WriteSky(outputs, pb::LightsSidecarPath(outputPath), loaded.scene);
+    WriteSidecarLights(outputs, pb::LightsSidecarPath(outputPath), loaded.scene);
     outputs.Commit();
     std::printf("scene-to-gltf: %s -> %s (%zu meshes, %zu materials, %zu lights)\n", scenePath.c_str(),
                 outputPath.c_str(), model.meshes.size(), model.materials.size(), model.lights.size());

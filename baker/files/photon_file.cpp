@@ -268,6 +268,15 @@ uint32_t SceneHash(const Scene& scene) {
   }
   HashVector(crc, scene.texcoords);
   for (const Texture& t : scene.textures) HashVector(crc, t.texels);
+  for (const AnalyticLight& light : scene.analyticLights) {
+    if (!light.profile) continue;  // only lights with a profile, so that other scenes keep the hash they had
+    const float frame[] = {light.position.x, light.position.y, light.position.z, light.direction.x,
+                           light.direction.y, light.direction.z, light.c0.x, light.c0.y, light.c0.z};
+    crc = Crc(crc, frame, sizeof frame);
+    HashVector(crc, light.profile->VerticalAngles());
+    HashVector(crc, light.profile->HorizontalAngles());
+    HashVector(crc, light.profile->Candela());
+  }
   return uint32_t(crc);
 }
 

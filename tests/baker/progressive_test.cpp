@@ -21,6 +21,9 @@
 #include "baker/photons/progressive.h"
 #include "baker/runtime/interrupt.h"
 #include "mesh/errors.h"
+#include "mesh/ies_file.h"
+#include "mesh/obj_loader.h"
+#include "tests/ies_text.h"
 #include "tests/lambert.h"
 #include "tests/ply_reader.h"
 #include "tests/staged_bake.h"
@@ -283,6 +286,34 @@ TEST(PhotonFile, ResumeIsRefusedForAnotherSceneSeedEffectsOrBounceLimit) {
   const std::string changed = test::WriteSquareLightOverFloor(other, 1, 1, 1, 2, 4, 0.6f);
   const std::string scene = saved.ResumeMessage([&](BakeOptions& o) { o.scenePath = changed; });
   EXPECT_TRUE(Contains(scene, "cannot resume: the photons were traced in a different scene")) << scene;
+}
+
+// An IES lamp's photons depend on where it is, how it is aimed and its table, so the scene hash covers them; other
+// analytic lights leave the hash as it was (their flux is checked with the lights).
+TEST(PhotonFile, TheSceneHashCoversIesLamps) {
+  const std::string dir = test::TempDirectory("photon-file-ies");
+  Scene scene = LoadObj(test::WriteSquareLightOverFloor(dir, 1, 1, 1, 2, 4)).scene;
+  const uint32_t bare = SceneHash(scene);
+  AnalyticLight point;
+  point.position = {0, 0.5f, 0}, point.intensity = {1, 1, 1};
+  scene.analyticLights.push_back(point);
+  EXPECT_EQ(SceneHash(scene), bare);
+  const auto table = [&](double peak) {
+    test::WriteText(dir + "/lamp.ies", test::IesText({{0, 45, 90}, {0, 90}, [&](double g, double) { return peak - g; }}));
+    return std::make_shared<const IntensityProfile>(LoadIesFile(dir + "/lamp.ies"));
+  };
+  scene.analyticLights.back().profile = table(100);
+  const uint32_t lamp = SceneHash(scene);
+  EXPECT_NE(lamp, bare);
+  scene.analyticLights.back().c0 = {0, 0, 1};
+  EXPECT_NE(SceneHash(scene), lamp) << "turned about its nadir";
+  scene.analyticLights.back().c0 = {1, 0, 0};
+  EXPECT_EQ(SceneHash(scene), lamp);
+  scene.analyticLights.back().position.x = 0.1f;
+  EXPECT_NE(SceneHash(scene), lamp) << "moved";
+  scene.analyticLights.back().position.x = 0;
+  scene.analyticLights.back().profile = table(101);
+  EXPECT_NE(SceneHash(scene), lamp) << "another table";
 }
 
 TEST(PhotonFile, TruncatedOrCorruptedFilesAreRefusedWhole) {

@@ -1,7 +1,9 @@
-// Point, spot, sun and sky lights (mesh/scene.h, mesh/lights.h): their photon emission against chi-square, their
+// Point (plain and with an IES profile), spot, sun and sky lights (mesh/scene.h, mesh/lights.h): their photon
+// emission against chi-square, their
 // flux on a floor against the closed form (the photons' count on it is binomial, so its tolerance is), and their
 // direct light sampled at points (estimators/light_sampler.h) against the closed forms
-//   point: H = I cos(theta) / r^2;  spot: times glTF's falloff;  sun: H = E cos(theta);
+//   point: H = I cos(theta) / r^2;  spot: times glTF's falloff;  IES: I(gamma, C) from its table;
+//   sun: H = E cos(theta);
 //   sky over an open floor: H = pi L;  sky through a square window: Lambert's polygon formula with radiance L.
 #include <gtest/gtest.h>
 
@@ -10,8 +12,10 @@
 #include "estimators/emission.h"
 #include "estimators/light_sampler.h"
 #include "estimators/warps.h"
+#include "mesh/ies_file.h"
 #include "mesh/obj_loader.h"
 #include "tests/chi2.h"
+#include "tests/ies_text.h"
 #include "tests/lambert.h"
 #include "tests/test_scenes.h"
 #include "tests/traced_scene.h"
@@ -57,6 +61,21 @@ AnalyticLight Sun(Vector3 direction, float irradiance) {
 AnalyticLight Sky(float radiance) {
   AnalyticLight a;
   a.kind = LightKind::kSky, a.intensity = {radiance, radiance, radiance};
+  return a;
+}
+
+// An IES downlight 1 m over the floor's centre, aimed down, C = 0 along x, brighter toward C = 0 and down; its
+// candela values are taken as W/sr (efficacy 1).
+constexpr double kDeg = kPi / 180.0;
+double Lamp(double gamma, double c) {
+  return (50 + 400 * std::cos(gamma * kDeg) * (gamma <= 90)) * (1 + 0.6 * std::cos(c * kDeg));
+}
+AnalyticLight Ies(const std::string& name) {
+  const std::string path = test::TempDirectory(name) + "/lamp.ies";
+  test::WriteText(path, test::IesText({test::Degrees(0, 180, 10), test::Degrees(0, 330, 30), Lamp}));
+  AnalyticLight a = Point({0, 1, 0}, 1);
+  a.profile = std::make_shared<const IntensityProfile>(LoadIesFile(path));
+  a.direction = {0, -1, 0}, a.c0 = {1, 0, 0};
   return a;
 }
 
@@ -148,6 +167,36 @@ TEST(AnalyticLights, PointAndSpotEmissionMatchTheirDistributions) {
   EXPECT_GT(sz.pValue, 1e-3) << sz.histograms;
 }
 
+// Photons of an IES light leave in proportion to its intensity: chi-square over cells of (cos gamma, C) against
+// the profile's intensity integrated over each cell by the midpoint rule; each sample's pdf is I / flux.
+TEST(AnalyticLights, IesEmissionFollowsItsIntensity) {
+  constexpr int kSamples = 300'000, kRows = 12, kColumns = 12, kFine = 40;
+  const test::TracedScene ies = WithLight(FloorScene("chi-ies"), Ies("chi-ies-file"));
+  const AnalyticLight& a = ies.lights.back().analytic;
+  const Frame frame = ProfileFrame(a);
+  std::vector<double> counts(kRows * kColumns, 0), expected(kRows * kColumns, 0);
+  for (int i = 0; i < kSamples; ++i) {
+    Rng rng(7, uint64_t(i));
+    const EmissionSample e = SampleEmission(ies.scene, ies.lights.back(), rng);
+    const Vector3 local = frame.ToLocal(e.direction);
+    const double c = std::atan2(double(local.y), double(local.x)) + (local.y < 0 ? 2 * kPi : 0);
+    ASSERT_NEAR(e.pdfDirection, RelativeIntensity(a, e.direction) / a.profile->Flux(), 1e-3 * e.pdfDirection);
+    const int row = std::min(kRows - 1, int((1 - local.z) / 2 * kRows)), column = std::min(kColumns - 1, int(c / (2 * kPi) * kColumns));
+    counts[size_t(row * kColumns + column)] += 1;
+  }
+  double total = 0;
+  for (int row = 0; row < kRows * kFine; ++row)
+    for (int column = 0; column < kColumns * kFine; ++column) {
+      const double z = 1 - 2 * (row + 0.5) / (kRows * kFine), c = 2 * kPi * (column + 0.5) / (kColumns * kFine);
+      const double i = a.profile->Intensity(std::acos(z), c);  // the same solid angle in every fine cell
+      expected[size_t(row / kFine * kColumns + column / kFine)] += i, total += i;
+    }
+  for (double& e : expected) e *= kSamples / total;
+  const test::Chi2Result fit = test::Chi2Test(counts, expected);
+  EXPECT_GT(fit.pValue, 1e-3) << fit.histograms;
+  EXPECT_NEAR(Luminance(ies.lights.back().Power()), a.profile->Flux(), 1e-3 * a.profile->Flux());
+}
+
 TEST(AnalyticLights, SunAndSkyPhotonsLeaveDiscsOutsideTheScene) {
   constexpr int kSamples = 100'000, kCells = 20;
   const test::TracedScene sun = WithLight(FloorScene("chi-sun"), Sun({0.3f, -1, 0.2f}, 1));
@@ -182,6 +231,21 @@ TEST(AnalyticLights, PhotonFluxOnTheFloorIsTheClosedForm) {
   ExpectFloorFlux(WithLight(FloorScene("flux-sun"), Sun({std::sqrt(3.0f), -1, 0}, 2)), 2 * 16 * 0.5);
   // A sky over the open floor: pi L A.
   ExpectFloorFlux(WithLight(FloorScene("flux-sky"), Sky(0.5)), kPi * 0.5 * 16);
+}
+
+// An IES light's photons on the floor: the integral of I(gamma, C) cos(gamma) / r^2 over it, by the midpoint rule.
+TEST(AnalyticLights, IesPhotonFluxOnTheFloorIsTheIntegralOfItsIrradiance) {
+  const AnalyticLight ies = Ies("flux-ies-file");
+  constexpr int kCells = 400;
+  double expected = 0;
+  const double step = 2 * kFloorHalf / kCells;
+  for (int i = 0; i < kCells; ++i)
+    for (int j = 0; j < kCells; ++j) {
+      const double x = -kFloorHalf + (i + 0.5) * step, z = -kFloorHalf + (j + 0.5) * step, r2 = x * x + z * z + 1;
+      const double c = std::atan2(-z, x);  // C = 90 degrees is -z: counter-clockwise seen from above
+      expected += ies.profile->Intensity(std::acos(1 / std::sqrt(r2)), c < 0 ? c + 2 * kPi : c) / (r2 * std::sqrt(r2)) * step * step;
+    }
+  ExpectFloorFlux(WithLight(FloorScene("flux-ies"), ies), expected);
 }
 
 // Portals aim sun and sky photons at the window: the floor under it receives the same flux as from the bounding
@@ -225,6 +289,16 @@ TEST(AnalyticLights, SampledDirectLightIsTheClosedForm) {
     const double r2 = x * x + 1, c = 1 / std::sqrt(r2);
     const double f = c >= std::cos(inner) ? 1 : std::pow(std::clamp((c - std::cos(outer)) / (std::cos(inner) - std::cos(outer)), 0.0, 1.0), 2);
     EXPECT_NEAR(DirectAt(spot, x, 0).irradiance.g, 2 * f * c / r2, 1e-5) << x;
+  }
+  // An IES light 1 m up: I(gamma, C) cos(gamma) / r^2 at floor points on its table's nodes, C = 90 degrees at -z.
+  const test::TracedScene ies = WithLight(FloorScene("direct-ies"), Ies("direct-ies-file"));
+  for (double gamma : {10.0, 30.0, 50.0}) {  // not 0: at the nadir C is undefined
+    for (double c : {0.0, 90.0, 210.0, 330.0}) {
+      const double r = std::tan(gamma * kDeg), r2 = r * r + 1;
+      const double x = r * std::cos(c * kDeg), z = -r * std::sin(c * kDeg);
+      EXPECT_NEAR(DirectAt(ies, x, z).irradiance.g, Lamp(gamma, c) * std::cos(gamma * kDeg) / r2, 1e-5 * Lamp(0, 0))
+          << gamma << ", " << c;
+    }
   }
   const test::TracedScene sun = WithLight(FloorScene("direct-sun"), Sun({1, -1, 0}, 3));
   EXPECT_NEAR(DirectAt(sun, 0.3, -0.7).irradiance.g, 3 / std::sqrt(2.0), 1e-5);

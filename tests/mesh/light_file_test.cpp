@@ -1,13 +1,17 @@
 // Lights files (mesh/light_file.h): every kind read with its units (radiometric as given, photometric over the
-// luminous efficacy), positions moved into the scene's local coordinates, faults named by file:line, and a sidecar
+// luminous efficacy; an IES lamp's from its file, mesh/ies_file.h), positions moved into the scene's local coordinates, faults named by file:line, and a sidecar
 // found beside an OBJ scene and baked: a sky over an open grey floor gives H = pi L at every vertex.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 
+#include <fmt/format.h>
+
 #include "mesh/errors.h"
 #include "mesh/light_file.h"
+#include "mesh/lights.h"
+#include "tests/ies_text.h"
 #include "tests/ply_reader.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
@@ -87,6 +91,94 @@ TEST(LightFile, FaultsNameTheLine) {
       EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
     }
   }
+}
+
+// An IES lamp, brighter downward and toward C = 0, as its table gives it [cd].
+double Lamp(double gamma, double c) {
+  return (50 + 400 * std::cos(gamma * kPi / 180) * (gamma <= 90)) * (1 + 0.6 * std::cos(c * kPi / 180));
+}
+std::string WriteLamp(const std::string& dir) {
+  test::WriteText(dir + "/lamp.ies", test::IesText({test::Degrees(0, 180, 15), test::Degrees(0, 330, 30), Lamp}));
+  return dir + "/lamp.ies";
+}
+
+TEST(LightFile, ReadsAnIesPointLight) {
+  const Scene scene;
+  const std::string path = Write("lights-ies", R"({"luminous_efficacy_lm_per_W": 500, "lights": [
+      {"type": "point", "ies": "lamp.ies", "position_m": [0, 2, 0], "scale": 2, "color": [1, 0.5, 0.25],
+       "direction": [0, 0, -3], "c0": [1, 0, 1]}]})");
+  WriteLamp(path.substr(0, path.rfind('/')));
+  const std::vector<AnalyticLight> lights = LoadLightsFile(path, scene).lights;
+  ASSERT_EQ(lights.size(), 1u);
+  const AnalyticLight& a = lights[0];
+  ASSERT_TRUE(a.profile);
+  EXPECT_FLOAT_EQ(a.intensity.r, 2.0f / 500) << "the candela values times scale over the efficacy: W/sr per cd";
+  EXPECT_FLOAT_EQ(a.intensity.b, 0.25f * 2 / 500);
+  EXPECT_NEAR(a.direction.z, -1, 1e-6);
+  EXPECT_NEAR(a.c0.x, 1, 1e-6) << "c0 made perpendicular to the nadir";
+  EXPECT_NEAR(a.c0.y, 0, 1e-6);
+  // Toward C = 90 degrees, counter-clockwise seen from above (from +z, looking along the nadir -z): +y.
+  EXPECT_NEAR(RelativeIntensity(a, Normalize(Vector3{0, 1, -1})), Lamp(45, 90), 1e-3);
+  EXPECT_NEAR(RelativeIntensity(a, Normalize(Vector3{-1, 0, -1})), Lamp(45, 180), 1e-3);
+}
+
+TEST(LightFile, IesFaultsNameTheirFile) {
+  const Scene scene;
+  const std::string dir = test::TempDirectory("lights-ies-fault");
+  WriteLamp(dir);
+  test::WriteText(dir + "/bad.ies", "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 2 1 1 2 0 0 0\n1 1 0\n0 90\n0\n10 -1\n");
+  const std::string point = R"({"type": "point", "position_m": [0, 1, 0], )";
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"type": "spot", "position_m": [0, 1, 0],
+          "ies": "lamp.ies"})", "l.json:2: error: light 0: an IES profile is a point light's"},
+      {point + R"("ies": "none.ies"})", "l.json:1: error: light 0: the IES file 'none.ies' is not there"},
+      {point + R"("ies": "lamp.ies", "intensity_cd": 5})", "'intensity_cd' and 'ies' both give the intensity"},
+      {point + R"("ies": "lamp.ies", "c0": [0, -2, 0]})", "'c0' must not be parallel to 'direction'"},
+      {point + R"("ies": "bad.ies"})", "bad.ies:7: error: candela values must lie in [0, 1e+30], not -1"},
+      {point + R"("ies": 3})", "'ies' must name an IES file"},
+  };
+  for (const auto& [light, fragment] : cases) {
+    test::WriteText(dir + "/l.json", "{\"lights\": [" + light + "]}");
+    try {
+      LoadLightsFile(dir + "/l.json", scene);
+      ADD_FAILURE() << light << " was read";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A black floor fanned about the point under an IES lamp 1 m up, its rim at 45 degrees from the nadir on the
+// table's horizontal angles: each rim vertex reads I(45, C) cos(45) / 2 over the efficacy, and the IES file is an
+// input no output may overwrite.
+TEST(LightFile, AnIesLampBakesItsTableOnTheFloor) {
+  const std::string dir = test::TempDirectory("lights-ies-bake");
+  WriteLamp(dir);
+  std::string obj = "mtllib f.mtl\nusemtl black\nv 0 0 0\n";
+  for (int k = 0; k < 12; ++k) obj += fmt::format("v {:.9f} 0 {:.9f}\n", std::cos(k * kPi / 6), -std::sin(k * kPi / 6));
+  for (int k = 0; k < 12; ++k) obj += fmt::format("f 1 {} {}\n", k + 2, (k + 1) % 12 + 2);
+  test::WriteText(dir + "/f.mtl", "newmtl black\nKd 0 0 0\n");
+  test::WriteText(dir + "/f.obj", obj);
+  test::WriteText(dir + "/f.lights.json", R"({"lights": [{"type": "point", "ies": "lamp.ies", "position_m": [0, 1, 0]}]})");
+  const test::ToolRun run = test::RunTool(PB_BAKE_EXE, dir + "/f.obj -o " + dir + "/f.ply --photons 10000 -q");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const test::PlyData ply = test::ReadPly(dir + "/f.ply");
+  ASSERT_EQ(ply.VertexCount(), 13u);
+  int rim = 0;
+  for (size_t v = 0; v < ply.VertexCount(); ++v) {
+    const double x = ply.vertex.at("x")[v], z = ply.vertex.at("z")[v];
+    if (std::hypot(x, z) < 0.5) continue;
+    const double c = std::atan2(-z, x) * 180 / kPi;
+    const double expected = Lamp(45, std::round(c < -1e-3 ? c + 360 : c)) / kDefaultLuminousEfficacy * std::sqrt(0.5) / 2;
+    // 1e-3: a rim vertex's rays start a step (0.1 mm here) inside the floor (baker/3_surface_point.h), where H is
+    // 1.5e-4 higher.
+    EXPECT_NEAR(ply.vertex.at("irradiance_g")[v], expected, 1e-3 * expected) << c;
+    ++rim;
+  }
+  EXPECT_EQ(rim, 12);
+  const test::ToolRun clash = test::RunTool(PB_BAKE_EXE, dir + "/f.obj -o " + dir + "/lamp.ies --photons 1000 -q");
+  EXPECT_NE(clash.status, 0);
+  EXPECT_NE(clash.output.find("the IES file"), std::string::npos) << clash.output;
 }
 
 TEST(LightFile, ASidecarSkyBakesPiLOverAnOpenFloor) {

@@ -12,6 +12,7 @@
 #include "mesh/gltf_loader.h"
 #include "mesh/light_file.h"
 #include "mesh/obj_loader.h"
+#include "tests/ies_text.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
 
@@ -68,14 +69,17 @@ TEST(SceneToGltf, AnObjSceneReadsBackAsTheSameScene) {
   }
 }
 
-TEST(SceneToGltf, LightsBecomeKhrLightsAndTheSkyASidecar) {
+TEST(SceneToGltf, LightsBecomeKhrLightsAndTheSkyAndIesLampsASidecar) {
   const std::string dir = test::TempDirectory("scene-to-gltf-lights");
   const std::string obj = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 2);
   test::WriteText(dir + "/l.json", R"({"lights": [
       {"type": "spot", "name": "s", "position_m": [0.5, 2, 0], "direction": [0.3, -1, 0.2], "intensity_W_sr": 3,
        "inner_cone_deg": 10, "outer_cone_deg": 30},
       {"type": "sun", "name": "sun", "direction": [0, -1, 1], "irradiance_W_m2": 100},
-      {"type": "sky", "name": "sky", "radiance_W_m2_sr": 2, "color": [1, 0.5, 0.25]}]})");
+      {"type": "sky", "name": "sky", "radiance_W_m2_sr": 2, "color": [1, 0.5, 0.25]},
+      {"type": "point", "name": "lamp", "ies": "lamp.ies", "position_m": [0.2, 1.5, 0], "direction": [0, -1, 0.2],
+       "c0": [0, 0, 1], "scale": 3}]})");
+  test::WriteText(dir + "/lamp.ies", test::IesText({{0, 45, 90}, {0, 90}, [](double g, double c) { return 100 + g + c; }}));
   const test::ToolRun run = test::RunTool(PB_SCENE_TO_GLTF_EXE, obj + " -o " + dir + "/out.gltf --lights " + dir + "/l.json");
   ASSERT_EQ(run.status, 0) << run.output;
   const Scene original = [&] {
@@ -86,8 +90,8 @@ TEST(SceneToGltf, LightsBecomeKhrLightsAndTheSkyASidecar) {
   Scene back = LoadGltf(dir + "/out.gltf").scene;
   ASSERT_TRUE(std::filesystem::exists(dir + "/out.lights.json"));
   for (const AnalyticLight& l : LoadLightsFile(dir + "/out.lights.json", back).lights) back.analyticLights.push_back(l);
-  ASSERT_EQ(back.analyticLights.size(), 3u);
-  for (size_t i = 0; i < 3; ++i) {
+  ASSERT_EQ(back.analyticLights.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
     const AnalyticLight &a = original.analyticLights[i], &b = back.analyticLights[i];
     EXPECT_EQ(a.kind, b.kind) << i;
     EXPECT_EQ(a.name, b.name) << i;
@@ -96,6 +100,12 @@ TEST(SceneToGltf, LightsBecomeKhrLightsAndTheSkyASidecar) {
     if (a.kind == LightKind::kSpot) {
       EXPECT_NEAR(b.position.y, 2, 1e-5);
       EXPECT_NEAR(b.cosOuter, a.cosOuter, 1e-5);
+    }
+    EXPECT_EQ(!a.profile, !b.profile) << i;
+    if (a.profile) {
+      EXPECT_NEAR(b.position.x, 0.2, 1e-6) << "the IES lamp goes to the sidecar, naming its file";
+      EXPECT_NEAR(Dot(a.c0, b.c0), 1, 1e-6);
+      EXPECT_EQ(b.profile->Flux(), a.profile->Flux());
     }
   }
 }
