@@ -35,10 +35,11 @@ class PhotonTracer {
       : scene_(scene), rays_(rays), maxBounces_(maxBounces), storeDirect_(storeDirect), reflection_(plan.On(Effect::kReflection)),
         refraction_(plan.On(Effect::kRefraction)), caustics_(plan.On(Effect::kCaustics)) {}
 
-  // Traces one photon from `light`, appending its hits to `block`. `attenuation` is the fraction of its flux it still carries: 1 at emission.
+  // Traces one photon from `light`, appending its hits to `block`. `attenuation` is the fraction of its flux it still
+  // carries: at emission its weight, 1 but for a sky image's photons.
   void Trace(const Light& light, Rng& rng, Block& block) const {
-    Rgb attenuation{1, 1, 1};
     const EmissionSample e = SampleEmission(scene_, light, rng);
+    Rgb attenuation = e.weight;
     block.stats.fluxEmitted.Add(attenuation);
     ++block.stats.emitted;
     if (!e.carriesLight) return Escape(attenuation, block.stats);

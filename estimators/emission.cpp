@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "estimators/sky_sampling.h"
 #include "estimators/warps.h"
 #include "mesh/errors.h"
 
@@ -62,6 +63,15 @@ EmissionSample FromPointLight(const AnalyticLight& a, Rng& rng) {
   return {a.position, NormalFrom(w), false, w, 0, 0, d->pdf};
 }
 
+// Toward the scene from a direction of the sky's image, drawn by its luminance, from a disc facing it.
+EmissionSample FromSkyImage(const Light& light, Rng& rng) {
+  const std::optional<SkySample> from = SampleSkyImage(light, rng.Uniform2());
+  PB_CHECK(from.has_value(), "a sky that emits photons has flux");
+  EmissionSample e = FromDisc(light, -from->from, rng.Uniform2(), from->pdf);
+  e.weight = SkyPhotonWeight(light, SkyRadianceFrom(light.analytic, from->from));
+  return e;
+}
+
 }  // namespace
 
 std::optional<DirectionSample> SampleProfile(const IntensityProfile& profile, Rng& rng) {
@@ -91,6 +101,7 @@ EmissionSample SampleEmission(const Scene& scene, const Light& light, Rng& rng) 
       return FromPoint(a.position, NormalFrom(a.direction), SampleSpotCone(rng.Uniform2(), a.cosInner, a.cosOuter));
     case LightKind::kSun: return FromDisc(light, a.direction, rng.Uniform2(), 0);
     case LightKind::kSky: {
+      if (a.image) return FromSkyImage(light, rng);
       const DirectionSample from = a.wholeSphere ? SampleUniformSphere(rng.Uniform2()) : SampleUniformHemisphere(rng.Uniform2());
       const Vector3 w = Frame::FromNormal(NormalFrom(a.up)).ToWorld(from.direction);  // where the light comes from
       return FromDisc(light, -w, rng.Uniform2(), from.pdf);

@@ -12,7 +12,8 @@
 //   sun:   direction its own, position uniform on the disc of the bounding sphere's radius R facing along it, R
 //          behind the sphere's centre (pdf 1/(pi R^2));
 //   sky:   direction uniform over the sky's solid angle (toward the scene, from above its horizon or from
-//          anywhere), then a position on such a disc for it.
+//          anywhere), then a position on such a disc for it; with an image, the direction by its luminance
+//          (estimators/sky_sampling.h), the photon weighted by its colour;
 //   sun and sky with portals (mesh/lights.h): a portal by its share, a point uniform on it (pdf 1/A_p), and the
 //          sun's direction, or for the sky a direction cosine-distributed about the inward normal.
 #pragma once
@@ -37,6 +38,7 @@ struct EmissionSample {
   float pdfArea = 0;       // [1/m^2]; area lights, sun and sky
   float pdfDirection = 0;  // [1/sr]; area, point, spot and sky lights
   bool carriesLight = true;  // false for a portal's sky photon from below the horizon: it ends at once
+  Rgb weight{1, 1, 1};       // the share of Phi / N it carries per channel: 1 but for a sky image's photons
 };
 
 // A direction in the profile's frame (mesh/lights.h, ProfileFrame), z the nadir, and its pdf [1/sr]. Empty when

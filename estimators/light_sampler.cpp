@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "estimators/sky_sampling.h"
 #include "estimators/warps.h"
 #include "mesh/errors.h"
 
@@ -265,6 +266,32 @@ DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Nor
   return mean.Result();
 }
 
+// Per stratum, one cosine-distributed direction and one drawn from the image, each weighted by the balance
+// heuristic (Veach and Guibas 1995): L cos / (p_cosine + p_image) for each that escapes toward the sky.
+DirectSample LightSampler::SkyImageIrradiance(const Light& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
+  const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
+  const Frame frame = Frame::FromNormal(n);
+  const Point3 origin = rays_.SpawnPoint(p, n);
+  const auto weighed = [&](Vector3 w, float pdfImage) {
+    const float cosX = Dot(w, n);
+    if (!(cosX > 0)) return Rgb{};
+    const Rgb radiance = SkyRadianceFrom(sky.analytic, w);
+    if (radiance.IsBlack() || !Escapes(origin, w)) return Rgb{};
+    return radiance * (cosX / (CosineHemispherePdf(cosX) + pdfImage));
+  };
+  StratifiedMean mean(side);
+  for (uint32_t cell = 0; cell < samples; ++cell) {
+    const Point2 jitter = rng.Uniform2(), again = rng.Uniform2();
+    const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
+    const Vector3 cosine = frame.ToWorld(SampleCosineHemisphere(u).direction);
+    Rgb e = weighed(cosine, SkyImagePdf(sky, cosine));
+    const Point2 v{(float(cell % side) + again.u) / float(side), (float(cell / side) + again.v) / float(side)};
+    if (const std::optional<SkySample> image = SampleSkyImage(sky, v)) e += weighed(image->from, image->pdf);
+    mean.Add(cell, e);
+  }
+  return mean.Result();
+}
+
 DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
   DirectSample result = AreaIrradiance(p, n, samples, rng);
   result.samples = samples;
@@ -272,8 +299,11 @@ DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng
   IndependentSum sum(result);
   for (uint32_t l : others_) {
     const AnalyticLight& light = lights_[l].analytic;
-    sum.Add(light.kind == LightKind::kSky ? SkyIrradiance(light, p, n, samples, rng)
-                                          : NoisyIrradiance{DeltaIrradiance(light, p, n)});  // exact: no noise
+    if (light.image)
+      sum.Add(SkyImageIrradiance(lights_[l], p, n, samples, rng));
+    else
+      sum.Add(light.kind == LightKind::kSky ? SkyIrradiance(light, p, n, samples, rng)
+                                            : NoisyIrradiance{DeltaIrradiance(light, p, n)});  // exact: no noise
   }
   static_cast<NoisyIrradiance&>(result) = sum.Total();
   return result;
@@ -300,7 +330,7 @@ Rgb LightSampler::SkyRadiance(Vector3 w) const {
   Rgb radiance;
   for (uint32_t l : others_) {
     const AnalyticLight& sky = lights_[l].analytic;
-    if (sky.kind == LightKind::kSky && (sky.wholeSphere || Dot(w, sky.up) > 0)) radiance = radiance + sky.intensity;
+    if (sky.kind == LightKind::kSky && (sky.wholeSphere || Dot(w, sky.up) > 0)) radiance = radiance + SkyRadianceFrom(sky, w);
   }
   return radiance;
 }

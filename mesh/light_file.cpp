@@ -9,6 +9,7 @@
 #include "mesh/errors.h"
 #include "mesh/ies_file.h"
 #include "mesh/input_file.h"
+#include "mesh/sky_image.h"
 #include "mesh/json_input.h"
 
 namespace pb {
@@ -47,7 +48,11 @@ class LightReader {
       if (j_.contains("whole_sphere") && !j_["whole_sphere"].is_boolean())
         Fail("whole_sphere", "'whole_sphere' must be true or false");
       light.wholeSphere = j_.contains("whole_sphere") && j_["whole_sphere"].get<bool>();
-      light.intensity = Strength("radiance_W_m2_sr", "luminance_nit");
+      if (j_.contains("image")) {
+        Image(light);
+      } else {
+        light.intensity = Strength("radiance_W_m2_sr", "luminance_nit");
+      }
     } else {
       Fail("type", "'type' must be \"point\", \"spot\", \"sun\" or \"sky\"");
     }
@@ -105,6 +110,33 @@ class LightReader {
     const Vector3 across = c0 - light.direction * Dot(c0, light.direction);
     if (!(Length(across) > 1e-3f * Length(c0))) Fail("c0", "'c0' must not be parallel to 'direction'");
     light.c0 = Normalize(across);
+  }
+
+  // A sky's image (found as the scene's files are), its texels times the optional strength ("radiance_W_m2_sr" or
+  // "luminance_nit", else 1) and "color"; its front (where the image's centre looks) is "front", or -z (+x for a
+  // sky whose up is along z) turned by "rotation_deg" counter-clockwise seen from above, made perpendicular to up.
+  // A constant image is a constant sky.
+  void Image(AnalyticLight& light) const {
+    if (!j_["image"].is_string()) Fail("image", "'image' must name an OpenEXR or Radiance HDR file");
+    const std::string name = j_["image"].get<std::string>();
+    const std::optional<std::string> file = FindNamedFile(in_.path, name);
+    if (!file) Fail("image", "the sky image '" + name + "' is not there");
+    SkyImage image = LoadSkyImage(*file);
+    const bool strong = j_.contains("radiance_W_m2_sr") || j_.contains("luminance_nit");
+    light.intensity = strong ? Strength("radiance_W_m2_sr", "luminance_nit") : Colour();
+    const Vector3 up = light.up, base = std::fabs(up.z) < 0.9f ? Vector3{0, 0, -1} : Vector3{1, 0, 0};
+    if (j_.contains("front") && j_.contains("rotation_deg")) Fail("front", "give 'front' or 'rotation_deg', not both");
+    const Vector3 towards = j_.contains("front") ? Direction("front") : base;
+    const Vector3 across = towards - up * Dot(towards, up);
+    if (!(Length(across) > 1e-3f)) Fail("front", "'front' must not be parallel to 'up'");
+    const Vector3 front = Normalize(across);
+    const double turn = j_.contains("rotation_deg") ? Number("rotation_deg", -360, 360) * kPi / 180 : 0;
+    light.c0 = Normalize(front * float(std::cos(turn)) + Cross(up, front) * float(std::sin(turn)));
+    if (image.IsConstant()) {
+      light.intensity = light.intensity * image.texels.front();
+      return;
+    }
+    light.image = std::make_shared<const SkyImage>(std::move(image));
   }
 
   void Cone(AnalyticLight& light) const {
@@ -181,6 +213,10 @@ LightsFile LoadLightsFile(const std::string& path, const Scene& scene) {
   if (j.contains("portals")) {
     if (!j["portals"].is_array()) throw InputError(path, in.LineOfKey("portals"), "'portals' must be an array");
     for (size_t i = 0; i < j["portals"].size(); ++i) file.portals.push_back(ReadPortal(in, j["portals"][i], i, scene));
+    for (const AnalyticLight& light : lights)
+      if (light.image && !file.portals.empty())
+        throw InputError(path, in.LineOfKey("portals"), "portals do not yet take a sky with an image: its photons "
+                                                        "leave discs around the scene");
   }
   return file;
 }

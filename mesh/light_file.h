@@ -7,7 +7,9 @@
 //       {"type": "spot", "position_m": [1, 2.4, 0], "direction": [0, -1, 0], "intensity_cd": 3400,
 //        "inner_cone_deg": 20, "outer_cone_deg": 35},
 //       {"type": "sun", "direction": [0.4, -1, 0.3], "irradiance_W_m2": 600},
-//       {"type": "sky", "radiance_W_m2_sr": 20, "up": [0, 1, 0], "whole_sphere": false}
+//       {"type": "sky", "radiance_W_m2_sr": 20, "up": [0, 1, 0], "whole_sphere": false},
+//       {"type": "point", "ies": "downlight.ies", "position_m": [2, 2.6, 1], "direction": [0, -1, 0], "c0": [1, 0, 0]},
+//       {"type": "sky", "image": "studio.exr", "rotation_deg": 90}
 //     ],
 //     "portals": [{"corners_m": [[1.5, 1, 4], [1.5, 2.2, 4], [3.5, 2.2, 4], [3.5, 1, 4]]}]
 //   }
@@ -19,6 +21,11 @@
 //   point, spot: "intensity_W_sr" [W/sr] or "intensity_cd" [cd = lm/sr], on the spot's axis;
 //   sun:         "irradiance_W_m2" [W/m^2] or "illuminance_lux" [lx = lm/m^2], on a surface facing it;
 //   sky:         "radiance_W_m2_sr" [W/(m^2 sr)] or "luminance_nit" [cd/m^2].
+// An IES lamp ("ies", mesh/ies_file.h) is a point light whose intensity is its file's candela table [cd] times
+// "scale" (default 1) over the efficacy, aimed by "direction" (its nadir) and "c0" (its horizontal angle 0). A sky
+// with an "image" (.exr or .hdr, lat-long: mesh/sky_image.h) has the image's radiance times its optional strength
+// (default 1); the image's centre looks along "front", or -z turned by "rotation_deg" (counter-clockwise seen
+// from above). Files are found from the lights file's folder as a scene's are (mesh/input_file.h).
 // Positions are world coordinates in metres; directions need not be unit; a spot's cone angles lie in
 // 0 <= inner < outer <= 90 degrees (defaults 0 and 45, as glTF's). Errors name file:line.
 #pragma once

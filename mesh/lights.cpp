@@ -42,7 +42,52 @@ void AimAtPortals(Light& light, const std::vector<Portal>& portals) {
   light.portalCdf = std::move(cdf);
 }
 
+// A sky image's texels weighed by their luminous flux per unit disc area, L_lum Omega, above its horizon (the whole
+// of each row above it, the part above it of a row it crosses, none below) unless it is the whole sphere.
+void WeighTexels(Light& light) {
+  const AnalyticLight& a = light.analytic;
+  const SkyImage& image = *a.image;
+  double sum = 0;
+  RgbSum integral;
+  light.texelCdf.reserve(image.texels.size());
+  for (int y = 0; y < image.height; ++y) {
+    const double top = image.ThetaTop(y), bottom = a.wholeSphere ? image.ThetaBottom(y)
+                                                                  : std::min(image.ThetaBottom(y), kPi / 2.0);
+    const double omega = bottom > top ? 2 * kPi / image.width * (std::cos(top) - std::cos(bottom)) : 0;
+    for (int x = 0; x < image.width; ++x) {
+      const Rgb radiance = a.intensity * image.Texel(x, y);
+      integral.Add(radiance, omega);
+      light.texelCdf.push_back(sum += Luminance(radiance) * omega);
+    }
+  }
+  light.skyIntegral = integral.ToRgb();
+  light.skyLuminanceIntegral = sum;
+  if (!(sum > 0)) return light.texelCdf.clear();
+  for (double& c : light.texelCdf) c /= sum;
+  light.texelCdf.back() = 1;
+}
+
 }  // namespace
+
+Frame SkyFrame(const AnalyticLight& sky) {
+  const Normal3 up = NormalFrom(sky.up);
+  return {sky.c0, Cross(sky.c0, AsVector(up)), up};
+}
+
+Vector3 SkyDirection(const Frame& frame, double theta, double phi) {
+  const double sinTheta = std::sin(theta);
+  return frame.ToWorld({float(-sinTheta * std::cos(phi)), float(-sinTheta * std::sin(phi)), float(std::cos(theta))});
+}
+
+Rgb SkyRadianceFrom(const AnalyticLight& sky, Vector3 from) {
+  if (!sky.wholeSphere && !(Dot(from, sky.up) > 0)) return {};
+  if (!sky.image) return sky.intensity;
+  const Vector3 local = SkyFrame(sky).ToLocal(from);
+  const double phi = std::atan2(-double(local.y), -double(local.x));
+  const double theta = std::acos(std::clamp(double(local.z), -1.0, 1.0));
+  const SkyImage& image = *sky.image;
+  return sky.intensity * image.Texel(image.ColumnOf(phi < 0 ? phi + 2 * std::numbers::pi : phi), image.RowOf(theta));
+}
 
 double SpotSolidAngle(float cosInner, float cosOuter) {
   return 2 * kPi * ((1.0 - double(cosInner)) + (double(cosInner) - double(cosOuter)) / 3);
@@ -80,7 +125,8 @@ Rgb Light::Power() const {
     case LightKind::kPoint: return a.intensity * float(a.profile ? a.profile->Flux() : 4 * kPi);
     case LightKind::kSpot: return a.intensity * float(SpotSolidAngle(a.cosInner, a.cosOuter));
     case LightKind::kSun: return a.intensity * float(disc);
-    case LightKind::kSky: return a.intensity * float(disc * (a.wholeSphere ? 4 : 2) * kPi);
+    case LightKind::kSky:
+      return a.image ? skyIntegral * float(disc) : a.intensity * float(disc * (a.wholeSphere ? 4 : 2) * kPi);
   }
   return {};
 }
@@ -128,6 +174,7 @@ std::vector<Light> CollectLights(const Scene& scene, const SurfaceSet& surfaces)
     light.analytic = a;
     light.boundsCentre = centre, light.boundsRadius = radius;
     if (a.kind == LightKind::kSun || a.kind == LightKind::kSky) AimAtPortals(light, scene.portals);
+    if (a.image) WeighTexels(light);
     lights.push_back(std::move(light));
   }
   return lights;

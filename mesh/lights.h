@@ -9,7 +9,9 @@
 //        direction, outside the scene: Phi = E pi R^2.
 //   sky: its photons leave such discs, one per direction, for directions uniform over the sky's solid angle Omega
 //        (2 pi above the horizon, or 4 pi): Phi = L pi R^2 Omega. A surface open to the sky receives H = pi L
-//        (upper hemisphere, facing up), whatever R.
+//        (upper hemisphere, facing up), whatever R. With an image (mesh/sky_image.h): Phi = pi R^2 sum over its
+//        texels (above the horizon) of L Omega_texel, and the texels' shares of that luminous flux are the CDF
+//        its photons and shadow rays pick a texel by (estimators/sky_sampling.h).
 // With portals (mesh/scene.h), sun and sky photons start on the portals instead, so that none is spent on the
 // outside of a closed room: a portal is picked in proportion to its share of the flux, a point uniformly on it;
 //   sun: Phi = E sum_p A_p max(0, d . n_p);
@@ -41,6 +43,9 @@ struct Light {
   float boundsRadius = 0;
   std::vector<Portal> portals;      // sun, sky: the scene's portals; empty: photons leave the bounding discs
   std::vector<double> portalCdf;    // sun, sky with portals: cumulative share of the flux by portal; back() == 1
+  std::vector<double> texelCdf;     // sky with an image: cumulative share of sum L_lum Omega by texel; back() == 1
+  Rgb skyIntegral;                  // sky with an image: sum over texels of L Omega [W/m^2] (L with intensity)
+  double skyLuminanceIntegral = 0;  // the same of Luminance(L) Omega
   Rgb Power() const;  // Phi [W]
   bool IsArea() const { return kind == LightKind::kArea; }
 };
@@ -56,6 +61,14 @@ Frame ProfileFrame(const AnalyticLight& light);
 // The factor by which a point or spot light's intensity is multiplied toward the unit direction w leaving it: the
 // spot's falloff, a profile's I [cd], or 1.
 float RelativeIntensity(const AnalyticLight& light, Vector3 w);
+
+// The frame of a sky with an image: s its front (c0), t = s x n to its right, n its up.
+Frame SkyFrame(const AnalyticLight& sky);
+// The radiance [W/(m^2 sr)] of a sky arriving from the unit direction `from` (toward the sky): 0 below its
+// horizon unless it is the whole sphere; its image's texel times its intensity, or its intensity.
+Rgb SkyRadianceFrom(const AnalyticLight& sky, Vector3 from);
+// The direction toward the sky at polar angle theta from up and azimuth phi from the image's left edge [rad].
+Vector3 SkyDirection(const Frame& frame, double theta, double phi);
 
 // "point", "spot", "sun", "sky" or "area".
 const char* LightKindName(LightKind kind);

@@ -23,6 +23,7 @@
 #include "mesh/color.h"
 #include "mesh/geometry.h"
 #include "mesh/intensity_profile.h"
+#include "mesh/sky_image.h"
 #include "mesh/texture.h"
 
 namespace pb {
@@ -89,6 +90,10 @@ struct AnalyticLight {
   // angle 0) and `c0` its horizontal angle 0: unit, perpendicular to `direction`.
   std::shared_ptr<const IntensityProfile> profile;
   Vector3 c0{1, 0, 0};
+  // sky: its radiance over directions as an image (mesh/sky_image.h), or null for the same L every way. With one,
+  // L(w) = intensity x the image's texel, and `c0` is the sky's front (where the image's centre column looks):
+  // unit, perpendicular to `up`.
+  std::shared_ptr<const SkyImage> image;
   std::string source;            // where it was declared ("scene.gltf: /extensions/KHR_lights_punctual/lights/0")
 };
 
@@ -140,6 +145,7 @@ struct Scene {
     if (!lightsFile.empty()) files.emplace_back("the lights file", lightsFile);
     for (const AnalyticLight& light : analyticLights)
       if (light.profile) files.emplace_back("the IES file", light.profile->Source());
+      else if (light.image) files.emplace_back("the sky image", light.image->source);
     return files;
   }
 

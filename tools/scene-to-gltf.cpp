@@ -7,7 +7,7 @@
 //   Ke                  -> emissiveFactor Ke / max(Ke), KHR_materials_emissive_strength max(Ke)
 //   point, spot, sun    -> KHR_lights_punctual (W/sr and W/m^2 times --luminous-efficacy: candela and lux)
 //   sky, IES lamps,     -> glTF has none: written to OUT.lights.json beside the output, which bake reads (an IES
-//   portals                lamp names its file by its absolute path)
+//   portals                lamp or a sky image names its file by its absolute path)
 // One node per object, one primitive per material; --without MATERIAL leaves that material's faces out.
 //   scene-to-gltf SCENE -o OUT.glb|OUT.gltf [--lights FILE] [--without MATERIAL]... [--scale S]
 #include <CLI/CLI.hpp>
@@ -223,10 +223,13 @@ class Converter {
 
 // The lights file's entry of a sky or an IES lamp.
 nlohmann::json SidecarEntry(const pb::Scene& scene, const pb::AnalyticLight& l) {
-  if (l.kind == pb::LightKind::kSky)
-    return {{"type", "sky"}, {"name", l.name}, {"radiance_W_m2_sr", 1},  // L as its colour: exact
-            {"color", {l.intensity.r, l.intensity.g, l.intensity.b}}, {"up", {l.up.x, l.up.y, l.up.z}},
-            {"whole_sphere", l.wholeSphere}};
+  if (l.kind == pb::LightKind::kSky) {
+    nlohmann::json sky = {{"type", "sky"}, {"name", l.name}, {"radiance_W_m2_sr", 1},  // L as its colour: exact
+                          {"color", {l.intensity.r, l.intensity.g, l.intensity.b}}, {"up", {l.up.x, l.up.y, l.up.z}},
+                          {"whole_sphere", l.wholeSphere}};
+    if (l.image) sky["image"] = std::filesystem::absolute(l.image->source).string(), sky["front"] = {l.c0.x, l.c0.y, l.c0.z};
+    return sky;
+  }
   const pb::Rgb perCandela = l.intensity * float(pb::kDefaultLuminousEfficacy);  // the file's default efficacy
   const std::array<double, 3> p = scene.ToWorld(l.position);
   return {{"type", "point"}, {"name", l.name}, {"ies", std::filesystem::absolute(l.profile->Source()).string()},

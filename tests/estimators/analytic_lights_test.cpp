@@ -7,10 +7,14 @@
 //   sky over an open floor: H = pi L;  sky through a square window: Lambert's polygon formula with radiance L.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <functional>
+#include <memory>
 
 #include "estimators/emission.h"
 #include "estimators/light_sampler.h"
+#include "estimators/sky_sampling.h"
 #include "estimators/warps.h"
 #include "mesh/ies_file.h"
 #include "mesh/obj_loader.h"
@@ -328,6 +332,139 @@ TEST(AnalyticLights, SampledSkyIsPiLInTheOpenAndLambertThroughAWindow) {
     }
   }
   EXPECT_LT(z2 / n, 2.5) << "the predicted noise is honest";
+}
+
+// Skies with an image (mesh/sky_image.h, estimators/sky_sampling.h). An image 2h x h whose texel (x, y) is
+// texel(x, y), looking toward -z at its centre.
+std::shared_ptr<const SkyImage> ImageOf(int height, const std::function<Rgb(int, int)>& texel) {
+  SkyImage image{"sky.exr", 2 * height, height, {}};
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < 2 * height; ++x) image.texels.push_back(texel(x, y));
+  return std::make_shared<const SkyImage>(std::move(image));
+}
+AnalyticLight ImageSky(std::shared_ptr<const SkyImage> image, bool wholeSphere = false) {
+  AnalyticLight a = Sky(1);
+  a.image = std::move(image), a.c0 = {0, 0, -1}, a.wholeSphere = wholeSphere;
+  return a;
+}
+// A texel's solid angle above the horizon (or all of it, for the whole sphere) [sr].
+double TexelSolidAngle(const SkyImage& image, int y, bool wholeSphere) {
+  const double top = kPi * y / image.height, bottom = std::min(kPi * (y + 1) / image.height, wholeSphere ? kPi : kPi / 2);
+  return bottom > top ? 2 * kPi / image.width * (std::cos(top) - std::cos(bottom)) : 0;
+}
+Rgb Colourful(int x, int y) { return {float(1 + x % 3), float(0.5 + (x * y) % 5), float(0.2 + y % 2)}; }
+
+// The image's layout: its centre column at the horizon looks along the front (-z), three quarters across to the
+// right of it (+x), the top row at the zenith; each direction drawn has pdf L_lum / sum L_lum Omega, and they fall
+// on the texels in proportion to L_lum Omega (chi-square over every texel), for a sky above the horizon and for
+// the whole sphere.
+TEST(AnalyticLights, SkyImageDirectionsFollowItsLuminance) {
+  const Frame frame = SkyFrame(ImageSky(ImageOf(8, Colourful)));
+  const Vector3 front = SkyDirection(frame, kPi / 2, kPi), right = SkyDirection(frame, kPi / 2, 1.5 * kPi);
+  EXPECT_NEAR(front.z, -1, 1e-6);
+  EXPECT_NEAR(right.x, 1, 1e-6);
+  EXPECT_NEAR(SkyDirection(frame, 0, 1).y, 1, 1e-6);
+  for (bool whole : {false, true}) {
+    const test::TracedScene s = WithLight(FloorScene(whole ? "chi-sky-image-whole" : "chi-sky-image"), ImageSky(ImageOf(8, Colourful), whole));
+    const Light& light = s.lights.back();
+    const SkyImage& image = *light.analytic.image;
+    constexpr int kSamples = 200'000;
+    std::vector<double> counts(image.texels.size(), 0), expected(image.texels.size(), 0);
+    double total = 0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        total += expected[size_t(y * image.width + x)] = Luminance(image.Texel(x, y)) * TexelSolidAngle(image, y, whole);
+    for (int i = 0; i < kSamples; ++i) {
+      Rng rng(11, uint64_t(i));
+      const std::optional<SkySample> d = SampleSkyImage(light, rng.Uniform2());
+      ASSERT_TRUE(d.has_value());
+      ASSERT_TRUE(whole || d->from.y >= 0) << "none from below the horizon";
+      const Vector3 local = SkyFrame(light.analytic).ToLocal(d->from);
+      const double phi = std::atan2(-double(local.y), -double(local.x)) + (local.y > 0 ? 2 * kPi : 0);
+      const int x = std::min(image.width - 1, int(phi / (2 * kPi) * image.width));
+      const int y = std::min(image.height - 1, int(std::acos(std::clamp(double(local.z), -1.0, 1.0)) / kPi * image.height));
+      ASSERT_NEAR(d->pdf, Luminance(image.Texel(x, y)) / total, 1e-4 * d->pdf) << x << ", " << y;
+      counts[size_t(y * image.width + x)] += 1;
+    }
+    for (double& e : expected) e *= kSamples / total;
+    const test::Chi2Result fit = test::Chi2Test(counts, expected);
+    EXPECT_GT(fit.pValue, 1e-3) << fit.histograms;
+  }
+}
+
+// Photons drawn by luminance carry their colour as a weight: in every channel, the weights of the photons from a
+// part of the sky (its columns 2, 5, 8, ..., reddest) add up to that part's share of the channel's flux, and all
+// of them to 1 (mean over photons, within 5 standard errors).
+TEST(AnalyticLights, SkyImagePhotonsCarryEachChannelsFlux) {
+  const test::TracedScene s = WithLight(FloorScene("sky-image-weights"), ImageSky(ImageOf(8, Colourful)));
+  const Light& light = s.lights.back();
+  const SkyImage& image = *light.analytic.image;
+  const auto inPart = [&](int x) { return x % 3 == 2; };
+  std::array<double, 3> part{}, whole{};
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const Rgb l = image.Texel(x, y) * float(TexelSolidAngle(image, y, false));
+      for (size_t k = 0; k < 3; ++k) (inPart(x) ? part : whole)[k] += k == 0 ? l.r : k == 1 ? l.g : l.b;
+    }
+  constexpr int kSamples = 100'000;
+  std::array<double, 3> sum{}, sum2{}, all{};
+  for (int i = 0; i < kSamples; ++i) {
+    Rng rng(12, uint64_t(i));
+    const EmissionSample e = SampleEmission(s.scene, light, rng);
+    const Vector3 local = SkyFrame(light.analytic).ToLocal(-e.direction);
+    const double phi = std::atan2(-double(local.y), -double(local.x)) + (local.y > 0 ? 2 * kPi : 0);
+    const bool in = inPart(std::min(image.width - 1, int(phi / (2 * kPi) * image.width)));
+    const std::array<double, 3> w{e.weight.r, e.weight.g, e.weight.b};
+    for (size_t k = 0; k < 3; ++k) sum[k] += in * w[k], sum2[k] += in * w[k] * w[k], all[k] += w[k];
+  }
+  for (size_t k = 0; k < 3; ++k) {
+    const double mean = sum[k] / kSamples, sigma = std::sqrt((sum2[k] / kSamples - mean * mean) / kSamples);
+    EXPECT_NEAR(mean, part[k] / (part[k] + whole[k]), 5 * sigma) << "channel " << k;
+    EXPECT_NEAR(all[k] / kSamples, 1, 0.02) << "channel " << k;
+  }
+}
+
+// A grey sky brighter toward the zenith, L = 1 + 2 cos(theta) at each row's centre, over an open floor: H is the
+// sum over rows of L pi (sin^2 theta_bottom - sin^2 theta_top), both sampled at points (within 5 of their
+// predicted standard errors) and by photons (the floor's flux, H A).
+TEST(AnalyticLights, ASkyImageLightsAnOpenFloorByItsIntegral) {
+  const auto image = ImageOf(32, [](int, int y) {
+    const float l = 1 + 2 * float(std::cos(kPi * (y + 0.5) / 32));
+    return Rgb{l, l, l};
+  });
+  double exact = 0;
+  for (int y = 0; y < 16; ++y) {
+    const double t = kPi * y / 32, b = kPi * (y + 1) / 32;
+    exact += Luminance(image->Texel(0, y)) * kPi * (std::pow(std::sin(b), 2) - std::pow(std::sin(t), 2));
+  }
+  const test::TracedScene s = WithLight(FloorScene("sky-image-open"), ImageSky(image));
+  for (double x : {0.0, 0.7, -1.3}) {
+    const DirectSample d = DirectAt(s, x, 0.4, 256);
+    ASSERT_GT(d.relativeNoise, 0);
+    EXPECT_NEAR(d.irradiance.g, exact, 5 * d.relativeNoise * d.irradiance.g) << x;
+    EXPECT_LT(d.relativeNoise, 0.02) << "cosine and image directions together";
+  }
+  ExpectFloorFlux(s, exact * 16);
+}
+
+// One bright texel is a sun of the same solid angle: an image black but for the texel 45 degrees from the zenith
+// (V = 1000 over Omega) lights an open floor as a sun of E = V Omega from the texel's centre does, at points
+// (within the texel's own extent, 0.7 degrees: 0.5%) and by photons (within their binomial noise).
+TEST(AnalyticLights, OneBrightTexelIsTheSun) {
+  constexpr int kHeight = 256, kX = 320, kY = 64;
+  const auto image = ImageOf(kHeight, [](int x, int y) { return x == kX && y == kY ? Rgb{1000, 1000, 1000} : Rgb{}; });
+  const AnalyticLight sky = ImageSky(image);
+  const Vector3 centre = SkyDirection(SkyFrame(sky), kPi * (kY + 0.5) / kHeight, 2 * kPi * (kX + 0.5) / (2 * kHeight));
+  const double e = 1000 * TexelSolidAngle(*image, kY, false);
+  const test::TracedScene bySky = WithLight(FloorScene("sky-image-texel"), sky);
+  const test::TracedScene bySun = WithLight(FloorScene("sky-image-sun"), Sun(-centre, float(e)));
+  for (double x : {0.0, 1.2}) {
+    const double sun = DirectAt(bySun, x, -0.5).irradiance.g;
+    EXPECT_NEAR(sun, e * centre.y, 1e-5 * sun);
+    EXPECT_NEAR(DirectAt(bySky, x, -0.5, 64).irradiance.g, sun, 5e-3 * sun) << x;
+  }
+  const Flux a = FloorFlux(bySky, 200'000), b = FloorFlux(bySun, 200'000);
+  EXPECT_NEAR(a.watts, b.watts, 5 * std::hypot(a.sigma, b.sigma));
 }
 
 }  // namespace

@@ -5,9 +5,13 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 
 #include <fmt/format.h>
+#include <stb_image_write.h>
 
+#include "baker/files/atomic_file.h"
+#include "baker/files/image_io.h"
 #include "mesh/errors.h"
 #include "mesh/light_file.h"
 #include "mesh/lights.h"
@@ -179,6 +183,91 @@ TEST(LightFile, AnIesLampBakesItsTableOnTheFloor) {
   const test::ToolRun clash = test::RunTool(PB_BAKE_EXE, dir + "/f.obj -o " + dir + "/lamp.ies --photons 1000 -q");
   EXPECT_NE(clash.status, 0);
   EXPECT_NE(clash.output.find("the IES file"), std::string::npos) << clash.output;
+}
+
+// Sky images written as OpenEXR (float) and Radiance HDR (RGBE: 8-bit mantissas).
+void WriteSkyImages(const std::string& dir, int width, int height, const std::function<Rgb(int, int)>& texel) {
+  Image image(width, height);
+  std::vector<float> rgb;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const Rgb t = image.At(x, y) = texel(x, y);
+      rgb.insert(rgb.end(), {t.r, t.g, t.b});
+    }
+  OutputFiles outputs;
+  WriteExr(outputs, dir + "/sky.exr", image);
+  outputs.Commit();
+  ASSERT_NE(stbi_write_hdr((dir + "/sky.hdr").c_str(), width, height, 3, rgb.data()), 0);
+}
+
+TEST(LightFile, ReadsASkyImageFromExrOrHdr) {
+  const std::string dir = test::TempDirectory("lights-sky-image");
+  const auto texel = [](int x, int y) { return Rgb{float(x + 1), float(y + 1) * 0.5f, 100.0f}; };
+  WriteSkyImages(dir, 8, 4, texel);
+  const Scene scene;
+  for (const char* file : {"sky.exr", "sky.hdr"}) {
+    test::WriteText(dir + "/l.json", fmt::format(R"({{"lights": [{{"type": "sky", "image": "{}", "radiance_W_m2_sr": 2,
+        "rotation_deg": 90}}]}})", file));
+    const AnalyticLight a = LoadLightsFile(dir + "/l.json", scene).lights.at(0);
+    ASSERT_TRUE(a.image) << file;
+    EXPECT_EQ(a.image->width, 8);
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 8; ++x) {
+        EXPECT_NEAR(a.image->Texel(x, y).r, texel(x, y).r, 0.01 * texel(x, y).r) << file;
+        EXPECT_NEAR(a.image->Texel(x, y).b, 100, 1) << file;
+      }
+    EXPECT_FLOAT_EQ(a.intensity.g, 2);
+    EXPECT_NEAR(a.c0.x, -1, 1e-6) << "-z turned 90 degrees counter-clockwise seen from above: -x";
+  }
+}
+
+TEST(LightFile, SkyImageFaultsNameTheirFile) {
+  const std::string dir = test::TempDirectory("lights-sky-image-fault");
+  WriteSkyImages(dir, 8, 8, [](int, int) { return Rgb{1, 1, 1}; });
+  std::filesystem::rename(dir + "/sky.exr", dir + "/square.exr");
+  WriteSkyImages(dir, 4, 2, [](int x, int) { return Rgb{x == 1 ? -1.0f : 1.0f, 1, 1}; });
+  std::filesystem::rename(dir + "/sky.exr", dir + "/negative.exr");
+  WriteSkyImages(dir, 4, 2, [](int x, int) { return Rgb{float(x), 1, 1}; });
+  test::WriteText(dir + "/text.exr", "not an image");
+  const Scene scene;
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"lights": [{"type": "sky", "image": "square.exr"}]})", "square.exr: error: a sky image of 8 x 8 pixels is not latitude-longitude"},
+      {R"({"lights": [{"type": "sky", "image": "negative.exr"}]})", "negative.exr: error: the sky image's pixel (1, 0) holds (-1, 1, 1)"},
+      {R"({"lights": [{"type": "sky", "image": "text.exr"}]})", "text.exr: error: a sky image must be OpenEXR (.exr) or Radiance HDR (.hdr)"},
+      {R"({"lights": [{"type": "sky", "image": "none.exr"}]})", "l.json:1: error: light 0: the sky image 'none.exr' is not there"},
+      {R"({"lights": [{"type": "sky", "image": "sky.hdr", "front": [0, 2, 0]}]})", "'front' must not be parallel to 'up'"},
+      {R"({"lights": [{"type": "sky", "image": "sky.exr"}],
+          "portals": [{"corners_m": [[0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]]}]})", "l.json:2: error: portals do not yet take a sky with an image"},
+  };
+  for (const auto& [text, fragment] : cases) {
+    test::WriteText(dir + "/l.json", text);
+    try {
+      LoadLightsFile(dir + "/l.json", scene);
+      ADD_FAILURE() << text << " was read";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A constant image is the constant sky: the bake of a grey floor under one (0.25 everywhere, strength 2) is the
+// bake under "radiance_W_m2_sr": 0.5, vertex for vertex and bit for bit.
+TEST(LightFile, AConstantSkyImageIsTheConstantSky) {
+  const std::string dir = test::TempDirectory("lights-sky-constant");
+  WriteSkyImages(dir, 16, 8, [](int, int) { return Rgb{0.25f, 0.25f, 0.25f}; });
+  test::WriteText(dir + "/f.mtl", "newmtl grey\nKd 0.5 0.5 0.5\n");
+  test::WriteText(dir + "/f.obj", "mtllib f.mtl\nusemtl grey\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nf 1 4 3 2\n"
+                                  "v -2 0 -2\nv -2 1 -2\nv -2 1 2\nv -2 0 2\nf 5 6 7 8\n");
+  const auto bake = [&](const std::string& sky, const std::string& out) {
+    test::WriteText(dir + "/l.json", R"({"lights": [)" + sky + "]}");
+    const test::ToolRun run = test::RunTool(PB_BAKE_EXE, dir + "/f.obj --lights " + dir + "/l.json -o " + dir + "/" + out + " --photons 20000 -q");
+    EXPECT_EQ(run.status, 0) << run.output;
+    return test::ReadPly(dir + "/" + out).vertex.at("irradiance_g");
+  };
+  const std::vector<double> image = bake(R"({"type": "sky", "image": "sky.exr", "radiance_W_m2_sr": 2})", "image.ply");
+  const std::vector<double> constant = bake(R"({"type": "sky", "radiance_W_m2_sr": 0.5})", "constant.ply");
+  EXPECT_EQ(image, constant);
+  EXPECT_GT(image.front(), 0);
 }
 
 TEST(LightFile, ASidecarSkyBakesPiLOverAnOpenFloor) {

@@ -9,6 +9,8 @@
 #include <tuple>
 
 #include "baker/0_prepare_scene.h"
+#include "baker/files/atomic_file.h"
+#include "baker/files/image_io.h"
 #include "mesh/gltf_loader.h"
 #include "mesh/light_file.h"
 #include "mesh/obj_loader.h"
@@ -76,9 +78,15 @@ TEST(SceneToGltf, LightsBecomeKhrLightsAndTheSkyAndIesLampsASidecar) {
       {"type": "spot", "name": "s", "position_m": [0.5, 2, 0], "direction": [0.3, -1, 0.2], "intensity_W_sr": 3,
        "inner_cone_deg": 10, "outer_cone_deg": 30},
       {"type": "sun", "name": "sun", "direction": [0, -1, 1], "irradiance_W_m2": 100},
-      {"type": "sky", "name": "sky", "radiance_W_m2_sr": 2, "color": [1, 0.5, 0.25]},
+      {"type": "sky", "name": "sky", "radiance_W_m2_sr": 2, "color": [1, 0.5, 0.25], "image": "sky.exr",
+       "rotation_deg": 30},
       {"type": "point", "name": "lamp", "ies": "lamp.ies", "position_m": [0.2, 1.5, 0], "direction": [0, -1, 0.2],
        "c0": [0, 0, 1], "scale": 3}]})");
+  Image sky(4, 2);
+  sky.At(1, 0) = {3, 2, 1};
+  OutputFiles images;
+  WriteExr(images, dir + "/sky.exr", sky);
+  images.Commit();
   test::WriteText(dir + "/lamp.ies", test::IesText({{0, 45, 90}, {0, 90}, [](double g, double c) { return 100 + g + c; }}));
   const test::ToolRun run = test::RunTool(PB_SCENE_TO_GLTF_EXE, obj + " -o " + dir + "/out.gltf --lights " + dir + "/l.json");
   ASSERT_EQ(run.status, 0) << run.output;
@@ -102,6 +110,11 @@ TEST(SceneToGltf, LightsBecomeKhrLightsAndTheSkyAndIesLampsASidecar) {
       EXPECT_NEAR(b.cosOuter, a.cosOuter, 1e-5);
     }
     EXPECT_EQ(!a.profile, !b.profile) << i;
+    EXPECT_EQ(!a.image, !b.image) << i;
+    if (a.image) {
+      EXPECT_EQ(b.image->texels, a.image->texels) << "the sky image goes to the sidecar, named, with its front";
+      EXPECT_NEAR(Dot(a.c0, b.c0), 1, 1e-6);
+    }
     if (a.profile) {
       EXPECT_NEAR(b.position.x, 0.2, 1e-6) << "the IES lamp goes to the sidecar, naming its file";
       EXPECT_NEAR(Dot(a.c0, b.c0), 1, 1e-6);

@@ -1,0 +1,46 @@
+// An environment's radiance over the sphere of directions, L [W/(m^2 sr)] per texel of an equirectangular
+// (latitude-longitude) image, constant over each texel:
+//   row y (0 the top) holds the polar angle theta from the sky's up in [y, y + 1) pi / H: the top row the zenith,
+//   the middle the horizon, the bottom the nadir;
+//   column x holds the azimuth phi in [x, x + 1) 2 pi / W about up, from the image's left edge, turning clockwise
+//   seen from above (left to right across the image is left to right seen from inside); the image's centre
+//   column (phi = pi) looks along the sky's "front".
+// A texel's solid angle is (2 pi / W) (cos theta_top - cos theta_bottom) [sr].
+// Read from OpenEXR (.exr, its R, G and B channels as linear radiance) or Radiance RGBE (.hdr, through
+// stb_image), told apart by their first bytes. Refused with an InputError naming the file: an image that is not
+// lat-long (width twice its height), larger than kMaxSkyPixels, or with a negative or non-finite value.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mesh/color.h"
+#include "mesh/geometry.h"
+
+namespace pb {
+
+inline constexpr uint64_t kMaxSkyPixels = uint64_t(16384) * 8192;
+
+struct SkyImage {
+  std::string source;       // the file, for messages and reports
+  int width = 0, height = 0;
+  std::vector<Rgb> texels;  // row-major, top row first [W/(m^2 sr)]
+
+  const Rgb& Texel(int x, int y) const { return texels[size_t(y) * size_t(width) + size_t(x)]; }
+  // The texel holding (theta, phi) [rad], theta in [0, pi], phi in [0, 2 pi] (clamped).
+  int RowOf(double theta) const;
+  int ColumnOf(double phi) const;
+  // The polar angles bounding row y [rad].
+  double ThetaTop(int y) const;
+  double ThetaBottom(int y) const { return ThetaTop(y + 1); }
+  // True when every texel holds the same value: the sky is then a constant one.
+  bool IsConstant() const;
+};
+
+// InputError naming the file when it is missing, not .exr or .hdr, malformed, or breaks a rule above.
+SkyImage LoadSkyImage(const std::string& path);
+// The rules above for an image already in memory (a test's, or one read), with `source` naming it.
+void CheckSkyImage(const SkyImage& image);
+
+}  // namespace pb
