@@ -29,6 +29,16 @@ std::string Write(const std::string& name, const std::string& text) {
   return path;
 }
 
+// The lights file at `path` is refused with a message holding `fragment`.
+void ExpectRefused(const std::string& path, const std::string& fragment) {
+  try {
+    LoadLightsFile(path, Scene{});
+    ADD_FAILURE() << test::ReadBytes(path) << " was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
 TEST(LightFile, ReadsEveryKindWithItsUnits) {
   Scene scene;
   scene.origin = {100, 0, 0};  // a recentred scene: positions become local
@@ -70,7 +80,6 @@ TEST(LightFile, ReadsPortalsAsParallelogramsFacingInside) {
 }
 
 TEST(LightFile, FaultsNameTheLine) {
-  const Scene scene;
   const std::pair<const char*, const char*> cases[] = {
       {"{\"lights\": [\n{\"type\": \"lamp\"}]}", "s.lights.json:2: error: light 0: 'type' must be"},
       {"{\"lights\": [\n{\"type\": \"point\", \"intensity_W_sr\": 1},\n{\"type\": \"point\",\n \"position_m\": [0, 1]}]}",
@@ -87,14 +96,7 @@ TEST(LightFile, FaultsNameTheLine) {
       {"{\"lights\": [], \"portals\": [{\"corners_m\": [[0, 0, 0], [1, 0, 0]]}]}", "portal 0: 'corners_m' must hold its 4 corners"},
       {"{\"lights\": [\n", "s.lights.json:2: error: malformed JSON"},
   };
-  for (const auto& [text, fragment] : cases) {
-    try {
-      LoadLightsFile(Write("lights-fault", text), scene);
-      ADD_FAILURE() << text << " was read";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
-  }
+  for (const auto& [text, fragment] : cases) ExpectRefused(Write("lights-fault", text), fragment);
 }
 
 // An IES lamp, brighter downward and toward C = 0, as its table gives it [cd].
@@ -127,7 +129,6 @@ TEST(LightFile, ReadsAnIesPointLight) {
 }
 
 TEST(LightFile, IesFaultsNameTheirFile) {
-  const Scene scene;
   const std::string dir = test::TempDirectory("lights-ies-fault");
   WriteLamp(dir);
   test::WriteText(dir + "/bad.ies", "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 2 1 1 2 0 0 0\n1 1 0\n0 90\n0\n10 -1\n");
@@ -143,12 +144,7 @@ TEST(LightFile, IesFaultsNameTheirFile) {
   };
   for (const auto& [light, fragment] : cases) {
     test::WriteText(dir + "/l.json", "{\"lights\": [" + light + "]}");
-    try {
-      LoadLightsFile(dir + "/l.json", scene);
-      ADD_FAILURE() << light << " was read";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
+    ExpectRefused(dir + "/l.json", fragment);
   }
 }
 
@@ -229,7 +225,6 @@ TEST(LightFile, SkyImageFaultsNameTheirFile) {
   std::filesystem::rename(dir + "/sky.exr", dir + "/negative.exr");
   WriteSkyImages(dir, 4, 2, [](int x, int) { return Rgb{float(x), 1, 1}; });
   test::WriteText(dir + "/text.exr", "not an image");
-  const Scene scene;
   const std::pair<std::string, std::string> cases[] = {
       {R"({"lights": [{"type": "sky", "image": "square.exr"}]})", "square.exr: error: a sky image of 8 x 8 pixels is not latitude-longitude"},
       {R"({"lights": [{"type": "sky", "image": "negative.exr"}]})", "negative.exr: error: the sky image's pixel (1, 0) holds (-1, 1, 1)"},
@@ -241,12 +236,7 @@ TEST(LightFile, SkyImageFaultsNameTheirFile) {
   };
   for (const auto& [text, fragment] : cases) {
     test::WriteText(dir + "/l.json", text);
-    try {
-      LoadLightsFile(dir + "/l.json", scene);
-      ADD_FAILURE() << text << " was read";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
+    ExpectRefused(dir + "/l.json", fragment);
   }
 }
 
