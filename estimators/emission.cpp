@@ -47,6 +47,14 @@ EmissionSample FromPortal(const Light& light, Rng& rng) {
   const Point3 position = portal.origin + portal.u * ab.u + portal.v * ab.v;
   const AnalyticLight& a = light.analytic;
   if (light.kind == LightKind::kSun) return {position, NormalFrom(a.direction), false, a.direction, 0, 0, 0};
+  if (a.image) {
+    Vector3 from;
+    const std::optional<Rgb> weight = SampleSkyThroughPortal(light, pick->index, rng.Uniform2(), from);
+    PB_CHECK(weight.has_value(), "a portal picked by its share lets light in");
+    EmissionSample e{position, NormalFrom(-from), false, -from, 0, float(1 / portal.Area()), 0};
+    e.weight = *weight, e.carriesLight = !weight->IsBlack();
+    return e;
+  }
   const DirectionSample d = SampleCosineHemisphere(rng.Uniform2());
   const Vector3 w = Frame::FromNormal(portal.Inward()).ToWorld(d.direction);  // the way the light travels
   EmissionSample e{position, NormalFrom(w), false, w, 0, float(1 / portal.Area()), d.pdf};

@@ -3,6 +3,8 @@
 // (above the horizon, for a sky that is not the whole sphere), so that the pdf is L_lum(w) / sum L_lum Omega
 // [1/sr] exactly: the image is constant over each texel. Photons drawn so carry, per channel, the weight
 // (L_c / L_lum)(w) (sum L_lum Omega / sum L_c Omega), whose mean is 1: the light's flux per channel is kept.
+// Through a portal the texel is drawn by L_lum C_t instead (its light through the portal), and the weight
+// follows (below).
 #pragma once
 
 #include <optional>
@@ -22,5 +24,10 @@ std::optional<SkySample> SampleSkyImage(const Light& sky, Point2 u);
 float SkyImagePdf(const Light& sky, Vector3 from);
 // A photon's weight per channel for the radiance L it leaves with (SkyRadianceFrom).
 Rgb SkyPhotonWeight(const Light& sky, Rgb radiance);
+// Through portal `portal` (of the light's): `from`, drawn by the portal's texel CDF (mesh/sky_texels.h) and uniform
+// over the texel's solid angle, and the photon's weight per channel, L cos Omega / (pmf Z_p) over the channel's
+// flux per unit of luminous flux (0 where the direction, in a texel the portal's plane cuts, does not come in).
+// Empty when no texel shines in.
+std::optional<Rgb> SampleSkyThroughPortal(const Light& sky, uint32_t portal, Point2 u, Vector3& from);
 
 }  // namespace pb

@@ -213,10 +213,6 @@ LightsFile LoadLightsFile(const std::string& path, const Scene& scene) {
   if (j.contains("portals")) {
     if (!j["portals"].is_array()) throw InputError(path, in.LineOfKey("portals"), "'portals' must be an array");
     for (size_t i = 0; i < j["portals"].size(); ++i) file.portals.push_back(ReadPortal(in, j["portals"][i], i, scene));
-    for (const AnalyticLight& light : lights)
-      if (light.image && !file.portals.empty())
-        throw InputError(path, in.LineOfKey("portals"), "portals do not yet take a sky with an image: its photons "
-                                                        "leave discs around the scene");
   }
   return file;
 }

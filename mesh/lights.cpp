@@ -1,5 +1,7 @@
 #include "mesh/lights.h"
 
+#include "mesh/sky_texels.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -40,31 +42,6 @@ void AimAtPortals(Light& light, const std::vector<Portal>& portals) {
   cdf.back() = 1;
   light.portals = portals;
   light.portalCdf = std::move(cdf);
-}
-
-// A sky image's texels weighed by their luminous flux per unit disc area, L_lum Omega, above its horizon (the whole
-// of each row above it, the part above it of a row it crosses, none below) unless it is the whole sphere.
-void WeighTexels(Light& light) {
-  const AnalyticLight& a = light.analytic;
-  const SkyImage& image = *a.image;
-  double sum = 0;
-  RgbSum integral;
-  light.texelCdf.reserve(image.texels.size());
-  for (int y = 0; y < image.height; ++y) {
-    const double top = image.ThetaTop(y), bottom = a.wholeSphere ? image.ThetaBottom(y)
-                                                                  : std::min(image.ThetaBottom(y), kPi / 2.0);
-    const double omega = bottom > top ? 2 * kPi / image.width * (std::cos(top) - std::cos(bottom)) : 0;
-    for (int x = 0; x < image.width; ++x) {
-      const Rgb radiance = a.intensity * image.Texel(x, y);
-      integral.Add(radiance, omega);
-      light.texelCdf.push_back(sum += Luminance(radiance) * omega);
-    }
-  }
-  light.skyIntegral = integral.ToRgb();
-  light.skyLuminanceIntegral = sum;
-  if (!(sum > 0)) return light.texelCdf.clear();
-  for (double& c : light.texelCdf) c /= sum;
-  light.texelCdf.back() = 1;
 }
 
 }  // namespace
@@ -114,6 +91,7 @@ float RelativeIntensity(const AnalyticLight& light, Vector3 w) {
 
 Rgb Light::Power() const {
   const AnalyticLight& a = analytic;
+  if (a.image) return portals.empty() ? skyIntegral * float(kPi * double(boundsRadius) * boundsRadius) : skyIntegral;
   if (!portals.empty()) {
     double sum = 0;
     for (double w : PortalWeights(a, portals)) sum += w;
@@ -125,8 +103,7 @@ Rgb Light::Power() const {
     case LightKind::kPoint: return a.intensity * float(a.profile ? a.profile->Flux() : 4 * kPi);
     case LightKind::kSpot: return a.intensity * float(SpotSolidAngle(a.cosInner, a.cosOuter));
     case LightKind::kSun: return a.intensity * float(disc);
-    case LightKind::kSky:
-      return a.image ? skyIntegral * float(disc) : a.intensity * float(disc * (a.wholeSphere ? 4 : 2) * kPi);
+    case LightKind::kSky: return a.intensity * float(disc * (a.wholeSphere ? 4 : 2) * kPi);
   }
   return {};
 }
@@ -174,7 +151,7 @@ std::vector<Light> CollectLights(const Scene& scene, const SurfaceSet& surfaces)
     light.analytic = a;
     light.boundsCentre = centre, light.boundsRadius = radius;
     if (a.kind == LightKind::kSun || a.kind == LightKind::kSky) AimAtPortals(light, scene.portals);
-    if (a.image) WeighTexels(light);
+    if (a.image) WeighSkyTexels(light);
     lights.push_back(std::move(light));
   }
   return lights;

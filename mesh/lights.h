@@ -10,8 +10,8 @@
 //   sky: its photons leave such discs, one per direction, for directions uniform over the sky's solid angle Omega
 //        (2 pi above the horizon, or 4 pi): Phi = L pi R^2 Omega. A surface open to the sky receives H = pi L
 //        (upper hemisphere, facing up), whatever R. With an image (mesh/sky_image.h): Phi = pi R^2 sum over its
-//        texels (above the horizon) of L Omega_texel, and the texels' shares of that luminous flux are the CDF
-//        its photons and shadow rays pick a texel by (estimators/sky_sampling.h).
+//        texels (above the horizon) of L Omega_texel, or through portals sum over them of A_p sum L C_p
+//        (mesh/sky_texels.h); the texels' shares of that luminous flux are the CDFs its photons pick a texel by.
 // With portals (mesh/scene.h), sun and sky photons start on the portals instead, so that none is spent on the
 // outside of a closed room: a portal is picked in proportion to its share of the flux, a point uniformly on it;
 //   sun: Phi = E sum_p A_p max(0, d . n_p);
@@ -43,9 +43,14 @@ struct Light {
   float boundsRadius = 0;
   std::vector<Portal> portals;      // sun, sky: the scene's portals; empty: photons leave the bounding discs
   std::vector<double> portalCdf;    // sun, sky with portals: cumulative share of the flux by portal; back() == 1
-  std::vector<double> texelCdf;     // sky with an image: cumulative share of sum L_lum Omega by texel; back() == 1
-  Rgb skyIntegral;                  // sky with an image: sum over texels of L Omega [W/m^2] (L with intensity)
-  double skyLuminanceIntegral = 0;  // the same of Luminance(L) Omega
+  // sky with an image (mesh/sky_texels.h): from the discs, the cumulative share of sum L_lum Omega by texel, and
+  // sum L Omega [W/m^2]; through portals, per portal the cumulative share of sum L_lum C by texel and that sum
+  // [W/(m^2)], and sum over portals of A sum L C [W]; back() == 1. skyLuminanceIntegral is skyIntegral's luminance.
+  std::vector<double> texelCdf;
+  std::vector<std::vector<double>> portalTexelCdf;
+  std::vector<double> portalTexelSum;
+  Rgb skyIntegral;
+  double skyLuminanceIntegral = 0;
   Rgb Power() const;  // Phi [W]
   bool IsArea() const { return kind == LightKind::kArea; }
 };

@@ -15,6 +15,7 @@
 #include "estimators/emission.h"
 #include "estimators/light_sampler.h"
 #include "estimators/sky_sampling.h"
+#include "mesh/sky_texels.h"
 #include "estimators/warps.h"
 #include "mesh/ies_file.h"
 #include "mesh/obj_loader.h"
@@ -96,22 +97,25 @@ DirectSample DirectAt(const test::TracedScene& s, double x, double z, uint32_t s
 }
 
 // The flux [W] that `photons` photons lay on the floor in their first hits, and its standard deviation: each
-// photon carries Phi / N, so the count on the floor is binomial.
+// photon carries its attenuation (its emission weight: 1 but for a sky image's) times Phi / N, so the flux is
+// their mean times Phi, with the standard error of that mean (for equal weights, the binomial's).
 struct Flux {
   double watts = 0, sigma = 0;
 };
 // Only hits within `half` of the floor's centre in x and z count (1: the room's floor, under its ceiling).
 Flux FloorFlux(const test::TracedScene& s, uint64_t photons, float half = kFloorHalf) {
   const PhotonStore store = s.Trace(photons, 3);
-  const double phi = Luminance(s.lights.back().Power());
-  double onFloor = 0;
+  const Rgb phi = s.lights.back().Power();
+  double sum = 0, sum2 = 0;
   for (const HitBlock& block : store.blocks)
     for (const PhotonHit& h : block) {
       const Point3 p = s.scene.PointAt(h.Triangle(), h.b1, h.b2);
-      onFloor += s.surfaces.surfaceOfTriangle[h.Triangle()] == 0 && std::fabs(p.x) <= half && std::fabs(p.z) <= half;
+      if (s.surfaces.surfaceOfTriangle[h.Triangle()] != 0 || std::fabs(p.x) > half || std::fabs(p.z) > half) continue;
+      const double w = Luminance(h.attenuation * phi);
+      sum += w, sum2 += w * w;
     }
-  const double p = onFloor / double(photons);
-  return {phi * p, phi * std::sqrt(p * (1 - p) / double(photons)) + phi / double(photons)};
+  const double n = double(photons), mean = sum / n;
+  return {sum / n, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n) + Luminance(phi) / n};
 }
 
 // FloorFlux against `expected` [W], within 5 standard deviations.
@@ -465,6 +469,32 @@ TEST(AnalyticLights, OneBrightTexelIsTheSun) {
   }
   const Flux a = FloorFlux(bySky, 200'000), b = FloorFlux(bySun, 200'000);
   EXPECT_NEAR(a.watts, b.watts, 5 * std::hypot(a.sigma, b.sigma));
+}
+
+// Through a portal, an image sky's photons start on the window and are drawn by the light each texel sends in
+// (mesh/sky_texels.h): the floor under the room's window receives what the bounding discs' photons bring it (a sky
+// brighter toward the zenith, and one bright texel, which then is the sun E A cos through the window), from a
+// quarter of the photons, with less noise.
+TEST(AnalyticLights, PortalsAimSkyImagePhotonsAtTheWindow) {
+  const auto zenith = ImageOf(16, [](int x, int y) {
+    const float l = 1 + 2 * float(std::cos(kPi * (y + 0.5) / 16));
+    return Rgb{l, l * (x % 2 ? 0.5f : 1.0f), l};
+  });
+  const Flux discs = FloorFlux(WithLight(FloorScene("portal-image-discs", true), ImageSky(zenith)), 400'000, 1);
+  const Flux portal = FloorFlux(WithLight(WithPortal(FloorScene("portal-image", true)), ImageSky(zenith)), 100'000, 1);
+  EXPECT_NEAR(portal.watts, discs.watts, 5 * std::hypot(discs.sigma, portal.sigma));
+  EXPECT_LT(portal.sigma, discs.sigma / 3);
+  constexpr int kHeight = 128, kX = 100, kY = 20;
+  const auto texel = ImageOf(kHeight, [](int x, int y) { return x == kX && y == kY ? Rgb{1000, 1000, 1000} : Rgb{}; });
+  const AnalyticLight sky = ImageSky(texel);
+  const TexelSpan span = SpanOf(sky, kX, kY);
+  const Vector3 centre = SkyDirection(SkyFrame(sky), 0.5 * (span.theta0 + span.theta1), 0.5 * (span.phi0 + span.phi1));
+  const test::TracedScene s = WithLight(WithPortal(FloorScene("portal-image-texel", true)), sky);
+  const double expected = 1000 * TexelCosineSolidAngle(sky, kX, kY, {0, -1, 0}) * 0.25;
+  EXPECT_NEAR(Luminance(s.lights.back().Power()), expected, 1e-4 * expected) << "its flux: L C A";
+  EXPECT_NEAR(expected, 1000 * span.SolidAngle() * centre.y * 0.25, 2e-3 * expected) << "C is Omega cos, nearly";
+  const double onFloor = FloorFlux(s, 100'000, 1).watts;
+  EXPECT_NEAR(onFloor, expected, 0.02 * expected) << "every photon through the window reaches the floor under it";
 }
 
 }  // namespace
