@@ -1,6 +1,6 @@
 // bake-mpi (tools/bake_mpi.cpp, baker/distribution.h) as a user runs it, under `mpirun --oversubscribe -np 3`:
 // - the PLY is byte-identical to a single-process bake's, with one and two threads per rank, and the report's
-//   photon figures and per-surface tallies are the same;
+//   photon figures and per-surface tallies are the same; so with an IES lamp and a sky image through a portal;
 // - bad input is reported once (by rank 0), an option it cannot share (--save-photons) is refused once with the
 //   reason, and both exit non-zero;
 // - a rank killed part-way makes mpirun exit non-zero naming a rank, and the earlier output is left as it was, with
@@ -13,6 +13,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "baker/files/atomic_file.h"
+#include "baker/files/image_io.h"
+#include "tests/ies_text.h"
 #include "tests/ply_reader.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
@@ -62,6 +65,34 @@ TEST(BakeMpi, ThreeRanksWriteTheBytesOfOneProcess) {
     EXPECT_EQ(a.at("surfaces"), b.at("surfaces"));
     EXPECT_GT(b.at("photons").at("hits_binned_while_traced").get<uint64_t>(), 0u);
   }
+}
+
+// A grey room under an image sky through its window and an IES lamp inside: three ranks bake the bytes of one.
+TEST(BakeMpi, IesLampsAndSkyImagesBakeAsInOneProcess) {
+  REQUIRE_BAKE_MPI();
+  const std::string dir = test::TempDirectory("bake-mpi-lights");
+  test::WriteText(dir + "/r.mtl", "newmtl grey\nKd 0.6 0.6 0.6\n");
+  test::WriteText(dir + "/r.obj", "mtllib r.mtl\nusemtl grey\n"
+                  "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nf 1 4 3 2\n"  // the floor, facing up
+                  "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\nv -0.25 1 -0.25\nv 0.25 1 -0.25\nv 0.25 1 0.25\n"
+                  "v -0.25 1 0.25\nf 5 6 10 9\nf 6 7 11 10\nf 7 8 12 11\nf 8 5 9 12\n"  // the ceiling about its window
+                  "f 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");                    // the walls, facing in
+  Image sky(16, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 16; ++x) sky.At(x, y) = {1.0f + float(x % 4), 2.0f, 8.0f / float(1 + y)};
+  OutputFiles images;
+  WriteExr(images, dir + "/sky.exr", sky);
+  images.Commit();
+  test::WriteText(dir + "/lamp.ies", test::IesText({{0, 30, 60, 90}, {0, 90}, [](double g, double c) { return 200 - g + c; }}));
+  test::WriteText(dir + "/r.lights.json", R"({"lights": [{"type": "sky", "image": "sky.exr"},
+      {"type": "point", "ies": "lamp.ies", "position_m": [0.5, 0.8, 0.3], "scale": 10}],
+      "portals": [{"corners_m": [[-0.25, 1, -0.25], [0.25, 1, -0.25], [0.25, 1, 0.25], [-0.25, 1, 0.25]]}]})");
+  const std::string common = dir + "/r.obj -q --photons 600000 --h 0.2 --direct-samples 16";
+  const test::ToolRun single = test::RunTool(PB_BAKE_EXE, common + " -o " + dir + "/one.ply");
+  ASSERT_EQ(single.status, 0) << single.output;
+  const test::ToolRun run = test::RunTool(kMpirun, common + " -o " + dir + "/mpi.ply");
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_TRUE(test::ReadBytes(dir + "/mpi.ply") == test::ReadBytes(dir + "/one.ply"));
 }
 
 TEST(BakeMpi, BadInputAndUnsharedOptionsAreReportedOnce) {
