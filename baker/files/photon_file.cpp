@@ -244,6 +244,22 @@ void HashVector(uLong& crc, const std::vector<T>& values) {
   crc = Crc(crc, values.data(), values.size() * sizeof(T));
 }
 
+// What a light that is not a surface sends where: its kind, strength, place, aim, cone, sky and the tables of
+// its profile or image (not its name or where it was declared).
+void HashLight(uLong& crc, const AnalyticLight& light) {
+  const float values[] = {float(light.kind), light.intensity.r, light.intensity.g, light.intensity.b, light.position.x,
+                          light.position.y, light.position.z, light.direction.x, light.direction.y, light.direction.z,
+                          light.cosInner, light.cosOuter, light.up.x, light.up.y, light.up.z, float(light.wholeSphere),
+                          light.c0.x, light.c0.y, light.c0.z};
+  crc = Crc(crc, values, sizeof values);
+  if (light.profile) {
+    HashVector(crc, light.profile->VerticalAngles());
+    HashVector(crc, light.profile->HorizontalAngles());
+    HashVector(crc, light.profile->Candela());
+  }
+  if (light.image) HashVector(crc, light.image->texels);
+}
+
 }  // namespace
 
 uint32_t SceneHash(const Scene& scene) {
@@ -268,14 +284,10 @@ uint32_t SceneHash(const Scene& scene) {
   }
   HashVector(crc, scene.texcoords);
   for (const Texture& t : scene.textures) HashVector(crc, t.texels);
-  for (const AnalyticLight& light : scene.analyticLights) {
-    if (!light.profile) continue;  // only lights with a profile, so that other scenes keep the hash they had
-    const float frame[] = {light.position.x, light.position.y, light.position.z, light.direction.x,
-                           light.direction.y, light.direction.z, light.c0.x, light.c0.y, light.c0.z};
-    crc = Crc(crc, frame, sizeof frame);
-    HashVector(crc, light.profile->VerticalAngles());
-    HashVector(crc, light.profile->HorizontalAngles());
-    HashVector(crc, light.profile->Candela());
+  for (const AnalyticLight& light : scene.analyticLights) HashLight(crc, light);
+  for (const Portal& p : scene.portals) {
+    const float corners[] = {p.origin.x, p.origin.y, p.origin.z, p.u.x, p.u.y, p.u.z, p.v.x, p.v.y, p.v.z};
+    crc = Crc(crc, corners, sizeof corners);
   }
   return uint32_t(crc);
 }

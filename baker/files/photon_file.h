@@ -34,8 +34,9 @@ struct PhotonOrigin {
 };
 
 // CRC-32 of everything in the loaded scene that photons depend on: positions [m] (after --scale), triangles,
-// materials, texture coordinates and texels, and the IES lamps (where, aimed how, their tables). Independent of
-// comments, names and line numbers. (Other analytic lights are checked only by their flux, with the lights.)
+// materials, texture coordinates and texels, the lights that are not surfaces (kind, strength, place, aim, cone,
+// sky, the tables of IES profiles and sky images) and the portals. Independent of comments, names and line
+// numbers.
 uint32_t SceneHash(const Scene& scene);
 // Bit e set when the plan simulates Effect e.
 uint32_t SimulatedEffects(const TransportPlan& plan);

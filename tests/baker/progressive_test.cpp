@@ -288,32 +288,38 @@ TEST(PhotonFile, ResumeIsRefusedForAnotherSceneSeedEffectsOrBounceLimit) {
   EXPECT_TRUE(Contains(scene, "cannot resume: the photons were traced in a different scene")) << scene;
 }
 
-// An IES lamp's photons depend on where it is, how it is aimed and its table, so the scene hash covers them; other
-// analytic lights leave the hash as it was (their flux is checked with the lights).
-TEST(PhotonFile, TheSceneHashCoversIesLamps) {
-  const std::string dir = test::TempDirectory("photon-file-ies");
+// The photons of a light that is not a surface depend on where it is, how it is aimed and its table, so the scene
+// hash covers them (a point light moved, an IES lamp turned, another table, a portal added), and not their names.
+TEST(PhotonFile, TheSceneHashCoversTheLightsThatAreNotSurfaces) {
+  const std::string dir = test::TempDirectory("photon-file-lights");
   Scene scene = LoadObj(test::WriteSquareLightOverFloor(dir, 1, 1, 1, 2, 4)).scene;
   const uint32_t bare = SceneHash(scene);
   AnalyticLight point;
   point.position = {0, 0.5f, 0}, point.intensity = {1, 1, 1};
   scene.analyticLights.push_back(point);
-  EXPECT_EQ(SceneHash(scene), bare);
+  const uint32_t plain = SceneHash(scene);
+  EXPECT_NE(plain, bare);
+  scene.analyticLights.back().position.x = 0.1f;
+  EXPECT_NE(SceneHash(scene), plain) << "moved";
+  scene.analyticLights.back().position.x = 0;
+  EXPECT_EQ(SceneHash(scene), plain);
+  scene.analyticLights.back().name = "bulb";
+  EXPECT_EQ(SceneHash(scene), plain) << "names do not count";
   const auto table = [&](double peak) {
     test::WriteText(dir + "/lamp.ies", test::IesText({{0, 45, 90}, {0, 90}, [&](double g, double) { return peak - g; }}));
     return std::make_shared<const IntensityProfile>(LoadIesFile(dir + "/lamp.ies"));
   };
   scene.analyticLights.back().profile = table(100);
   const uint32_t lamp = SceneHash(scene);
-  EXPECT_NE(lamp, bare);
+  EXPECT_NE(lamp, plain);
   scene.analyticLights.back().c0 = {0, 0, 1};
   EXPECT_NE(SceneHash(scene), lamp) << "turned about its nadir";
   scene.analyticLights.back().c0 = {1, 0, 0};
   EXPECT_EQ(SceneHash(scene), lamp);
-  scene.analyticLights.back().position.x = 0.1f;
-  EXPECT_NE(SceneHash(scene), lamp) << "moved";
-  scene.analyticLights.back().position.x = 0;
   scene.analyticLights.back().profile = table(101);
   EXPECT_NE(SceneHash(scene), lamp) << "another table";
+  scene.portals.push_back({{0, 1, 0}, {1, 0, 0}, {0, 0, 1}});
+  EXPECT_NE(SceneHash(scene), lamp) << "a portal";
 }
 
 TEST(PhotonFile, TruncatedOrCorruptedFilesAreRefusedWhole) {
