@@ -37,10 +37,10 @@ std::optional<Rgb> SampleSkyThroughPortal(const Light& sky, uint32_t portal, Poi
   const float cosIn = -Dot(from, sky.portals[portal].Inward());
   const uint32_t width = uint32_t(a.image->width);
   const TexelSpan span = SpanOf(a, int(pick->index % width), int(pick->index / width));
-  if (!(cosIn > 0) || !(sky.skyLuminanceIntegral > 0)) return Rgb{};
+  if (!(cosIn > 0) || !(sky.portalLuminanceFlux > 0)) return Rgb{};
   // L cos Omega / (pmf Z_p) per unit of the portal's share, over the channel's flux per unit of luminous flux.
-  const double scale = cosIn * span.SolidAngle() * sky.skyLuminanceIntegral / (pick->pmf * sky.portalTexelSum[portal]);
-  const Rgb radiance = a.intensity * a.image->texels[pick->index], total = sky.skyIntegral;
+  const double scale = cosIn * span.SolidAngle() * sky.portalLuminanceFlux / (pick->pmf * sky.portalTexelSum[portal]);
+  const Rgb radiance = a.intensity * a.image->texels[pick->index], total = sky.portalFlux;
   const auto channel = [&](float l, float t) { return t > 0 ? float(l * scale / t) : 0.0f; };
   return Rgb{channel(radiance.r, total.r), channel(radiance.g, total.g), channel(radiance.b, total.b)};
 }

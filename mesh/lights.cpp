@@ -91,7 +91,7 @@ float RelativeIntensity(const AnalyticLight& light, Vector3 w) {
 
 Rgb Light::Power() const {
   const AnalyticLight& a = analytic;
-  if (a.image) return portals.empty() ? skyIntegral * float(kPi * double(boundsRadius) * boundsRadius) : skyIntegral;
+  if (a.image) return portals.empty() ? skyIntegral * float(kPi * double(boundsRadius) * boundsRadius) : portalFlux;
   if (!portals.empty()) {
     double sum = 0;
     for (double w : PortalWeights(a, portals)) sum += w;

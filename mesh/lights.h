@@ -43,14 +43,16 @@ struct Light {
   float boundsRadius = 0;
   std::vector<Portal> portals;      // sun, sky: the scene's portals; empty: photons leave the bounding discs
   std::vector<double> portalCdf;    // sun, sky with portals: cumulative share of the flux by portal; back() == 1
-  // sky with an image (mesh/sky_texels.h): from the discs, the cumulative share of sum L_lum Omega by texel, and
-  // sum L Omega [W/m^2]; through portals, per portal the cumulative share of sum L_lum C by texel and that sum
-  // [W/(m^2)], and sum over portals of A sum L C [W]; back() == 1. skyLuminanceIntegral is skyIntegral's luminance.
+  // sky with an image (mesh/sky_texels.h): the cumulative share of sum L_lum Omega by texel (back() == 1), and the
+  // sums of L Omega [W/m^2] and of its luminance; through portals also, per portal, the cumulative share of sum
+  // L_lum C by texel and that sum, and over the portals sum A sum L C [W] and its luminance.
   std::vector<double> texelCdf;
-  std::vector<std::vector<double>> portalTexelCdf;
-  std::vector<double> portalTexelSum;
   Rgb skyIntegral;
   double skyLuminanceIntegral = 0;
+  std::vector<std::vector<double>> portalTexelCdf;
+  std::vector<double> portalTexelSum;
+  Rgb portalFlux;
+  double portalLuminanceFlux = 0;
   Rgb Power() const;  // Phi [W]
   bool IsArea() const { return kind == LightKind::kArea; }
 };

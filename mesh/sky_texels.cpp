@@ -90,8 +90,8 @@ void WeighThroughPortals(Light& light) {
     light.portalTexelSum.push_back(sum);
     light.portalCdf.push_back(sum * portal.Area());
   }
-  light.skyIntegral = integral.ToRgb();
-  light.skyLuminanceIntegral = ToCdf(light.portalCdf);
+  light.portalFlux = integral.ToRgb();
+  light.portalLuminanceFlux = ToCdf(light.portalCdf);
 }
 
 }  // namespace
@@ -112,10 +112,8 @@ double TexelCosineSolidAngle(const AnalyticLight& sky, int x, int y, Normal3 inw
 }
 
 void WeighSkyTexels(Light& light) {
-  if (light.portals.empty())
-    WeighThroughDiscs(light);
-  else
-    WeighThroughPortals(light);
+  WeighThroughDiscs(light);
+  if (!light.portals.empty()) WeighThroughPortals(light);
 }
 
 }  // namespace pb

@@ -14,8 +14,8 @@
 
 namespace pb {
 
-// Fills the light's texelCdf (or, with portals, portalCdf, portalTexelCdf and portalTexelSum), skyIntegral and
-// skyLuminanceIntegral. The light is a sky with an image.
+// Fills the light's texelCdf, skyIntegral and skyLuminanceIntegral, and with portals also portalCdf,
+// portalTexelCdf, portalTexelSum, portalFlux and portalLuminanceFlux. The light is a sky with an image.
 void WeighSkyTexels(Light& light);
 
 // C_t of texel (x, y) for light travelling through a portal of inward normal `inward` [sr].
