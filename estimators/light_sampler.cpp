@@ -266,27 +266,32 @@ DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Nor
   return mean.Result();
 }
 
-// Per stratum, one cosine-distributed direction and one drawn from the image, each weighted by the balance
-// heuristic (Veach and Guibas 1995): L cos / (p_cosine + p_image) for each that escapes toward the sky.
+// Per stratum, one cosine-distributed direction, one drawn from the image and, with portals, one toward them, each
+// weighted by the balance heuristic (Veach and Guibas 1995): L cos / (sum of the techniques' pdfs) for each that
+// escapes toward the sky.
 DirectSample LightSampler::SkyImageIrradiance(const Light& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
   const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
   const Frame frame = Frame::FromNormal(n);
   const Point3 origin = rays_.SpawnPoint(p, n);
-  const auto weighed = [&](Vector3 w, float pdfImage) {
+  const bool portals = !sky.portals.empty();
+  const auto weighed = [&](Vector3 w) {
     const float cosX = Dot(w, n);
     if (!(cosX > 0)) return Rgb{};
     const Rgb radiance = SkyRadianceFrom(sky.analytic, w);
     if (radiance.IsBlack() || !Escapes(origin, w)) return Rgb{};
-    return radiance * (cosX / (CosineHemispherePdf(cosX) + pdfImage));
+    const float pdf = CosineHemispherePdf(cosX) + SkyImagePdf(sky, w) + (portals ? TowardPortalsPdf(sky, p, w) : 0);
+    return radiance * (cosX / pdf);
+  };
+  const auto stratum = [&](uint32_t cell) {
+    const Point2 jitter = rng.Uniform2();
+    return Point2{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
   };
   StratifiedMean mean(side);
   for (uint32_t cell = 0; cell < samples; ++cell) {
-    const Point2 jitter = rng.Uniform2(), again = rng.Uniform2();
-    const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
-    const Vector3 cosine = frame.ToWorld(SampleCosineHemisphere(u).direction);
-    Rgb e = weighed(cosine, SkyImagePdf(sky, cosine));
-    const Point2 v{(float(cell % side) + again.u) / float(side), (float(cell / side) + again.v) / float(side)};
-    if (const std::optional<SkySample> image = SampleSkyImage(sky, v)) e += weighed(image->from, image->pdf);
+    Rgb e = weighed(frame.ToWorld(SampleCosineHemisphere(stratum(cell)).direction));
+    if (const std::optional<SkySample> image = SampleSkyImage(sky, stratum(cell))) e += weighed(image->from);
+    if (portals)
+      if (const std::optional<SkySample> out = SampleTowardPortals(sky, p, stratum(cell))) e += weighed(out->from);
     mean.Add(cell, e);
   }
   return mean.Result();

@@ -28,8 +28,9 @@
 //                must leave the scene), each computed exactly, with no noise;
 //   sky:         pi L times the fraction of S cosine-distributed rays, stratified, that leave the scene toward the
 //                sky, with its own stratified standard error; with an image, per stratum one cosine-distributed
-//                direction and one drawn by the image's luminance (estimators/sky_sampling.h), each weighted by
-//                the balance heuristic of multiple importance sampling (Veach and Guibas 1995), 2 S rays.
+//                direction, one drawn by the image's luminance and, with portals, one toward a point on a portal
+//                (estimators/sky_sampling.h), each weighted by the balance heuristic of multiple importance
+//                sampling (Veach and Guibas 1995): 2 or 3 S rays.
 // Their noise adds to the area lights' in variance.
 //
 // Determinism: the point's random numbers come from a stream keyed by the caller (the surface point), so the same

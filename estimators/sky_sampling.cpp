@@ -45,6 +45,39 @@ std::optional<Rgb> SampleSkyThroughPortal(const Light& sky, uint32_t portal, Poi
   return Rgb{channel(radiance.r, total.r), channel(radiance.g, total.g), channel(radiance.b, total.b)};
 }
 
+std::optional<SkySample> SampleTowardPortals(const Light& sky, Point3 p, Point2 u) {
+  const auto pick = SampleDiscreteCdf(sky.portalCdf, u.u);
+  if (!pick) return std::nullopt;
+  const Portal& portal = sky.portals[pick->index];
+  const Vector3 toward = portal.origin + portal.u * pick->uRemapped + portal.v * u.v - p;
+  const float d2 = LengthSquared(toward);
+  if (!(d2 > 0)) return std::nullopt;
+  const Vector3 w = toward * (1 / std::sqrt(d2));
+  const float cosPortal = -Dot(w, portal.Inward());  // out through it: against its inward normal
+  if (!(cosPortal > 0)) return std::nullopt;
+  return SkySample{w, TowardPortalsPdf(sky, p, w)};
+}
+
+float TowardPortalsPdf(const Light& sky, Point3 p, Vector3 w) {
+  double pdf = 0, previous = 0;
+  for (size_t i = 0; i < sky.portals.size(); ++i) {
+    const Portal& portal = sky.portals[i];
+    const double share = sky.portalCdf[i] - previous;
+    previous = sky.portalCdf[i];
+    const Vector3 n = Cross(portal.u, portal.v);
+    const float along = -Dot(w, n);  // > 0 going out
+    if (!(along > 0) || !(share > 0)) continue;
+    const float t = -Dot(portal.origin - p, n) / along;
+    if (!(t > 0)) continue;
+    const Vector3 q = p + w * t - portal.origin;
+    const float nn = Dot(n, n), a = Dot(Cross(q, portal.v), n) / nn, b = Dot(Cross(portal.u, q), n) / nn;
+    if (a < 0 || a > 1 || b < 0 || b > 1) continue;
+    const double area = std::sqrt(double(nn)), cosPortal = along / area;
+    pdf += share * double(t) * t / (area * cosPortal);
+  }
+  return float(pdf);
+}
+
 float SkyImagePdf(const Light& sky, Vector3 from) {
   if (!(sky.skyLuminanceIntegral > 0)) return 0;
   return float(Luminance(SkyRadianceFrom(sky.analytic, from)) / sky.skyLuminanceIntegral);

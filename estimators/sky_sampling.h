@@ -24,6 +24,13 @@ std::optional<SkySample> SampleSkyImage(const Light& sky, Point2 u);
 float SkyImagePdf(const Light& sky, Vector3 from);
 // A photon's weight per channel for the radiance L it leaves with (SkyRadianceFrom).
 Rgb SkyPhotonWeight(const Light& sky, Rgb radiance);
+// Toward the light's portals from the point p: a portal by its share of the light (Light::portalCdf), a point
+// uniform on it; the direction and its pdf [1/sr] = P(portal) d^2 / (A cos) (estimators/warps.h's change of
+// measure). Empty when the chosen point lies behind p's side of the portal (the direction would not go out).
+std::optional<SkySample> SampleTowardPortals(const Light& sky, Point3 p, Point2 u);
+// The pdf [1/sr] of SampleTowardPortals for the direction w from p: the sum over the portals a ray along w meets.
+float TowardPortalsPdf(const Light& sky, Point3 p, Vector3 w);
+
 // Through portal `portal` (of the light's): `from`, drawn by the portal's texel CDF (mesh/sky_texels.h) and uniform
 // over the texel's solid angle, and the photon's weight per channel, L cos Omega / (pmf Z_p) over the channel's
 // flux per unit of luminous flux (0 where the direction, in a texel the portal's plane cuts, does not come in).
