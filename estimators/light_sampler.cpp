@@ -269,7 +269,7 @@ DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Nor
 // Per stratum, one cosine-distributed direction, one drawn from the image and, with portals, one toward them, each
 // weighted by the balance heuristic (Veach and Guibas 1995): L cos / (sum of the techniques' pdfs) for each that
 // escapes toward the sky.
-DirectSample LightSampler::SkyImageIrradiance(const Light& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
+DirectSample LightSampler::AimedSkyIrradiance(const Light& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
   const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
   const Frame frame = Frame::FromNormal(n);
   const Point3 origin = rays_.SpawnPoint(p, n);
@@ -304,8 +304,8 @@ DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng
   IndependentSum sum(result);
   for (uint32_t l : others_) {
     const AnalyticLight& light = lights_[l].analytic;
-    if (light.image)
-      sum.Add(SkyImageIrradiance(lights_[l], p, n, samples, rng));
+    if (light.image || (light.kind == LightKind::kSky && !lights_[l].portals.empty()))
+      sum.Add(AimedSkyIrradiance(lights_[l], p, n, samples, rng));
     else
       sum.Add(light.kind == LightKind::kSky ? SkyIrradiance(light, p, n, samples, rng)
                                             : NoisyIrradiance{DeltaIrradiance(light, p, n)});  // exact: no noise

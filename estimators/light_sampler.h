@@ -27,10 +27,10 @@
 //   point, spot: I f cos(theta_x) / d^2 V, and sun: E cos(theta_x) V (V by one shadow ray toward the sun, which
 //                must leave the scene), each computed exactly, with no noise;
 //   sky:         pi L times the fraction of S cosine-distributed rays, stratified, that leave the scene toward the
-//                sky, with its own stratified standard error; with an image, per stratum one cosine-distributed
-//                direction, one drawn by the image's luminance and, with portals, one toward a point on a portal
-//                (estimators/sky_sampling.h), each weighted by the balance heuristic of multiple importance
-//                sampling (Veach and Guibas 1995): 2 or 3 S rays.
+//                sky, with its own stratified standard error; with an image or portals, per stratum one
+//                cosine-distributed direction, one drawn by the image's luminance (with an image) and one toward a
+//                point on a portal (with portals) (estimators/sky_sampling.h), each weighted by the balance
+//                heuristic of multiple importance sampling (Veach and Guibas 1995): 2 or 3 S rays.
 // Their noise adds to the area lights' in variance.
 //
 // Determinism: the point's random numbers come from a stream keyed by the caller (the surface point), so the same
@@ -180,7 +180,7 @@ class LightSampler {
   LightBounds BoundsOf(const LightShape& shape, const Light& light) const;
   Rgb DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n) const;
   DirectSample SkyIrradiance(const AnalyticLight& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
-  DirectSample SkyImageIrradiance(const Light& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
+  DirectSample AimedSkyIrradiance(const Light& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
   bool Escapes(Point3 origin, Vector3 w) const;
 
   const Scene& scene_;
