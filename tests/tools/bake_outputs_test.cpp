@@ -183,8 +183,9 @@ TEST(BakeCli, APlantedSymlinkIsNotFollowed) {
 // the whole scene as before. Every point's random streams are keyed by its surface and position, so each written
 // vertex is the whole bake's vertex, every property equal (the colours too, at one --exposure; the automatic one
 // would be the part's own), in the whole bake's order; the parts named apart add up to the parts named together.
-// With --maps, only the named surfaces' maps are written, each the whole bake's bytes. A name that matches nothing is
-// refused before any photon is traced, and --refine is refused with it.
+// With --maps, only the named surfaces' maps are written, each the whole bake's bytes. With --resume from the whole
+// bake's saved photons, one object is re-baked without tracing. A name that matches nothing is refused before any
+// photon is traced, and --refine is refused with it.
 std::vector<std::vector<double>> VertexRows(const test::PlyData& ply) {
   std::vector<std::vector<double>> rows(ply.VertexCount());
   for (const std::string& property : ply.vertexProperties)
@@ -196,11 +197,11 @@ TEST(BakeCli, OnlyWritesTheNamedObjectsVerticesOfTheWholeBake) {
   const std::string dir = test::TempDirectory("cli-only");
   const std::string common = PB_SOURCE_DIR "/data/box/box.obj -q --photons 100000 --exposure 1 -o " + dir;
   const auto rows = [&](const std::string& name, const std::string& only) {
-    const BakeRun run = RunBake(common + "/" + name + ".ply" + (only.empty() ? "" : " --only '" + only + "'"));
+    const BakeRun run = RunBake(common + "/" + name + ".ply" + (only.empty() || only[0] == ' ' ? only : " --only '" + only + "'"));
     EXPECT_EQ(run.status, 0) << run.output;
     return VertexRows(test::ReadPly(dir + "/" + name + ".ply"));
   };
-  const auto whole = rows("whole", ""), part = rows("part", "short_block*,floor");
+  const auto whole = rows("whole", " --save-photons " + dir + "/whole.photons"), part = rows("part", "short_block*,floor");
   ASSERT_GT(part.size(), 0u);
   ASSERT_LT(part.size(), whole.size());
   size_t next = 0;  // each part vertex is a whole-bake vertex, in the whole bake's order
@@ -209,7 +210,10 @@ TEST(BakeCli, OnlyWritesTheNamedObjectsVerticesOfTheWholeBake) {
     ASSERT_LT(next, whole.size()) << "a vertex of --only is not the whole bake's";
     ++next;
   }
-  EXPECT_EQ(rows("floor", "floor").size() + rows("blocks", "short_block*").size(), part.size());
+  const auto floor = rows("floor", "floor");
+  EXPECT_EQ(floor.size() + rows("blocks", "short_block*").size(), part.size());
+  EXPECT_EQ(rows("floor-again", " --only floor --resume " + dir + "/whole.photons"), floor)
+      << "re-baking one object from the whole bake's saved photons traces none and writes its vertices";
   EXPECT_EQ(rows("white", "white").size() + rows("coloured", "red,green").size() + rows("lights", "*_light").size(),
             whole.size()) << "by material, the box's white, red, green and light surfaces are all of it";
   const BakeRun none = RunBake(common + "/none.ply --only 'tall_blocks*'");
