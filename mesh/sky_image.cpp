@@ -5,10 +5,11 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <fmt/format.h>
-#include <stb_image.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <memory>
 #include <numbers>
 
@@ -18,19 +19,52 @@
 namespace pb {
 namespace {
 
-void RequireSize(const std::string& path, int64_t width, int64_t height) {
-  if (width <= 0 || height <= 0 || uint64_t(width) * uint64_t(height) > kMaxSkyPixels)
+void RequireSize(const std::string& path, int64_t width, int64_t height, uint64_t maxPixels = kMaxSkyPixels) {
+  if (width <= 0 || height <= 0 || uint64_t(width) > maxPixels || uint64_t(width) * uint64_t(height) > maxPixels)
     throw InputError(path, 0, fmt::format("a sky image of {} x {} pixels: it must have between 1 and {} pixels",
-                                          width, height, kMaxSkyPixels));
+                                          width, height, maxPixels));
+}
+
+// The EXR header, walked before OpenEXR sees it (it allocates what an attribute's size field declares, so a
+// hostile header could ask for gigabytes): one part, not deep; every attribute's name and type end within 256
+// bytes and its value within the file; the data window within maxPixels.
+void CheckExrHeader(const std::string& path, const std::string& bytes, uint64_t maxPixels) {
+  const auto fail = [&](const std::string& why) { throw InputError(path, 0, "cannot read the sky image as EXR: " + why); };
+  const auto int32At = [&](size_t at) {
+    int32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4);  // little-endian, as EXR and this machine are
+    return v;
+  };
+  if (bytes.size() < 8) fail("the file ends in its header");
+  if (int32At(4) & (0x800 | 0x1000)) fail("a deep or multi-part EXR is not read as a sky image");
+  bool window = false;
+  for (size_t at = 8;;) {
+    const size_t nameEnd = bytes.find('\0', at);
+    if (nameEnd == std::string::npos || nameEnd - at > 255) fail("an attribute's name does not end");
+    if (nameEnd == at) break;  // the empty name ends the header
+    const size_t typeEnd = bytes.find('\0', nameEnd + 1);
+    if (typeEnd == std::string::npos || typeEnd - nameEnd > 256 || typeEnd + 5 > bytes.size()) fail("an attribute's type does not end");
+    const int32_t size = int32At(typeEnd + 1);
+    const size_t value = typeEnd + 5;
+    if (size < 0 || uint64_t(size) > bytes.size() - value) fail("an attribute's value runs past the end of the file");
+    if (bytes.compare(at, nameEnd - at, "dataWindow") == 0 && size == 16) {
+      const int64_t width = int64_t(int32At(value + 8)) - int32At(value) + 1, height = int64_t(int32At(value + 12)) - int32At(value + 4) + 1;
+      RequireSize(path, width, height, maxPixels);
+      window = true;
+    }
+    at = value + size_t(size);
+  }
+  if (!window) fail("its header has no data window");
 }
 
 // R, G and B as float slices of `image`, or Y in all three for a luminance-only file.
-SkyImage ReadExr(const std::string& path) {
+SkyImage ReadExr(const std::string& path, const std::string& bytes, uint64_t maxPixels) {
+  CheckExrHeader(path, bytes, maxPixels);
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i window = file.header().dataWindow();
     const int64_t width = int64_t(window.max.x) - window.min.x + 1, height = int64_t(window.max.y) - window.min.y + 1;
-    RequireSize(path, width, height);
+    RequireSize(path, width, height, maxPixels);
     SkyImage image{path, int(width), int(height), std::vector<Rgb>(size_t(width) * size_t(height))};
     const Imf::ChannelList& channels = file.header().channels();
     const bool rgb = channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B");
@@ -53,20 +87,84 @@ SkyImage ReadExr(const std::string& path) {
   }
 }
 
-SkyImage ReadHdr(const std::string& path, const std::string& bytes) {
-  const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
-  int width = 0, height = 0, channels = 0;
-  if (bytes.size() > size_t(INT32_MAX) || !stbi_info_from_memory(data, int(bytes.size()), &width, &height, &channels))
-    throw InputError(path, 0, std::string("cannot read the sky image as Radiance HDR: ") + stbi_failure_reason());
-  RequireSize(path, width, height);
-  const std::unique_ptr<float, void (*)(void*)> pixels(
-      stbi_loadf_from_memory(data, int(bytes.size()), &width, &height, &channels, 3), stbi_image_free);
-  if (!pixels) throw InputError(path, 0, std::string("cannot decode the sky image: ") + stbi_failure_reason());
-  SkyImage image{path, width, height, std::vector<Rgb>(size_t(width) * size_t(height))};
-  for (size_t i = 0; i < image.texels.size(); ++i)
-    image.texels[i] = {pixels.get()[3 * i], pixels.get()[3 * i + 1], pixels.get()[3 * i + 2]};
-  return image;
-}
+// Radiance RGBE (Ward, "Real Pixels", Graphics Gems II, 1991), read here rather than by stb_image, whose decoder
+// loops forever on a run of length 0 (found by fuzz_sky_image): a "#?RADIANCE" or "#?RGBE" header of lines up to
+// an empty one, the resolution "-Y H +X W" (top row first, the layout every writer uses), then each scanline
+// either flat (4 bytes a pixel) or, for widths 8 to 32767, run-length encoded per channel after the bytes 2 2 W.
+class RgbeReader {
+ public:
+  RgbeReader(const std::string& path, const std::string& bytes, uint64_t maxPixels)
+      : path_(path), bytes_(bytes), maxPixels_(maxPixels) {}
+
+  SkyImage Read() {
+    const std::string magic = Line();
+    if (magic != "#?RADIANCE" && magic != "#?RGBE") Fail("not a Radiance HDR file: it must start with #?RADIANCE");
+    for (std::string line = Line(); !line.empty(); line = Line())
+      if (line.rfind("FORMAT=", 0) == 0 && line != "FORMAT=32-bit_rle_rgbe") Fail("only 32-bit_rle_rgbe is read, not " + line.substr(7));
+    int height = 0, width = 0;
+    char extra = 0;
+    if (std::sscanf(Line().c_str(), "-Y %d +X %d%c", &height, &width, &extra) != 2)
+      Fail("only the resolution layout '-Y H +X W' (top row first) is read");
+    RequireSize(path_, width, height, maxPixels_);
+    SkyImage image{path_, width, height, std::vector<Rgb>(size_t(width) * size_t(height))};
+    std::vector<uint8_t> rgbe(size_t(width) * 4);
+    for (int y = 0; y < height; ++y) {
+      Scanline(rgbe, width);
+      for (int x = 0; x < width; ++x) image.texels[size_t(y) * size_t(width) + size_t(x)] = Decode(&rgbe[size_t(x) * 4]);
+    }
+    return image;
+  }
+
+ private:
+  [[noreturn]] void Fail(const std::string& message) const { throw InputError(path_, 0, message); }
+
+  std::string Line() {
+    const size_t end = bytes_.find('\n', at_);
+    if (end == std::string::npos) Fail("the header ends before its resolution line");
+    std::string line = bytes_.substr(at_, end - at_);
+    at_ = end + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return line;
+  }
+
+  uint8_t Byte() {
+    if (at_ >= bytes_.size()) Fail("the pixels end early");
+    return uint8_t(bytes_[at_++]);
+  }
+
+  // One scanline into rgbe (R, G, B, E per pixel).
+  void Scanline(std::vector<uint8_t>& rgbe, int width) {
+    const bool encoded = width >= 8 && width <= 0x7fff && at_ + 4 <= bytes_.size() && uint8_t(bytes_[at_]) == 2 &&
+                         uint8_t(bytes_[at_ + 1]) == 2 && (uint8_t(bytes_[at_ + 2]) & 0x80) == 0;
+    if (!encoded) {
+      for (uint8_t& b : rgbe) b = Byte();
+      return;
+    }
+    at_ += 2;
+    if (((int(Byte()) << 8) | Byte()) != width) Fail("a run-length scanline's width is not the image's");
+    for (int c = 0; c < 4; ++c) {
+      for (int x = 0; x < width;) {
+        const int count = Byte();
+        const bool run = count > 128;
+        const int n = run ? count - 128 : count;
+        if (n == 0 || x + n > width) Fail("a run-length scanline's run is empty or overruns its width");
+        const uint8_t value = run ? Byte() : 0;
+        for (int k = 0; k < n; ++k, ++x) rgbe[size_t(x) * 4 + size_t(c)] = run ? value : Byte();
+      }
+    }
+  }
+
+  static Rgb Decode(const uint8_t* p) {
+    if (p[3] == 0) return {};
+    const float f = std::ldexp(1.0f, int(p[3]) - (128 + 8));
+    return {float(p[0]) * f, float(p[1]) * f, float(p[2]) * f};
+  }
+
+  const std::string& path_;
+  const std::string& bytes_;
+  uint64_t maxPixels_;
+  size_t at_ = 0;
+};
 
 }  // namespace
 
@@ -98,13 +196,12 @@ void CheckSkyImage(const SkyImage& image) {
   }
 }
 
-SkyImage LoadSkyImage(const std::string& path) {
+SkyImage LoadSkyImage(const std::string& path, uint64_t maxPixels) {
   const std::string bytes = ReadRegularFile(path, "sky image");
   const bool exr = bytes.size() >= 4 && bytes.compare(0, 4, "\x76\x2f\x31\x01") == 0;
-  const bool hdr = !exr && stbi_is_hdr_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
-                                                   int(std::min<size_t>(bytes.size(), INT32_MAX)));
+  const bool hdr = bytes.rfind("#?RADIANCE", 0) == 0 || bytes.rfind("#?RGBE", 0) == 0;
   if (!exr && !hdr) throw InputError(path, 0, "a sky image must be OpenEXR (.exr) or Radiance HDR (.hdr)");
-  SkyImage image = exr ? ReadExr(path) : ReadHdr(path, bytes);
+  SkyImage image = exr ? ReadExr(path, bytes, maxPixels) : RgbeReader(path, bytes, maxPixels).Read();
   CheckSkyImage(image);
   return image;
 }

@@ -6,8 +6,8 @@
 //   seen from above (left to right across the image is left to right seen from inside); the image's centre
 //   column (phi = pi) looks along the sky's "front".
 // A texel's solid angle is (2 pi / W) (cos theta_top - cos theta_bottom) [sr].
-// Read from OpenEXR (.exr, its R, G and B channels as linear radiance) or Radiance RGBE (.hdr, through
-// stb_image), told apart by their first bytes. Refused with an InputError naming the file: an image that is not
+// Read from OpenEXR (.exr, its R, G and B channels, or Y, as linear radiance) or Radiance RGBE (.hdr, read here:
+// stb_image's decoder hangs on a malformed run), told apart by their first bytes. Refused with an InputError naming the file: an image that is not
 // lat-long (width twice its height), larger than kMaxSkyPixels, or with a negative or non-finite value.
 #pragma once
 
@@ -38,8 +38,9 @@ struct SkyImage {
   bool IsConstant() const;
 };
 
-// InputError naming the file when it is missing, not .exr or .hdr, malformed, or breaks a rule above.
-SkyImage LoadSkyImage(const std::string& path);
+// InputError naming the file when it is missing, not .exr or .hdr, malformed, or breaks a rule above; `maxPixels`
+// bounds the size before anything is allocated (the fuzz target lowers it).
+SkyImage LoadSkyImage(const std::string& path, uint64_t maxPixels = kMaxSkyPixels);
 // The rules above for an image already in memory (a test's, or one read), with `source` naming it.
 void CheckSkyImage(const SkyImage& image);
 

@@ -51,6 +51,10 @@ void CheckPixelCount(const std::string& path, uint64_t width, uint64_t height) {
 // JPEG, TGA, BMP and the other formats stb_image reads, from the file's bytes.
 Texture LoadStbTexture(const std::string& path, const std::string& bytes) {
   if (bytes.size() > size_t(INT32_MAX)) throw InputError(path, 0, "texture file is larger than 2 GB");
+  // stb_image's Radiance HDR decoder loops forever on a malformed run (found by fuzz_sky_image), and an HDR image is
+  // radiance, not the reflectance a texture holds: refused before stb_image sees it.
+  if (stbi_is_hdr_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size())))
+    throw InputError(path, 0, "an HDR image is not a reflectance texture (textures may be PNG, JPEG, TGA or BMP)");
   const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
   int width = 0, height = 0, channels = 0;
   // The header's size, checked before the pixels are allocated.

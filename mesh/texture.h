@@ -30,8 +30,9 @@ struct Texture {
 // file's header, before its pixels are allocated.
 inline constexpr uint64_t kMaxTexturePixels = uint64_t(8192) * 8192;
 
-// A texture from a PNG (libpng), or a JPEG, TGA or BMP (stb_image; it also reads GIF, PSD, PNM and HDR, HDR
-// being tone-mapped to 8 bits), told apart by the file's first bytes, not its name. InputError naming the file
+// A texture from a PNG (libpng), or a JPEG, TGA or BMP (stb_image; it also reads GIF, PSD and PNM), told apart by
+// the file's first bytes, not its name. A Radiance HDR image is refused: it holds radiance, not reflectance (and
+// stb_image's decoder of it hangs on a malformed run). InputError naming the file
 // when it is missing, unreadable, malformed or too large.
 Texture LoadTexture(const std::string& path);
 // The same from a file's bytes already read (a glTF image, in a buffer or a data URI); `name` is the texture's

@@ -7,6 +7,7 @@
 #   camera       camera JSON files (mesh/camera.h)
 #   light_file   lights JSON files (mesh/light_file.h)
 #   ies_file     IES LM-63 photometric files (mesh/ies_file.h)
+#   sky_image    sky images, OpenEXR and Radiance HDR (mesh/sky_image.h)
 #   photon_file  photon files for --resume (baker/files/photon_file.h), their CRC recomputed so mutations get past it
 # Usage: tools/fuzz.sh [SECONDS per target, default 60] [TARGET ...; default all]. The targets are built in the
 # sanitized tree (tools/build-sanitized.sh, which installs clang if it is missing). Seeds come from
@@ -18,7 +19,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(obj_loader gltf_loader texture camera light_file ies_file photon_file)
+[ ${#targets[@]} -gt 0 ] || targets=(obj_loader gltf_loader texture camera light_file ies_file sky_image photon_file)
 bash tools/build-sanitized.sh photon_file_seeds "${targets[@]/#/fuzz_}"
 bin=build-asan out=build-asan/fuzz
 rm -rf "$out/seeds" && mkdir -p "$out/seeds" "$out/findings"

@@ -224,11 +224,21 @@ TEST(LightFile, SkyImageFaultsNameTheirFile) {
   WriteSkyImages(dir, 4, 2, [](int x, int) { return Rgb{x == 1 ? -1.0f : 1.0f, 1, 1}; });
   std::filesystem::rename(dir + "/sky.exr", dir + "/negative.exr");
   test::WriteText(dir + "/text.exr", "not an image");
+  // A run-length scanline whose first run is empty, on which stb_image's decoder looped forever (fuzz_sky_image).
+  test::WriteText(dir + "/empty-run.hdr", std::string("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n\x02\x02\x00\x08\x00", 50));
+  test::WriteText(dir + "/short.hdr", "#?RADIANCE\n\n-Y 4 +X 8\n\x01\x02");
+  test::WriteText(dir + "/sideways.hdr", "#?RADIANCE\n\n+X 8 -Y 4\n");
+  // An EXR whose attribute declares a value longer than the file: OpenEXR would have allocated it (fuzz_sky_image).
+  std::filesystem::copy_file(PB_SOURCE_DIR "/tests/fuzz/corpus/sky_image/huge-attribute-oom.exr", dir + "/huge.exr");
   const std::pair<std::string, std::string> cases[] = {
       {R"({"lights": [{"type": "sky", "image": "square.exr"}]})", "square.exr: error: a sky image of 8 x 8 pixels is not latitude-longitude"},
       {R"({"lights": [{"type": "sky", "image": "negative.exr"}]})", "negative.exr: error: the sky image's pixel (1, 0) holds (-1, 1, 1)"},
       {R"({"lights": [{"type": "sky", "image": "text.exr"}]})", "text.exr: error: a sky image must be OpenEXR (.exr) or Radiance HDR (.hdr)"},
       {R"({"lights": [{"type": "sky", "image": "none.exr"}]})", "l.json:1: error: light 0: the sky image 'none.exr' is not there"},
+      {R"({"lights": [{"type": "sky", "image": "empty-run.hdr"}]})", "empty-run.hdr: error: a run-length scanline's run is empty"},
+      {R"({"lights": [{"type": "sky", "image": "short.hdr"}]})", "short.hdr: error: the pixels end early"},
+      {R"({"lights": [{"type": "sky", "image": "sideways.hdr"}]})", "sideways.hdr: error: only the resolution layout '-Y H +X W'"},
+      {R"({"lights": [{"type": "sky", "image": "huge.exr"}]})", "huge.exr: error: cannot read the sky image as EXR: an attribute's value runs past the end"},
       {R"({"lights": [{"type": "sky", "image": "sky.hdr", "front": [0, 2, 0]}]})", "'front' must not be parallel to 'up'"},
   };
   for (const auto& [text, fragment] : cases) {

@@ -107,7 +107,7 @@ TEST(Texture, FacesOfATexturedMaterialWithoutTextureCoordinatesGetItsMean) {
 
 // A 69-byte PNG whose header declares 65535 x 65535 pixels (4.2 GB decoded) is refused from its header, before
 // any allocation; a texture that two materials name is decoded once (issue 16).
-TEST(Texture, AHugeDeclaredSizeIsRefusedAndASharedTextureIsDecodedOnce) {
+TEST(Texture, AHugeDeclaredSizeOrAnHdrImageIsRefusedAndASharedTextureIsDecodedOnce) {
   const std::string dir = test::TempDirectory("texture-hostile");
   std::string ihdr = std::string("IHDR") + std::string("\x00\x00\xff\xff\x00\x00\xff\xff\x08\x02\x00\x00\x00", 13);
   const uint32_t crc = uint32_t(crc32(0, reinterpret_cast<const Bytef*>(ihdr.data()), uInt(ihdr.size())));
@@ -120,6 +120,13 @@ TEST(Texture, AHugeDeclaredSizeIsRefusedAndASharedTextureIsDecodedOnce) {
     ADD_FAILURE() << "a 65535 x 65535 texture was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("texture of 65535 x 65535 pixels is larger than"), std::string::npos) << e.what();
+  }
+  // The HDR on which stb_image's decoder looped forever (fuzz_sky_image) is refused as a texture before it is decoded.
+  try {
+    LoadTexture(PB_SOURCE_DIR "/tests/fuzz/corpus/sky_image/empty-run-hung-stb.hdr");
+    ADD_FAILURE() << "an HDR texture was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("an HDR image is not a reflectance texture"), std::string::npos) << e.what();
   }
   test::WritePngRgb8(dir + "/t.png", 1, 1, {128, 128, 128});
   test::WriteText(dir + "/two.mtl", "newmtl a\nmap_Kd t.png\nnewmtl b\nKd 0.5 0.5 0.5\nmap_Kd t.png\n");
