@@ -20,13 +20,20 @@ Vector3 InTexel(const AnalyticLight& sky, uint32_t index, Point2 u) {
   return SkyDirection(SkyFrame(sky), std::acos(std::clamp(cosTheta, -1.0, 1.0)), phi);
 }
 
+// Per channel c, radiance_c x scale / total_c: a photon's share of each channel's flux (0 where a channel has none).
+Rgb ChannelShares(Rgb radiance, double scale, Rgb total) {
+  const auto channel = [&](float l, float t) { return t > 0 ? float(l * scale / t) : 0.0f; };
+  return {channel(radiance.r, total.r), channel(radiance.g, total.g), channel(radiance.b, total.b)};
+}
+
 }  // namespace
 
 std::optional<SkySample> SampleSkyImage(const Light& sky, Point2 u) {
   const auto pick = SampleDiscreteCdf(sky.texelCdf, u.u);
   if (!pick) return std::nullopt;
   const Vector3 from = InTexel(sky.analytic, pick->index, {pick->uRemapped, u.v});
-  return SkySample{from, SkyImagePdf(sky, from)};
+  const Rgb radiance = sky.analytic.intensity * sky.analytic.image->texels[pick->index];
+  return SkySample{from, float(Luminance(radiance) / sky.skyLuminanceIntegral)};  // the texel's, as drawn
 }
 
 std::optional<Rgb> SampleSkyThroughPortal(const Light& sky, uint32_t portal, Point2 u, Vector3& from) {
@@ -40,9 +47,7 @@ std::optional<Rgb> SampleSkyThroughPortal(const Light& sky, uint32_t portal, Poi
   if (!(cosIn > 0) || !(sky.portalLuminanceFlux > 0)) return Rgb{};
   // L cos Omega / (pmf Z_p) per unit of the portal's share, over the channel's flux per unit of luminous flux.
   const double scale = cosIn * span.SolidAngle() * sky.portalLuminanceFlux / (pick->pmf * sky.portalTexelSum[portal]);
-  const Rgb radiance = a.intensity * a.image->texels[pick->index], total = sky.portalFlux;
-  const auto channel = [&](float l, float t) { return t > 0 ? float(l * scale / t) : 0.0f; };
-  return Rgb{channel(radiance.r, total.r), channel(radiance.g, total.g), channel(radiance.b, total.b)};
+  return ChannelShares(a.intensity * a.image->texels[pick->index], scale, sky.portalFlux);
 }
 
 std::optional<SkySample> SampleTowardPortals(const Light& sky, Point3 p, Point2 u) {
@@ -85,10 +90,7 @@ float SkyImagePdf(const Light& sky, Vector3 from) {
 
 Rgb SkyPhotonWeight(const Light& sky, Rgb radiance) {
   const double lum = Luminance(radiance);
-  const Rgb& total = sky.skyIntegral;
-  if (!(lum > 0)) return {};
-  const auto channel = [&](float l, float t) { return t > 0 ? float(l * sky.skyLuminanceIntegral / (lum * t)) : 0.0f; };
-  return {channel(radiance.r, total.r), channel(radiance.g, total.g), channel(radiance.b, total.b)};
+  return lum > 0 ? ChannelShares(radiance, sky.skyLuminanceIntegral / lum, sky.skyIntegral) : Rgb{};
 }
 
 }  // namespace pb
