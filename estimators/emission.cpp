@@ -23,9 +23,9 @@ EmissionSample FromArea(const Scene& scene, const Light& light, Rng& rng) {
           float(1.0 / light.area), d.pdf};
 }
 
-// From a point: `d` in the frame whose z axis is `axis`.
-EmissionSample FromPoint(Point3 position, Normal3 axis, const DirectionSample& d) {
-  const Vector3 w = Frame::FromNormal(axis).ToWorld(d.direction);
+// From a point: `d` in `frame`.
+EmissionSample FromPoint(Point3 position, const Frame& frame, const DirectionSample& d) {
+  const Vector3 w = frame.ToWorld(d.direction);
   return {position, NormalFrom(w), false, w, 0, 0, d.pdf};
 }
 
@@ -64,11 +64,10 @@ EmissionSample FromPortal(const Light& light, Rng& rng) {
 
 // A point light's photon: by its profile when it has one (in the profile's frame), else uniform over the sphere.
 EmissionSample FromPointLight(const AnalyticLight& a, Rng& rng) {
-  if (!a.profile) return FromPoint(a.position, {0, 0, 1}, SampleUniformSphere(rng.Uniform2()));
+  if (!a.profile) return FromPoint(a.position, Frame::FromNormal({0, 0, 1}), SampleUniformSphere(rng.Uniform2()));
   const std::optional<DirectionSample> d = SampleProfile(*a.profile, rng);
   PB_CHECK(d.has_value(), "a light that emits photons has flux");
-  const Vector3 w = ProfileFrame(a).ToWorld(d->direction);
-  return {a.position, NormalFrom(w), false, w, 0, 0, d->pdf};
+  return FromPoint(a.position, ProfileFrame(a), *d);
 }
 
 // Toward the scene from a direction of the sky's image, drawn by its luminance, from a disc facing it.
@@ -106,7 +105,7 @@ EmissionSample SampleEmission(const Scene& scene, const Light& light, Rng& rng) 
     case LightKind::kArea: return FromArea(scene, light, rng);
     case LightKind::kPoint: return FromPointLight(a, rng);
     case LightKind::kSpot:
-      return FromPoint(a.position, NormalFrom(a.direction), SampleSpotCone(rng.Uniform2(), a.cosInner, a.cosOuter));
+      return FromPoint(a.position, Frame::FromNormal(NormalFrom(a.direction)), SampleSpotCone(rng.Uniform2(), a.cosInner, a.cosOuter));
     case LightKind::kSun: return FromDisc(light, a.direction, rng.Uniform2(), 0);
     case LightKind::kSky: {
       if (a.image) return FromSkyImage(light, rng);

@@ -335,7 +335,7 @@ Rgb LightSampler::SkyRadiance(Vector3 w) const {
   Rgb radiance;
   for (uint32_t l : others_) {
     const AnalyticLight& sky = lights_[l].analytic;
-    if (sky.kind == LightKind::kSky && (sky.wholeSphere || Dot(w, sky.up) > 0)) radiance = radiance + SkyRadianceFrom(sky, w);
+    if (sky.kind == LightKind::kSky) radiance = radiance + SkyRadianceFrom(sky, w);  // 0 below its horizon
   }
   return radiance;
 }

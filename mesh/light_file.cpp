@@ -92,16 +92,21 @@ class LightReader {
     return {float(c[0]), float(c[1]), float(c[2])};
   }
 
+  // The file that the string at `key` names, found from the lights file's folder as a scene's files are.
+  std::string NamedFile(const std::string& key, const std::string& what) const {
+    const std::string name = j_[key].get<std::string>();
+    const std::optional<std::string> file = FindNamedFile(in_.path, name);
+    if (!file) Fail(key, what + " '" + name + "' is not there");
+    return *file;
+  }
+
   // A point light's IES profile: the file (found as the scene's files are, from the lights file's folder), its
   // candela values times "scale" and "color" over the luminous efficacy, its nadir "direction" and "c0".
   void Profile(AnalyticLight& light) const {
     if (!j_["ies"].is_string()) Fail("ies", "'ies' must name an IES file");
     for (const char* strength : {"intensity_W_sr", "intensity_cd"})
       if (j_.contains(strength)) Fail(strength, fmt::format("'{}' and 'ies' both give the intensity: give one", strength));
-    const std::string name = j_["ies"].get<std::string>();
-    const std::optional<std::string> file = FindNamedFile(in_.path, name);
-    if (!file) Fail("ies", "the IES file '" + name + "' is not there");
-    light.profile = std::make_shared<const IntensityProfile>(LoadIesFile(*file));
+    light.profile = std::make_shared<const IntensityProfile>(LoadIesFile(NamedFile("ies", "the IES file")));
     const double scale = j_.contains("scale") ? Number("scale", 0, 1e30) : 1;
     light.intensity = Colour() * float(scale / efficacy_);
     light.direction = j_.contains("direction") ? Direction("direction") : Vector3{0, -1, 0};
@@ -118,10 +123,7 @@ class LightReader {
   // A constant image is a constant sky.
   void Image(AnalyticLight& light) const {
     if (!j_["image"].is_string()) Fail("image", "'image' must name an OpenEXR or Radiance HDR file");
-    const std::string name = j_["image"].get<std::string>();
-    const std::optional<std::string> file = FindNamedFile(in_.path, name);
-    if (!file) Fail("image", "the sky image '" + name + "' is not there");
-    SkyImage image = LoadSkyImage(*file);
+    SkyImage image = LoadSkyImage(NamedFile("image", "the sky image"));
     const bool strong = j_.contains("radiance_W_m2_sr") || j_.contains("luminance_nit");
     light.intensity = strong ? Strength("radiance_W_m2_sr", "luminance_nit") : Colour();
     const Vector3 up = light.up, base = std::fabs(up.z) < 0.9f ? Vector3{0, 0, -1} : Vector3{1, 0, 0};
