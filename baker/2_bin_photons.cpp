@@ -28,7 +28,8 @@ class StepCounter {
   uint64_t pending_ = 0;
 };
 
-SurfaceBins Bin(const SurfaceSet& surfaces, const PhotonStore& hits, Progress* progress, double fluxUnit) {
+SurfaceBins Bin(const SurfaceSet& surfaces, const PhotonStore& hits, Progress* progress, double fluxUnit,
+                const Scene* directionsIn) {
   const size_t surfaceCount = surfaces.surfaces.size();
   SurfaceBins bins;
   bins.fluxUnit = fluxUnit;
@@ -48,6 +49,8 @@ SurfaceBins Bin(const SurfaceSet& surfaces, const PhotonStore& hits, Progress* p
   for (size_t s = 1; s <= surfaceCount; ++s) bins.start[s] += bins.start[s - 1];
   bins.uv.resize(bins.start.back());
   bins.flux.resize(bins.start.back());
+  bins.directions = directionsIn != nullptr;
+  if (bins.directions) bins.from.resize(bins.start.back()), bins.cosine.resize(bins.start.back());
   std::vector<uint32_t> cursor(bins.start.begin(), bins.start.end() - 1);
   StepCounter counter(progress);
   hits.ForEach([&](const PhotonHit& hit, Rgb flux) {
@@ -56,6 +59,9 @@ SurfaceBins Bin(const SurfaceSet& surfaces, const PhotonStore& hits, Progress* p
     const uint32_t slot = cursor[surfaces.surfaceOfTriangle[hit.Triangle()]]++;
     bins.uv[slot] = surfaces.UvAt(hit.Triangle(), hit.b1, hit.b2);
     bins.flux[slot] = flux;
+    if (directionsIn == nullptr) return;
+    bins.from[slot] = hit.Wi();
+    bins.cosine[slot] = Dot(bins.from[slot], directionsIn->FrontNormal(hit.Triangle()));
   });
   return bins;
 }
@@ -102,14 +108,24 @@ BinningPlan PlanBinning(const PreparedScene& scene, const EstimatorSettings& set
   return plan;
 }
 
-PhotonBinner::PhotonBinner(const PreparedScene& scene, const BinningPlan& plan)
-    : scene_(scene), fluxUnit_(plan.fluxUnit), sums_(plan.lattices.size()), tallies_(plan.lattices.size()) {
+namespace {
+// Node sums on the plan's lattices, one per binned domain.
+std::vector<DomainSums> SumsOn(const BinningPlan& plan) {
+  std::vector<DomainSums> sums(plan.lattices.size());
+  for (size_t s = 0; s < sums.size(); ++s)
+    for (int d = 0; d < 2; ++d)
+      if (plan.lattices[s][d]) sums[s][d] = std::make_unique<BinnedPhotons>(*plan.lattices[s][d], plan.fluxUnit);
+  return sums;
+}
+}  // namespace
+
+PhotonBinner::PhotonBinner(const PreparedScene& scene, const BinningPlan& plan, bool directions)
+    : scene_(scene), fluxUnit_(plan.fluxUnit), sums_(SumsOn(plan)), tallies_(plan.lattices.size()) {
   PB_CHECK(plan.wide, "photons are binned while traced only where every wide surface is binned");
   for (size_t l = 0; l < scene.lights.size(); ++l)  // as PhotonStore::PhotonFlux once the lights have emitted them
     photonFlux_.push_back(plan.photonsPerLight[l] ? scene.lights[l].Power() / float(plan.photonsPerLight[l]) : Rgb{});
-  for (size_t s = 0; s < sums_.size(); ++s)
-    for (int d = 0; d < 2; ++d)
-      if (plan.lattices[s][d]) sums_[s][d] = std::make_unique<BinnedPhotons>(*plan.lattices[s][d], fluxUnit_);
+  if (directions)
+    for (auto& m : momentSums_) m = SumsOn(plan);
 }
 
 namespace {
@@ -148,7 +164,8 @@ void PhotonBinner::Take(uint32_t light, HitBlock& hits, size_t from) const {
       continue;
     }
     const Point2 uv = surfaces.UvAt(hit.Triangle(), hit.b1, hit.b2);
-    BinnedPhotons* sums = sums_[s][scene_.covers[s].Empty() || !scene_.covers[s].Covered(uv) ? 0 : 1].get();
+    const int domain = scene_.covers[s].Empty() || !scene_.covers[s].Covered(uv) ? 0 : 1;
+    BinnedPhotons* sums = sums_[s][domain].get();
     if (sums == nullptr) {
       hits[kept++] = hit;
       continue;
@@ -157,42 +174,60 @@ void PhotonBinner::Take(uint32_t light, HitBlock& hits, size_t from) const {
     PendingAdd& slot = pending[queued++ % kPrefetchAhead];
     if (queued > kPrefetchAhead) Apply(slot, fluxUnit_);
     slot = {sums, &tally, uv, hit.attenuation * photon};
+    if (!momentSums_[0].empty()) AddMoments(hit, s, domain, uv, slot.flux);
   }
   for (size_t q = queued > kPrefetchAhead ? queued - kPrefetchAhead : 0; q < queued; ++q) Apply(pending[q % kPrefetchAhead], fluxUnit_);
   hits.resize(kept);
 }
 
+void PhotonBinner::AddMoments(const PhotonHit& hit, uint32_t s, int domain, Point2 uv, Rgb flux) const {
+  const Vector3 from = hit.Wi();
+  const std::array<Rgb, 4> weighted = MomentFluxes(flux, from, Dot(from, scene_.scene.FrontNormal(hit.Triangle())));
+  for (size_t m = 0; m < 4; ++m) momentSums_[m][s][domain]->Add(uv, weighted[m]);
+}
+
+namespace {
+// Calls f on every node sum: the fluxes', then each weighted flux's.
+template <typename F>
+void ForEachSum(std::vector<DomainSums>& sums, std::array<std::vector<DomainSums>, 4>& moments, F f) {
+  const auto each = [&](std::vector<DomainSums>& list) {
+    for (DomainSums& domains : list)
+      for (auto& one : domains)
+        if (one) f(*one);
+  };
+  each(sums);
+  for (auto& m : moments) each(m);
+}
+}  // namespace
+
 void PhotonBinner::SumWith(const std::function<void(std::span<int64_t>)>& sum) {
   std::vector<int64_t> counts;  // per lattice its photons, then per surface its tally
-  for (const auto& domains : sums_)
-    for (const auto& sums : domains)
-      if (sums) sum(sums->Units()), counts.push_back(int64_t(sums->Photons()));
+  ForEachSum(sums_, momentSums_, [&](BinnedPhotons& one) { sum(one.Units()), counts.push_back(int64_t(one.Photons())); });
   for (const SurfaceTally& t : tallies_) {
     counts.insert(counts.end(), {int64_t(t.frontHits), int64_t(t.backHits)});
     counts.insert(counts.end(), t.frontFlux.units.begin(), t.frontFlux.units.end());
   }
   sum(counts);
   auto next = counts.begin();
-  for (auto& domains : sums_)
-    for (auto& sums : domains)
-      if (sums) sums->SetPhotons(uint64_t(*next++));
+  ForEachSum(sums_, momentSums_, [&](BinnedPhotons& one) { one.SetPhotons(uint64_t(*next++)); });
   for (SurfaceTally& t : tallies_) {
     t.frontHits = uint64_t(*next++), t.backHits = uint64_t(*next++);
     for (int64_t& u : t.frontFlux.units) u = *next++;
   }
 }
 
-SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits) {
-  return Bin(surfaces, hits, nullptr, StoreFluxUnit(hits));
+SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, const Scene* directionsIn) {
+  return Bin(surfaces, hits, nullptr, StoreFluxUnit(hits), directionsIn);
 }
 
 SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, const Log& log, const BinningPlan& plan,
-                       PhotonBinner* binner) {
+                       PhotonBinner* binner, const Scene* directionsIn) {
   Progress progress(log, "bin photons", 2 * hits.StoredHits());
-  SurfaceBins bins = Bin(surfaces, hits, &progress, plan.wide ? plan.fluxUnit : StoreFluxUnit(hits));
+  SurfaceBins bins = Bin(surfaces, hits, &progress, plan.wide ? plan.fluxUnit : StoreFluxUnit(hits), directionsIn);
   bins.wide = plan.wide;
   if (binner == nullptr) return bins;
   bins.traced = binner->TakeSums();
+  bins.tracedMoments = binner->TakeMomentSums();
   const std::vector<SurfaceTally> taken = binner->TakeTallies();
   for (size_t s = 0; s < taken.size(); ++s) {
     bins.tally[s].frontHits += taken[s].frontHits;

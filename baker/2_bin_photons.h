@@ -28,6 +28,7 @@
 #include "baker/1_trace_photons.h"
 #include "estimators/binned_photons.h"
 #include "estimators/density_estimator.h"
+#include "estimators/incident_moments.h"
 
 namespace pb {
 
@@ -55,55 +56,79 @@ struct SurfaceTally {
   FluxTally frontFlux;
 };
 
+// A surface's node sums, per domain (open, covered), null where that domain is not binned.
+using DomainSums = std::array<std::unique_ptr<BinnedPhotons>, 2>;
+
 struct SurfaceBins {
   std::vector<uint32_t> start;  // surface s owns entries [start[s], start[s+1]) of the stored hits
   std::vector<Point2> uv;       // chart position [m]
   std::vector<Rgb> flux;        // [W]
+  // With directions (--sh), per stored hit: the unit world direction back toward where the photon came from, and
+  // its cosine to the hit triangle's front normal; else empty.
+  std::vector<Vector3> from;
+  std::vector<float> cosine;
+  bool directions = false;  // whether from and cosine are filled
   std::vector<SurfaceTally> tally;  // per surface, every hit (stored or binned while traced)
   double fluxUnit = 1;              // of the tallies and node sums [W]
   bool wide = false;                // BinningPlan::wide
   // Per surface and domain: the photons binned while they were traced (none when they were stored).
-  std::vector<std::array<std::unique_ptr<BinnedPhotons>, 2>> traced;
+  std::vector<DomainSums> traced;
+  // With directions, the same for each of their four weighted fluxes (estimators/incident_moments.h, MomentFluxes).
+  std::array<std::vector<DomainSums>, 4> tracedMoments;
 
   size_t SurfaceCount() const { return start.size() - 1; }
   uint64_t FrontHits(size_t s) const { return tally[s].frontHits; }
   uint64_t BackHits(size_t s) const { return tally[s].backHits; }
   std::span<const Point2> Uv(size_t s) const { return {uv.data() + start[s], start[s + 1] - start[s]}; }
   std::span<const Rgb> Flux(size_t s) const { return {flux.data() + start[s], start[s + 1] - start[s]}; }
+  std::span<const Vector3> From(size_t s) const { return {from.data() + start[s], start[s + 1] - start[s]}; }
+  std::span<const float> Cosine(size_t s) const { return {cosine.data() + start[s], start[s + 1] - start[s]}; }
   // The flux [W] that reached surface s's front side.
   Rgb FrontFlux(size_t s) const { return tally[s].frontFlux.ToRgb(fluxUnit); }
   // How surface s's domain d is estimated by a kernel (density_estimator.h).
   KernelBinning BinningOf(size_t s, int d) const { return {wide, fluxUnit, traced.empty() ? nullptr : traced[s][d].get()}; }
+  // How weighted flux m of surface s's domain d is estimated: from its node sums when binned while traced, else
+  // binned (where the kernel bins) in a unit of its own.
+  KernelBinning MomentBinningOf(size_t s, int d, int m) const {
+    const auto& sums = tracedMoments[size_t(m)];
+    return sums.empty() ? KernelBinning{wide, 0, nullptr} : KernelBinning{wide, fluxUnit, sums[s][d].get()};
+  }
 };
 
 // Bins the photons of the planned surfaces as they are traced (stage 1 calls Take on its threads) and takes them
 // out of their blocks; tallies what it takes.
 class PhotonBinner final : public HitSink {
  public:
-  // `scene` must outlive the binner; plan.wide must be set.
-  PhotonBinner(const PreparedScene& scene, const BinningPlan& plan);
+  // `scene` must outlive the binner; plan.wide must be set. With `directions`, each photon's weighted fluxes
+  // (estimators/incident_moments.h, MomentFluxes) are binned too.
+  PhotonBinner(const PreparedScene& scene, const BinningPlan& plan, bool directions = false);
   void Take(uint32_t light, HitBlock& hits, size_t from) const override;
   // Replaces every integer sum and count by sum(span) over the processes (baker/distribution.h), after tracing.
   void SumWith(const std::function<void(std::span<int64_t>)>& sum);
   // The node sums and tallies, handed to BinPhotons.
-  std::vector<std::array<std::unique_ptr<BinnedPhotons>, 2>> TakeSums() { return std::move(sums_); }
+  std::vector<DomainSums> TakeSums() { return std::move(sums_); }
+  std::array<std::vector<DomainSums>, 4> TakeMomentSums() { return std::move(momentSums_); }
   std::vector<SurfaceTally> TakeTallies() { return std::move(tallies_); }
 
  private:
   bool Binned(uint32_t s) const { return sums_[s][0] || sums_[s][1]; }
+  // Bins the weighted fluxes of `hit`, of `flux` [W], on surface s's domain at uv.
+  void AddMoments(const PhotonHit& hit, uint32_t s, int domain, Point2 uv, Rgb flux) const;
   const PreparedScene& scene_;
   std::vector<Rgb> photonFlux_;  // Phi_l / N_l [W] per light
   double fluxUnit_;
-  std::vector<std::array<std::unique_ptr<BinnedPhotons>, 2>> sums_;
+  std::vector<DomainSums> sums_;
+  std::array<std::vector<DomainSums>, 4> momentSums_;  // with directions; else empty
   mutable std::vector<SurfaceTally> tallies_;  // of the hits taken; added to atomically
 };
 
 // Groups the store's hits per surface. Stable: within a surface, hits keep their trace order, so sums over them
-// are reproducible. The flux unit is FluxUnit of the store's photons.
-SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits);
+// are reproducible. The flux unit is FluxUnit of the store's photons. With `directionsIn`, the hits' scene, their
+// directions too.
+SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, const Scene* directionsIn = nullptr);
 // The same, with its progress on `log` (two passes over the hits; 10^8 hits take seconds), and with the binner's
 // sums and tallies when the photons were binned while traced (then `plan` is the binner's).
 SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, const Log& log, const BinningPlan& plan,
-                       PhotonBinner* binner = nullptr);
+                       PhotonBinner* binner = nullptr, const Scene* directionsIn = nullptr);
 
 }  // namespace pb

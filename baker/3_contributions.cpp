@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <optional>
 
 #include "estimators/bandwidth.h"
@@ -21,20 +22,72 @@ std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const Surfac
   return h;
 }
 
+namespace {
+
+// Surface s's estimator of the photons at `uv` carrying `flux`, binned as `open` and `covered` say.
+std::unique_ptr<DensityEstimator> SurfaceEstimator(const PreparedScene& scene, size_t s, const EstimatorSettings& own,
+                                                   std::span<const Point2> uv, std::span<const Rgb> flux,
+                                                   const KernelBinning& open, const KernelBinning& covered) {
+  if (scene.covers[s].Empty()) return MakeDensityEstimator(own, *scene.regions[s], uv, flux, open);
+  return MakeCoveredDensityEstimator(own, *scene.regions[s], *scene.coveredRegions[s], scene.covers[s], uv, flux, open,
+                                     covered);
+}
+
+// The four weighted fluxes of surface s's stored photons (MomentFluxes), each as an array.
+std::array<std::vector<Rgb>, 4> StoredMomentFluxes(const SurfaceBins& bins, size_t s) {
+  const std::span<const Rgb> flux = bins.Flux(s);
+  const std::span<const Vector3> from = bins.From(s);
+  const std::span<const float> cosine = bins.Cosine(s);
+  std::array<std::vector<Rgb>, 4> moments;
+  for (auto& m : moments) m.resize(flux.size());
+  for (size_t j = 0; j < flux.size(); ++j) {
+    const std::array<Rgb, 4> weighted = MomentFluxes(flux[j], from[j], cosine[j]);
+    for (int m = 0; m < 4; ++m) moments[m][j] = weighted[m];
+  }
+  return moments;
+}
+
+}  // namespace
+
 PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins,
                                    const EstimatorSettings& settings, std::vector<float> bandwidths, const Log* log)
     : settings_(settings), bandwidths_(std::move(bandwidths)), estimators_(bins.SurfaceCount()) {
   std::optional<Progress> progress;
   if (log != nullptr) progress.emplace(*log, "build estimators", bins.SurfaceCount());
   tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
-    EstimatorSettings own = settings;
-    own.bandwidth = bandwidths_[s];
-    estimators_[s] = scene.covers[s].Empty()
-                         ? MakeDensityEstimator(own, *scene.regions[s], bins.Uv(s), bins.Flux(s), bins.BinningOf(s, 0))
-                         : MakeCoveredDensityEstimator(own, *scene.regions[s], *scene.coveredRegions[s], scene.covers[s],
-                                                       bins.Uv(s), bins.Flux(s), bins.BinningOf(s, 0), bins.BinningOf(s, 1));
+    estimators_[s] = SurfaceEstimator(scene, s, Own(s), bins.Uv(s), bins.Flux(s), bins.BinningOf(s, 0), bins.BinningOf(s, 1));
     if (progress) progress->Advance(1);
   });
+}
+
+EstimatorSettings PhotonIrradiance::Own(size_t s) const {
+  EstimatorSettings own = settings_;
+  own.bandwidth = bandwidths_[s];
+  return own;
+}
+
+void PhotonIrradiance::BuildMoments(const PreparedScene& scene, const SurfaceBins& bins, const Log* log) {
+  PB_CHECK(bins.directions, "the photons' moments need their directions (--sh)");
+  moments_.resize(bins.SurfaceCount());
+  std::optional<Progress> progress;
+  if (log != nullptr) progress.emplace(*log, "build direction estimators", bins.SurfaceCount());
+  tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
+    const std::array<std::vector<Rgb>, 4> fluxes = StoredMomentFluxes(bins, s);
+    for (int m = 0; m < 4; ++m)
+      moments_[s][m] = SurfaceEstimator(scene, s, Own(s), bins.Uv(s), fluxes[m], bins.MomentBinningOf(s, 0, m),
+                                        bins.MomentBinningOf(s, 1, m));
+    if (progress) progress->Advance(1);
+  });
+}
+
+void PhotonIrradiance::AddMoments(const SurfacePoint& p, IncidentMoments& moments) const {
+  PB_CHECK(!moments_.empty(), "the photons' moments are built first (BuildMoments)");
+  const auto& m = moments_[p.surface];
+  const Rgb scalar = m[0]->Estimate(p.uv);
+  IncidentMoments own;
+  own.scalar = PerSurfaceArea(scalar, p);
+  for (int k = 0; k < 3; ++k) own.vector[k] = PerSurfaceArea(m[k + 1]->Estimate(p.uv) - scalar, p);
+  moments.Add(own);
 }
 
 NoisyIrradiance PhotonIrradiance::WithNoise(const SurfacePoint& p) const {
@@ -43,15 +96,18 @@ NoisyIrradiance PhotonIrradiance::WithNoise(const SurfacePoint& p) const {
 }
 
 double PhotonIrradiance::UniformNoise(uint32_t s, uint64_t hits, double area) const {
-  EstimatorSettings own = settings_;
-  own.bandwidth = bandwidths_[s];
-  return UniformRelativeNoise(own, double(hits) / area);
+  return UniformRelativeNoise(Own(s), double(hits) / area);
 }
 
 NoisyIrradiance PointSampledIrradiance::WithNoise(const SurfacePoint& p) const {
   Rng rng = PointStream(seed_, p);
-  const DirectSample e = Sample(RayStart(scene_, p).position, p.normal, count_, rng);
+  const DirectSample e = Sample(RayStart(scene_, p).position, p.normal, count_, rng, nullptr);
   return {e.irradiance, e.relativeNoise};
+}
+
+void PointSampledIrradiance::AddMoments(const SurfacePoint& p, IncidentMoments& moments) const {
+  Rng rng = PointStream(seed_, p);
+  Sample(RayStart(scene_, p).position, p.normal, count_, rng, &moments);
 }
 
 DirectIrradiance::DirectIrradiance(const PreparedScene& scene, const DirectSettings& direct, uint64_t seed)

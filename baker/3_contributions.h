@@ -4,8 +4,10 @@
 //   photons   the photons' density estimate on the point's own surface, with that surface's h [m];
 //   direct    the direct light computed at the point by shadow rays (--direct sampled);
 //   reference all of H by paths gathered at the point (--reference SPP).
+// Each also says where its light comes from, its moments (estimators/incident_moments.h), for --sh.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string_view>
 #include <vector>
@@ -16,6 +18,7 @@
 #include "baker/options.h"
 #include "baker/runtime/progress.h"
 #include "estimators/density_estimator.h"
+#include "estimators/incident_moments.h"
 #include "estimators/irradiance_gather.h"
 #include "estimators/light_sampler.h"
 #include "estimators/noisy_irradiance.h"
@@ -35,6 +38,8 @@ class IrradianceContribution {
   virtual Rgb At(const SurfacePoint& p) const = 0;
   // The same irradiance as At(p), bit for bit, and its predicted noise.
   virtual NoisyIrradiance WithNoise(const SurfacePoint& p) const = 0;
+  // Adds the moments of the light this term brings to p (estimators/incident_moments.h).
+  virtual void AddMoments(const SurfacePoint& p, IncidentMoments& moments) const = 0;
 };
 
 // h per surface [m]: settings.bandwidth everywhere, or, when `automatic`, chosen per surface from its photons (with
@@ -45,6 +50,10 @@ std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const Surfac
 // The photons' contribution: on each surface, the density estimate of the photons binned on its front side
 // (stage 2), with that surface's h, edge-corrected over its region. Estimators are built in parallel (with their
 // progress on `log` when given); they copy the photons and refer to the prepared scene's regions.
+//
+// Once BuildMoments is called, from bins that hold the photons' directions (--sh), their moments are estimated alike: by the same estimator,
+// kernel, h and regions, of the photons weighted phi / c (F) and phi (1 + w_m) / c (F + D_m; each weight >= 0, so
+// that no estimator sees a negative flux), c = max(cos, kGrazingCosine); D_m is their difference.
 class PhotonIrradiance final : public IrradianceContribution {
  public:
   PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings,
@@ -52,6 +61,10 @@ class PhotonIrradiance final : public IrradianceContribution {
   std::string_view Name() const override { return "photons"; }
   Rgb At(const SurfacePoint& p) const override { return PerSurfaceArea(ChartDensity(p.surface, p.uv), p); }
   NoisyIrradiance WithNoise(const SurfacePoint& p) const override;
+  // The estimators of the photons' moments, from `bins` with directions (those this contribution was built from),
+  // in parallel, with their progress on `log` when given; before AddMoments.
+  void BuildMoments(const PreparedScene& scene, const SurfaceBins& bins, const Log* log = nullptr);
+  void AddMoments(const SurfacePoint& p, IncidentMoments& moments) const override;
 
   // The estimate on surface s at chart position uv, per unit chart area [W/m^2 of (u,v)].
   Rgb ChartDensity(uint32_t s, Point2 uv) const {
@@ -65,9 +78,13 @@ class PhotonIrradiance final : public IrradianceContribution {
   double UniformNoise(uint32_t s, uint64_t hits, double area) const;
 
  private:
+  EstimatorSettings Own(size_t s) const;  // the settings with surface s's h
+
   EstimatorSettings settings_;
   std::vector<float> bandwidths_;
   std::vector<std::unique_ptr<DensityEstimator>> estimators_;
+  // Once built: per surface, the estimators of F and F + D_x, F + D_y, F + D_z; else empty.
+  std::vector<std::array<std::unique_ptr<DensityEstimator>, 4>> moments_;
 };
 
 // A term of H computed at each point by Monte Carlo, with `count` samples. The random numbers of point p come from
@@ -77,12 +94,16 @@ class PointSampledIrradiance : public IrradianceContribution {
  public:
   Rgb At(const SurfacePoint& p) const final { return WithNoise(p).irradiance; }
   NoisyIrradiance WithNoise(const SurfacePoint& p) const final;
+  // From the same samples as WithNoise's.
+  void AddMoments(const SurfacePoint& p, IncidentMoments& moments) const final;
 
  protected:
   PointSampledIrradiance(const PreparedScene& scene, uint32_t count, uint64_t seed)
       : scene_(scene), count_(count), seed_(seed) {}
-  // E at `position` on the side of `normal`, from `count` samples drawn from `rng`.
-  virtual DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const = 0;
+  // E at `position` on the side of `normal`, from `count` samples drawn from `rng`; their moments added to
+  // `moments` when given.
+  virtual DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng,
+                              IncidentMoments* moments) const = 0;
   const PreparedScene& scene_;
 
  private:
@@ -99,9 +120,10 @@ class DirectIrradiance final : public PointSampledIrradiance {
   const LightSampler& Sampler() const { return sampler_; }
 
  private:
-  DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const override {
-    return noise_ > 0 ? sampler_.AdaptiveIrradiance(position, normal, noise_, count, rng)
-                      : sampler_.Irradiance(position, normal, count, rng);
+  DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng,
+                      IncidentMoments* moments) const override {
+    return noise_ > 0 ? sampler_.AdaptiveIrradiance(position, normal, noise_, count, rng, moments)
+                      : sampler_.Irradiance(position, normal, count, rng, moments);
   }
   LightSampler sampler_;
   double noise_;
@@ -114,8 +136,9 @@ class ReferenceIrradiance final : public PointSampledIrradiance {
   std::string_view Name() const override { return "reference"; }
 
  private:
-  DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng) const override {
-    return gatherer_.Irradiance(position, normal, count, rng);
+  DirectSample Sample(Point3 position, Normal3 normal, uint32_t count, Rng& rng,
+                      IncidentMoments* moments) const override {
+    return gatherer_.Irradiance(position, normal, count, rng, moments);
   }
   LightSampler lights_;
   IrradianceGatherer gatherer_;

@@ -44,12 +44,13 @@ bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
   return parallel >= needed;
 }
 
-NoisyIrradiance GapGather::Gathered(const SurfacePoint& p, const SurfacePoint& start) const {
+NoisyIrradiance GapGather::Gathered(const SurfacePoint& p, const SurfacePoint& start, IncidentMoments* moments) const {
   Rng rng = PointStream(seed_ ^ kPathStream, p);
   const DirectSample e =
       settings_.noise > 0
-          ? gatherer_.AdaptiveScatteredIrradiance(start.position, p.normal, settings_.noise, settings_.paths, rng, *this)
-          : gatherer_.ScatteredIrradiance(start.position, p.normal, settings_.paths, rng, *this);
+          ? gatherer_.AdaptiveScatteredIrradiance(start.position, p.normal, settings_.noise, settings_.paths, rng, *this,
+                                                  moments)
+          : gatherer_.ScatteredIrradiance(start.position, p.normal, settings_.paths, rng, *this, moments);
   return {e.irradiance, e.relativeNoise};
 }
 

@@ -46,8 +46,8 @@ class GapGather final : public ScatteredLightField {
   // Whether p, whose rays start at `start` (RayStart), lies in a gap, on a surface smaller than its kernel, or
   // (with `edges`) on a planar surface's boundary.
   bool InGap(const SurfacePoint& p, const SurfacePoint& start) const;
-  // E_s at p by `paths` gathered paths, and its relative noise.
-  NoisyIrradiance Gathered(const SurfacePoint& p, const SurfacePoint& start) const;
+  // E_s at p by `paths` gathered paths, and its relative noise; with `moments`, their moments added to it.
+  NoisyIrradiance Gathered(const SurfacePoint& p, const SurfacePoint& start, IncidentMoments* moments = nullptr) const;
 
   std::optional<Rgb> ScatteredAt(const RayHit& hit, bool onFront) const override;
 

@@ -40,6 +40,15 @@ SurfaceLight IrradianceField::LightWith(const SurfacePoint& p, Rgb irradiance) c
 
 SurfaceLight IrradianceField::Light(const SurfacePoint& p) const { return LightWith(p, Irradiance(p)); }
 
+IncidentMoments IrradianceField::Moments(const SurfacePoint& p) const {
+  IncidentMoments moments;
+  const SurfacePoint start = RayStart(*scene_, p);
+  if (gaps_ && gaps_->InGap(p, start)) gaps_->Gathered(p, start, &moments);
+  else contributions_.front()->AddMoments(p, moments);
+  for (size_t i = 1; i < contributions_.size(); ++i) contributions_[i]->AddMoments(p, moments);
+  return moments;
+}
+
 SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   // Independent contributions: their variances add (IndependentSum).
   const std::optional<NoisyIrradiance> gap = GapTerm(p);
@@ -113,6 +122,26 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
   });
   baked.mesh = std::move(mesh);
   return baked;
+}
+
+}  // namespace pb
+
+namespace pb {
+
+std::vector<ShL1> EstimateDirections(const IrradianceField& field, const BakedMesh& baked, const Log& log) {
+  const size_t n = baked.mesh.VertexCount();
+  std::vector<ShL1> sh(n);
+  Progress progress(log, "estimate directions", n);
+  const size_t chunks = (n + kVertexChunk - 1) / kVertexChunk;
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    const size_t begin = c * kVertexChunk, end = std::min(n, begin + kVertexChunk);
+    for (size_t v = begin; v != end; ++v) {
+      const SurfacePoint p = baked.mesh.Point(v);
+      sh[v] = ShProjection(field.Moments(p), p.normal, baked.irradiance[v]);
+    }
+    progress.Advance(end - begin);
+  });
+  return sh;
 }
 
 }  // namespace pb

@@ -17,6 +17,9 @@
 //            a path tracer's vertex bake; no photons are traced then.
 // With --direct sampled, at a point in a narrow gap (or on a surface smaller than its kernel) the photons' term is
 // replaced by the scattered light gathered there (baker/3_gap_gather.h).
+//
+// With --sh the field also says where the light at a point comes from: the moments of its incident radiance, the
+// sum of every term's (estimators/incident_moments.h), each from the same samples (and photons) as its H.
 #pragma once
 
 #include <functional>
@@ -62,6 +65,11 @@ class IrradianceField {
   SurfaceLight LightWithNoise(const SurfacePoint& p) const;
   // R and Le at p with H given (refinement's cached irradiance grid).
   SurfaceLight LightWith(const SurfacePoint& p, Rgb irradiance) const;
+  // Builds the estimators of the photons' moments from `bins` (the field's own, with directions: --sh), with their
+  // progress on `log`; once, before Moments.
+  void PrepareMoments(const SurfaceBins& bins, const Log* log = nullptr) { photons_->BuildMoments(*scene_, bins, log); }
+  // The moments of the light arriving at p.
+  IncidentMoments Moments(const SurfacePoint& p) const;
 
   const PhotonIrradiance& Photons() const { return *photons_; }
   // The scale below which H has no detail, on surface s [m]: its photon bandwidth.
@@ -73,7 +81,7 @@ class IrradianceField {
   std::optional<NoisyIrradiance> GapTerm(const SurfacePoint& p) const;
 
   const PreparedScene* scene_;
-  const PhotonIrradiance* photons_;
+  PhotonIrradiance* photons_;
   std::vector<std::unique_ptr<IrradianceContribution>> contributions_;  // photons first
   std::unique_ptr<GapGather> gaps_;                                     // or null
 };
@@ -108,5 +116,9 @@ inline constexpr size_t kVertexChunk = 1024;
 // them out, baker/distribution.h); the others read 0.
 BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise = false,
                              const std::function<bool(size_t)>& owns = {});
+
+// The L1 SH of the light at every vertex of `baked` (BakedMesh::sh), each with its component along the vertex's
+// normal set to the vertex's H (ShProjection), in parallel, with its progress on `log`.
+std::vector<ShL1> EstimateDirections(const IrradianceField& field, const BakedMesh& baked, const Log& log);
 
 }  // namespace pb

@@ -48,6 +48,20 @@ std::vector<Group> GroupFaces(const BakedMesh& baked, const SurfaceNames& names)
 
 std::array<float, 3> Array(Rgb c) { return {c.r, c.g, c.b}; }
 
+// With --sh: _SH_R, _SH_G, _SH_B, each VEC4 (L00, L1x, L1y, L1z) of its channel (estimators/incident_moments.h).
+void AddShAttributes(GltfBufferWriter& buffers, const BakedMesh& baked, const Group& g, tg::Primitive& primitive) {
+  std::array<std::vector<std::array<float, 4>>, 3> channels;
+  for (uint32_t v : g.vertices) {
+    const ShL1& sh = baked.sh[v];
+    channels[0].push_back({sh.c[0].r, sh.c[1].r, sh.c[2].r, sh.c[3].r});
+    channels[1].push_back({sh.c[0].g, sh.c[1].g, sh.c[2].g, sh.c[3].g});
+    channels[2].push_back({sh.c[0].b, sh.c[1].b, sh.c[2].b, sh.c[3].b});
+  }
+  primitive.attributes["_SH_R"] = buffers.Vec4(channels[0]);
+  primitive.attributes["_SH_G"] = buffers.Vec4(channels[1]);
+  primitive.attributes["_SH_B"] = buffers.Vec4(channels[2]);
+}
+
 tg::Primitive Primitive(GltfBufferWriter& buffers, const BakedMesh& baked, const Group& g, float exposure) {
   std::vector<std::array<float, 3>> position, normal, colour, irradiance, radiance, reflectance;
   for (uint32_t v : g.vertices) {
@@ -72,6 +86,7 @@ tg::Primitive Primitive(GltfBufferWriter& buffers, const BakedMesh& baked, const
   primitive.attributes["_IRRADIANCE"] = buffers.Vec3(irradiance, false);
   primitive.attributes["_RADIANCE"] = buffers.Vec3(radiance, false);
   primitive.attributes["_REFLECTANCE"] = buffers.Vec3(reflectance, false);
+  if (!baked.sh.empty()) AddShAttributes(buffers, baked, g, primitive);
   primitive.indices = buffers.Indices(g.faces);
   return primitive;
 }

@@ -4,6 +4,7 @@
 
 #include <bit>
 #include <cstring>
+#include <optional>
 
 #include "baker/files/atomic_file.h"
 #include "baker/tone_map.h"
@@ -25,6 +26,12 @@ std::string Header(const BakedMesh& baked, bool ascii, float exposure) {
   for (const char* p : {"irradiance_r", "irradiance_g", "irradiance_b", "radiance_r", "radiance_g", "radiance_b",
                         "quality", "reflectance_r", "reflectance_g", "reflectance_b"})
     h += fmt::format("property float {}\n", p);
+  if (!baked.sh.empty()) {
+    h += "comment sh_C0..sh_C3: L1 spherical harmonics of the incident radiance [W/(m^2 sr)] per channel C: L00 and "
+         "L1 along world x, y, z; irradiance E(n) = 2.0466534 (sh_C1 nx + sh_C2 ny + sh_C3 nz)\n";
+    for (const char c : {'r', 'g', 'b'})
+      for (int k = 0; k < 4; ++k) h += fmt::format("property float sh_{}{}\n", c, k);
+  }
   h += fmt::format("element face {}\n", baked.mesh.faces.size());
   h += "property list uchar int vertex_indices\nend_header\n";
   return h;
@@ -35,15 +42,25 @@ struct VertexRecord {
   float position[3], normal[3];
   std::array<uint8_t, 3> colour;
   float irradiance[3], radiance[3], quality, reflectance[3];
+  std::optional<std::array<float, 12>> sh;  // with --sh: sh_r0..sh_r3, sh_g0..sh_g3, sh_b0..sh_b3
 };
+
+// A vertex's SH in the PLY's order: per channel, L00 then L1 along x, y, z.
+std::array<float, 12> ShRecord(const ShL1& sh) {
+  std::array<float, 12> out;
+  for (int k = 0; k < 4; ++k) out[k] = sh.c[k].r, out[4 + k] = sh.c[k].g, out[8 + k] = sh.c[k].b;
+  return out;
+}
 
 VertexRecord RecordOf(const BakedMesh& baked, size_t v, float exposure) {
   const Point3 p = baked.mesh.positions[v];
   const std::array<double, 3>& o = baked.mesh.origin;  // back to world coordinates, added in double
   const Normal3 n = baked.mesh.normals[v];
   const Rgb H = baked.irradiance[v], L = baked.Radiance(v), R = baked.albedo[v];
-  return {{float(o[0] + p.x), float(o[1] + p.y), float(o[2] + p.z)}, {n.x, n.y, n.z}, ToneMap(L, exposure), {H.r, H.g, H.b}, {L.r, L.g, L.b}, Luminance(H),
-          {R.r, R.g, R.b}};
+  VertexRecord r{{float(o[0] + p.x), float(o[1] + p.y), float(o[2] + p.z)}, {n.x, n.y, n.z}, ToneMap(L, exposure),
+                 {H.r, H.g, H.b}, {L.r, L.g, L.b}, Luminance(H), {R.r, R.g, R.b}, std::nullopt};
+  if (!baked.sh.empty()) r.sh = ShRecord(baked.sh[v]);
+  return r;
 }
 
 template <typename T>
@@ -59,6 +76,8 @@ void AppendBinary(std::string& out, const VertexRecord& r) {
   for (float f : r.radiance) Put(out, f);
   Put(out, r.quality);
   for (float f : r.reflectance) Put(out, f);
+  if (r.sh)
+    for (float f : *r.sh) Put(out, f);
 }
 
 void AppendAscii(std::string& out, const VertexRecord& r) {
@@ -66,6 +85,11 @@ void AppendAscii(std::string& out, const VertexRecord& r) {
                      r.position[2], r.normal[0], r.normal[1], r.normal[2], r.colour[0], r.colour[1], r.colour[2],
                      r.irradiance[0], r.irradiance[1], r.irradiance[2], r.radiance[0], r.radiance[1], r.radiance[2],
                      r.quality, r.reflectance[0], r.reflectance[1], r.reflectance[2]);
+  if (r.sh) {
+    out.pop_back();  // the line's end, after the SH
+    for (float f : *r.sh) out += fmt::format(" {}", f);
+    out += '\n';
+  }
 }
 
 std::string Body(const BakedMesh& baked, bool ascii, float exposure) {

@@ -383,6 +383,11 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
     refine = std::move(refined.report);
     journal.Warn(refine.warnings, log);
   }
+  if (o.sh)
+    lit.baked.sh = clock.Time("directions", [&] {
+      lit.field->PrepareMoments(rounds.Bins(), &log);
+      return EstimateDirections(field, lit.baked, log);
+    });
 
   BakeReport report = DescribeBake({o, threads.Count(), scene, rounds.Store(), rounds.Bins(), field, lit.baked,
                                     exposure, refine, maps, rounds.Report(), lit.noise, journal.stageSeconds, journal.warnings});

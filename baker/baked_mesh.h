@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "estimators/incident_moments.h"
 #include "mesh/color.h"
 #include "mesh/split_mesh.h"
 
@@ -25,6 +26,8 @@ struct BakedMesh {
   // The points' own samples' share of each vertex's H (luminance), in [0, 1]: what the shadow rays (or gathered
   // paths) brought, of which the photons brought the rest. Filled with irradianceNoise.
   std::vector<double> sampledShare;
+  // With --sh: per vertex, the L1 SH of its incident radiance per colour (estimators/incident_moments.h); else empty.
+  std::vector<ShL1> sh;
 
   Rgb Radiance(size_t vertex) const { return OutgoingRadiance(emitted[vertex], albedo[vertex], irradiance[vertex]); }
 };

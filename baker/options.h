@@ -115,6 +115,9 @@ struct BakeOptions {
   // surfaces are estimated and written, the light still traced through the whole scene. Empty: every surface.
   std::string only;
   std::string mapsDirectory;      // --maps: one irradiance map (EXR) per surface here; empty for none.
+  // --sh: each vertex also carries where its light comes from, the L1 spherical harmonics of its incident radiance
+  // per colour (estimators/incident_moments.h); the photons are then stored with their directions.
+  bool sh = false;
   // --preview: a PNG of the baked mesh as a viewer shows it (baker/5_write_preview.h); empty for none. Seen from
   // --camera, or the scene's sidecar SCENE.camera.json; --preview-size pixels, each in [1, 8192].
   std::string previewPath;

@@ -45,28 +45,34 @@ Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, co
 }
 
 DirectSample IrradianceGatherer::Gather(Point3 p, Normal3 n, uint32_t paths, Rng& rng, bool direct,
-                                        const ScatteredLightField* field) const {
+                                        const ScatteredLightField* field, IncidentMoments* moments) const {
   if (paths == 0) return {};
   const Frame frame = Frame::FromNormal(n);
   const Point3 origin = rays_.SpawnPoint(p, n);
   SampleMean mean;
+  IncidentMoments sum;  // of the paths, each at weight 1
+  IncidentMoments* const each = moments != nullptr ? &sum : nullptr;
   for (uint32_t k = 0; k < paths; ++k) {
-    const Rgb e = direct ? lights_.Irradiance(p, n, 1, rng).irradiance : Rgb{};
+    const Rgb e = direct ? lights_.Irradiance(p, n, 1, rng, each).irradiance : Rgb{};
     const Vector3 w = frame.ToWorld(SampleCosineHemisphere(rng.Uniform2()).direction);
-    mean.Add(e + ScatteredRadiance(origin, w, rng, field) * float(kPi));
+    const Rgb scattered = ScatteredRadiance(origin, w, rng, field) * float(kPi);
+    mean.Add(e + scattered);
+    if (each != nullptr && !scattered.IsBlack()) each->Add(scattered, w, Dot(w, n));
   }
+  if (moments != nullptr) moments->Add(sum, 1.0f / float(paths));
   return mean.Result();
 }
 
 DirectSample IrradianceGatherer::AdaptiveScatteredIrradiance(Point3 p, Normal3 n, double target, uint32_t maxPaths,
-                                                             Rng& rng, const ScatteredLightField& field) const {
+                                                             Rng& rng, const ScatteredLightField& field,
+                                                             IncidentMoments* moments) const {
   Rng pilotRng = PilotStream(rng);
   const DirectSample pilot = ScatteredIrradiance(p, n, kPilotPaths, pilotRng, field);
   const double ratio = pilot.relativeNoise / target;
   // A pilot that met no light has said nothing of the noise (light through a gap's mouth is a rare path).
   const double wanted = Luminance(pilot.irradiance) > 0 ? std::ceil(double(kPilotPaths) * ratio * ratio) : double(4 * kPilotPaths);
   const auto count = uint32_t(std::clamp(wanted, double(kPilotPaths), double(std::max(maxPaths, kPilotPaths))));
-  DirectSample result = ScatteredIrradiance(p, n, count, rng, field);
+  DirectSample result = ScatteredIrradiance(p, n, count, rng, field, moments);
   result.samples = count + kPilotPaths;
   return result;
 }

@@ -43,13 +43,16 @@ class IrradianceGatherer {
   // All must outlive the gatherer.
   IrradianceGatherer(const Scene& scene, const RayScene& rays, const LightSampler& lights, uint32_t maxDepth = 1000);
 
-  // E at point p (local coordinates [m]) on the side of unit normal n, from `paths` paths.
-  DirectSample Irradiance(Point3 p, Normal3 n, uint32_t paths, Rng& rng) const {
-    return Gather(p, n, paths, rng, true, nullptr);
+  // E at point p (local coordinates [m]) on the side of unit normal n, from `paths` paths. With `moments`, the
+  // paths' moments (estimators/incident_moments.h: each path's first direction, and its light sample's) are added
+  // to it; E is the same bit for bit.
+  DirectSample Irradiance(Point3 p, Normal3 n, uint32_t paths, Rng& rng, IncidentMoments* moments = nullptr) const {
+    return Gather(p, n, paths, rng, true, nullptr, moments);
   }
   // E_s at p, the irradiance of light scattered at least once, from `paths` paths ended where `field` is read.
-  DirectSample ScatteredIrradiance(Point3 p, Normal3 n, uint32_t paths, Rng& rng, const ScatteredLightField& field) const {
-    return Gather(p, n, paths, rng, false, &field);
+  DirectSample ScatteredIrradiance(Point3 p, Normal3 n, uint32_t paths, Rng& rng, const ScatteredLightField& field,
+                                   IncidentMoments* moments = nullptr) const {
+    return Gather(p, n, paths, rng, false, &field, moments);
   }
   // E_s at p with as many paths as reach relative standard error `target`: a pilot of kPilotPaths, from a stream
   // of its own, predicts the count S = kPilotPaths (r / target)^2 from its relative error r (independent paths:
@@ -59,11 +62,12 @@ class IrradianceGatherer {
   // returned noise is the fresh paths', and `samples` counts the pilot's paths too.
   static constexpr uint32_t kPilotPaths = 64;
   DirectSample AdaptiveScatteredIrradiance(Point3 p, Normal3 n, double target, uint32_t maxPaths, Rng& rng,
-                                           const ScatteredLightField& field) const;
+                                           const ScatteredLightField& field, IncidentMoments* moments = nullptr) const;
 
  private:
   // The mean over `paths` paths of E_d (one light sample, when `direct`) + pi L_s.
-  DirectSample Gather(Point3 p, Normal3 n, uint32_t paths, Rng& rng, bool direct, const ScatteredLightField* field) const;
+  DirectSample Gather(Point3 p, Normal3 n, uint32_t paths, Rng& rng, bool direct, const ScatteredLightField* field,
+                      IncidentMoments* moments) const;
   // L_s along the ray from p (already offset) in direction d: radiance that scattered at least once [W/(m^2 sr)];
   // with a field, ended at the first diffuse hit where it can be read.
   Rgb ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, const ScatteredLightField* field = nullptr) const;

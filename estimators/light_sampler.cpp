@@ -131,7 +131,7 @@ std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
   return cdf;
 }
 
-Rgb LightSampler::SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const {
+LightSampler::Arrival LightSampler::SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const {
   const Light& light = lights_[areas_[area]];
   auto [entry, first] = cache.lights.try_emplace(uint32_t(area));
   if (first) entry->second = SubtendedAt(area, p, cache.triangles);
@@ -161,18 +161,19 @@ std::optional<LightSampler::Subtended> LightSampler::SubtendedAt(size_t area, Po
 
 // Ke V cos(theta_x) Omega: a direction uniform over the light's solid angle at p (the triangle in proportion to
 // its part of it), its ray continued to the triangle's plane for the shadow ray.
-Rgb LightSampler::SampleBySolidAngle(const Light& light, const Subtended& seen, Point3 p, Normal3 n, Point2 u) const {
+LightSampler::Arrival LightSampler::SampleBySolidAngle(const Light& light, const Subtended& seen, Point3 p, Normal3 n,
+                                                       Point2 u) const {
   const auto pick = SampleDiscreteCdf(seen.cdf, u.u);
   const Vector3 w = seen.parts[pick->index].Sample({pick->uRemapped, u.v});
   const uint32_t triangle = seen.triangles[pick->index];
   const Normal3 front = scene_.FrontNormal(triangle);
   const float along = Dot(scene_.Corner(triangle, 0) - p, front) / Dot(w, front);
   if (!(along > 0) || !std::isfinite(along) || !(Dot(w, n) > 0)) return {};
-  return Unoccluded(light, p, n, p + w * along) * float(seen.total);
+  return {Unoccluded(light, p, n, p + w * along) * float(seen.total), w};
 }
 
 // Ke V cos cos / d^2 times the light's area, for the point of `light` that u picks (uniform over its area).
-Rgb LightSampler::SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u) const {
+LightSampler::Arrival LightSampler::SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u) const {
   const auto pick = SampleDiscreteCdf(light.triangleCdf, u.u);
   PB_CHECK(pick.has_value(), "a light has at least one triangle");
   const uint32_t triangle = light.triangles[pick->index];
@@ -183,7 +184,7 @@ Rgb LightSampler::SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u
   if (!(d2 > 0)) return {};
   const float cosY = -Dot(toLight, scene_.FrontNormal(triangle)) / std::sqrt(d2);
   if (cosY <= 0) return {};
-  return Unoccluded(light, p, n, y) * float(double(cosY) / d2 * light.area);
+  return {Unoccluded(light, p, n, y) * float(double(cosY) / d2 * light.area), toLight * (1 / std::sqrt(d2))};
 }
 
 Rgb LightSampler::Unoccluded(const Light& light, Point3 p, Normal3 n, Point3 y) const {
@@ -210,7 +211,8 @@ std::optional<LightSampler::Pick> LightSampler::PickLight(const std::vector<doub
   return Pick{choice->index, choice->pmf};
 }
 
-DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
+DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng,
+                                          IncidentMoments* moments) const {
   if (samples == 0 || areas_.empty()) return {};
   std::vector<double> cdf;  // the exact guess, without a tree
   if (tree_ ? !tree_->AnyCanReach(p, n) : (cdf = SelectionCdf(p, n)).empty()) return {};
@@ -223,19 +225,32 @@ DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples,
     const uint32_t cell = cells[j];
     const Point2 jitter = rng.Uniform2();
     const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
-    mean.Add(cell, pick ? SampleOne(pick->area, p, n, u, cache) * float(1.0 / pick->pmf) : Rgb{});
+    if (!pick) {
+      mean.Add(cell, Rgb{});
+      continue;
+    }
+    const Arrival a = SampleOne(pick->area, p, n, u, cache);
+    const Rgb e = a.irradiance * float(1.0 / pick->pmf);
+    mean.Add(cell, e);
+    if (moments != nullptr && !e.IsBlack()) moments->Add(e, a.from, Dot(a.from, n), 1.0f / float(samples));
   }
   return mean.Result();
 }
 
 bool LightSampler::Escapes(Point3 origin, Vector3 w) const { return !rays_.Occluded(origin, w); }
 
-Rgb LightSampler::DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n) const {
+Rgb LightSampler::DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n, IncidentMoments* moments) const {
+  const Arrival a = DeltaArrival(light, p, n);
+  if (moments != nullptr && !a.irradiance.IsBlack()) moments->Add(a.irradiance, a.from, Dot(a.from, n));
+  return a.irradiance;
+}
+
+LightSampler::Arrival LightSampler::DeltaArrival(const AnalyticLight& light, Point3 p, Normal3 n) const {
   const Point3 origin = rays_.SpawnPoint(p, n);
   if (light.kind == LightKind::kSun) {
     const Vector3 w = -light.direction;
     const float cosX = Dot(w, n);
-    return cosX > 0 && Escapes(origin, w) ? light.intensity * cosX : Rgb{};
+    return {cosX > 0 && Escapes(origin, w) ? light.intensity * cosX : Rgb{}, w};
   }
   const Vector3 toLight = light.position - p;
   const float d2 = LengthSquared(toLight);
@@ -248,10 +263,11 @@ Rgb LightSampler::DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 
   const Vector3 span = light.position - origin;
   const float length = Length(span);
   if (rays_.Occluded(origin, span * (1.0f / length), length * (1 - 1e-4f))) return {};
-  return light.intensity * (falloff * cosX / d2);
+  return {light.intensity * (falloff * cosX / d2), w};
 }
 
-DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
+DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng,
+                                         IncidentMoments* moments) const {
   const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
   const Frame frame = Frame::FromNormal(n);
   const Point3 origin = rays_.SpawnPoint(p, n);
@@ -261,7 +277,9 @@ DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Nor
     const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
     const Vector3 w = frame.ToWorld(SampleCosineHemisphere(u).direction);
     const bool open = (sky.wholeSphere || Dot(w, sky.up) > 0) && Escapes(origin, w);
-    mean.Add(cell, open ? sky.intensity * float(kPi) : Rgb{});
+    const Rgb e = open ? sky.intensity * float(kPi) : Rgb{};
+    mean.Add(cell, e);
+    if (moments != nullptr && open) moments->Add(e, w, Dot(w, n), 1.0f / float(samples));
   }
   return mean.Result();
 }
@@ -269,7 +287,8 @@ DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Nor
 // Per stratum, one cosine-distributed direction, one drawn from the image and, with portals, one toward them, each
 // weighted by the balance heuristic (Veach and Guibas 1995): L cos / (sum of the techniques' pdfs) for each that
 // escapes toward the sky.
-DirectSample LightSampler::AimedSkyIrradiance(const Light& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
+DirectSample LightSampler::AimedSkyIrradiance(const Light& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng,
+                                              IncidentMoments* moments) const {
   const auto side = uint32_t(std::ceil(std::sqrt(double(samples))));
   const Frame frame = Frame::FromNormal(n);
   const Point3 origin = rays_.SpawnPoint(p, n);
@@ -280,7 +299,9 @@ DirectSample LightSampler::AimedSkyIrradiance(const Light& sky, Point3 p, Normal
     const Rgb radiance = SkyRadianceFrom(sky.analytic, w);
     if (radiance.IsBlack() || !Escapes(origin, w)) return Rgb{};
     const float pdf = CosineHemispherePdf(cosX) + SkyImagePdf(sky, w) + (portals ? TowardPortalsPdf(sky, p, w) : 0);
-    return radiance * (cosX / pdf);
+    const Rgb e = radiance * (cosX / pdf);
+    if (moments != nullptr) moments->Add(e, w, cosX, 1.0f / float(samples));
+    return e;
   };
   const auto stratum = [&](uint32_t cell) {
     const Point2 jitter = rng.Uniform2();
@@ -297,18 +318,18 @@ DirectSample LightSampler::AimedSkyIrradiance(const Light& sky, Point3 p, Normal
   return mean.Result();
 }
 
-DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const {
-  DirectSample result = AreaIrradiance(p, n, samples, rng);
+DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng, IncidentMoments* moments) const {
+  DirectSample result = AreaIrradiance(p, n, samples, rng, moments);
   result.samples = samples;
   if (others_.empty() || samples == 0) return result;
   IndependentSum sum(result);
   for (uint32_t l : others_) {
     const AnalyticLight& light = lights_[l].analytic;
     if (light.image || (light.kind == LightKind::kSky && !lights_[l].portals.empty()))
-      sum.Add(AimedSkyIrradiance(lights_[l], p, n, samples, rng));
+      sum.Add(AimedSkyIrradiance(lights_[l], p, n, samples, rng, moments));
     else
-      sum.Add(light.kind == LightKind::kSky ? SkyIrradiance(light, p, n, samples, rng)
-                                            : NoisyIrradiance{DeltaIrradiance(light, p, n)});  // exact: no noise
+      sum.Add(light.kind == LightKind::kSky ? SkyIrradiance(light, p, n, samples, rng, moments)
+                                            : NoisyIrradiance{DeltaIrradiance(light, p, n, moments)});  // exact: no noise
   }
   static_cast<NoisyIrradiance&>(result) = sum.Total();
   return result;
@@ -321,12 +342,12 @@ uint32_t LightSampler::AdaptiveCount(double relativeNoise, uint32_t samples, dou
   return uint32_t(std::clamp(side * side, double(kPilotSamples), double(std::max(maxSamples, kPilotSamples))));
 }
 
-DirectSample LightSampler::AdaptiveIrradiance(Point3 p, Normal3 n, double target, uint32_t maxSamples,
-                                              Rng& rng) const {
+DirectSample LightSampler::AdaptiveIrradiance(Point3 p, Normal3 n, double target, uint32_t maxSamples, Rng& rng,
+                                              IncidentMoments* moments) const {
   Rng pilotRng = PilotStream(rng);
   const DirectSample pilot = Irradiance(p, n, kPilotSamples, pilotRng);
   const uint32_t count = AdaptiveCount(pilot.relativeNoise, kPilotSamples, target, maxSamples);
-  DirectSample result = Irradiance(p, n, count, rng);
+  DirectSample result = Irradiance(p, n, count, rng, moments);
   result.samples = count + kPilotSamples;
   return result;
 }

@@ -43,6 +43,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "estimators/incident_moments.h"
 #include "estimators/light_tree.h"
 #include "estimators/rng.h"
 #include "estimators/warps.h"
@@ -112,8 +113,9 @@ class LightSampler {
   LightSampler(const Scene& scene, const std::vector<Light>& lights, const RayScene& rays,
                size_t treeFrom = kTreeLights, double solidAngleFrom = kSolidAngleFrom);
 
-  // E_d at point p (local coordinates [m]) with unit normal n, from `samples` shadow rays drawn from `rng`.
-  DirectSample Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
+  // E_d at point p (local coordinates [m]) with unit normal n, from `samples` shadow rays drawn from `rng`. With
+  // `moments`, the same samples' moments (estimators/incident_moments.h) are added to it; E_d is the same bit for bit.
+  DirectSample Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng, IncidentMoments* moments = nullptr) const;
 
   // E_d with as many shadow rays as reach relative standard error `target` at p: a pilot of kPilotSamples, from
   // a stream of its own, predicts the count S = kPilotSamples (r / target)^(1 / kStratifiedOrder) from its
@@ -123,9 +125,11 @@ class LightSampler {
   // comes from S fresh samples alone, S rounded up to a square (it fills the stratification grid) and clamped to
   // [kPilotSamples, maxSamples]. The pilot is not averaged in: the count
   // depends on it, and keeping it would bias E_d. Unbiased; the returned relative noise is the fresh samples'.
+  // `moments` as Irradiance's, from the fresh samples.
   static constexpr uint32_t kPilotSamples = 16;
   static constexpr double kStratifiedOrder = 0.75;
-  DirectSample AdaptiveIrradiance(Point3 p, Normal3 n, double target, uint32_t maxSamples, Rng& rng) const;
+  DirectSample AdaptiveIrradiance(Point3 p, Normal3 n, double target, uint32_t maxSamples, Rng& rng,
+                                  IncidentMoments* moments = nullptr) const;
   // The count S it takes after the pilot, from an estimate of `relativeNoise` at `samples` rays (the pilot's, or
   // a whole bake's, which the rounds of --target-noise plan from).
   static uint32_t AdaptiveCount(double relativeNoise, uint32_t samples, double target, uint32_t maxSamples);
@@ -165,9 +169,14 @@ class LightSampler {
     size_t triangles = kSolidAngleTriangles;  // the most a light sampled by solid angle may have
     std::unordered_map<uint32_t, std::optional<Subtended>> lights;  // by area light, once it is first picked
   };
-  Rgb SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const;
-  Rgb SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u) const;
-  Rgb SampleBySolidAngle(const Light& light, const Subtended& seen, Point3 p, Normal3 n, Point2 u) const;
+  // An irradiance sample [W/m^2] and the unit direction it arrives from.
+  struct Arrival {
+    Rgb irradiance;
+    Vector3 from;
+  };
+  Arrival SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const;
+  Arrival SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u) const;
+  Arrival SampleBySolidAngle(const Light& light, const Subtended& seen, Point3 p, Normal3 n, Point2 u) const;
   // Ke V cos(theta_x) for the point y of a light: the shadow ray, which both samplers share.
   Rgb Unoccluded(const Light& light, Point3 p, Normal3 n, Point3 y) const;
   struct Pick {
@@ -176,11 +185,14 @@ class LightSampler {
   };
   // The light that u picks: from the tree, or else from `cdf` (SelectionCdf's).
   std::optional<Pick> PickLight(const std::vector<double>& cdf, Point3 p, Normal3 n, float u) const;
-  DirectSample AreaIrradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
+  DirectSample AreaIrradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng, IncidentMoments* moments) const;
   LightBounds BoundsOf(const LightShape& shape, const Light& light) const;
-  Rgb DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n) const;
-  DirectSample SkyIrradiance(const AnalyticLight& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
-  DirectSample AimedSkyIrradiance(const Light& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng) const;
+  Rgb DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n, IncidentMoments* moments) const;
+  Arrival DeltaArrival(const AnalyticLight& light, Point3 p, Normal3 n) const;
+  DirectSample SkyIrradiance(const AnalyticLight& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng,
+                             IncidentMoments* moments) const;
+  DirectSample AimedSkyIrradiance(const Light& sky, Point3 p, Normal3 n, uint32_t samples, Rng& rng,
+                                  IncidentMoments* moments) const;
   bool Escapes(Point3 origin, Vector3 w) const;
 
   const Scene& scene_;

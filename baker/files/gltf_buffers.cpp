@@ -33,6 +33,11 @@ int GltfBufferWriter::Vec2(const std::vector<std::array<float, 2>>& values) {
                 TINYGLTF_COMPONENT_TYPE_FLOAT, values.size(), TINYGLTF_TYPE_VEC2);
 }
 
+int GltfBufferWriter::Vec4(const std::vector<std::array<float, 4>>& values) {
+  return Append(values.data(), values.size() * sizeof(values[0]), TINYGLTF_TARGET_ARRAY_BUFFER,
+                TINYGLTF_COMPONENT_TYPE_FLOAT, values.size(), TINYGLTF_TYPE_VEC4);
+}
+
 int GltfBufferWriter::Indices(const std::vector<std::array<uint32_t, 3>>& faces) {
   return Append(faces.data(), faces.size() * sizeof(faces[0]), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
                 TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, faces.size() * 3, TINYGLTF_TYPE_SCALAR);

@@ -20,8 +20,9 @@ class GltfBufferWriter {
   explicit GltfBufferWriter(tinygltf::Model& model);
   // float VEC3 values (with their min and max when `bounds`, as POSITION needs); returns the accessor's index.
   int Vec3(const std::vector<std::array<float, 3>>& values, bool bounds);
-  // float VEC2 values.
+  // float VEC2 and VEC4 values.
   int Vec2(const std::vector<std::array<float, 2>>& values);
+  int Vec4(const std::vector<std::array<float, 4>>& values);
   // Triangles as unsigned int indices.
   int Indices(const std::vector<std::array<uint32_t, 3>>& faces);
 

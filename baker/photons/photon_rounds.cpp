@@ -94,7 +94,7 @@ void PhotonRounds::TraceRound() {
   const BinningPlan plan = PlanBinning(scene_, options_.estimator, options_.autoBandwidth, photons_);
   if (distribution_ != nullptr) RequireBinningWhileTracing(plan), RequireAllReady(*distribution_);
   std::optional<PhotonBinner> binner;
-  if (BinsWhileTracing(plan)) binner.emplace(scene_, plan);
+  if (BinsWhileTracing(plan)) binner.emplace(scene_, plan, options_.sh);
   const PhotonBinner* sink = binner ? &*binner : nullptr;
   bool complete = true;
   clock_.Time("trace", [&] { complete = Grow(sink); });
@@ -105,7 +105,10 @@ void PhotonRounds::TraceRound() {
                                                         "binned while they are traced cannot be cut short (with "
                                                         "--save-photons they are stored, and an interrupted bake writes "
                                                         "what it has)", store_.stats.emitted));
-  bins_ = clock_.Time("bin", [&] { return BinPhotons(scene_.surfaces, store_, log_, plan, binner ? &*binner : nullptr); });
+  const Scene* directionsIn = options_.sh ? &scene_.scene : nullptr;
+  bins_ = clock_.Time("bin", [&] {
+    return BinPhotons(scene_.surfaces, store_, log_, plan, binner ? &*binner : nullptr, directionsIn);
+  });
 }
 
 // Where the rounds of --target-noise stand after one (baker/photons/progressive.h).

@@ -1,6 +1,7 @@
 // The glTF output (baker/5_write_gltf.h): a bake written as .glb and .gltf carries the same light per vertex as the
 // PLY of the same bake, COLOR_0 is the linear tone curve of the radiance, the input's objects and materials keep
-// their names, the materials are unlit, and the Khronos glTF Validator finds no error and no warning.
+// their names, the materials are unlit, and the Khronos glTF Validator finds no error and no warning; with --sh, the
+// _SH_R, _SH_G and _SH_B attributes carry the PLY's sh_* properties.
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
@@ -40,21 +41,38 @@ std::array<float, 3> Vec3(const tg::Model& m, int accessor, size_t i) {
   return out;
 }
 
-// Every vertex of every primitive: position (world, through the root's translation), then H, L, COLOR_0, R.
-using Row = std::array<float, 15>;
-std::vector<Row> Rows(const tg::Model& m) {
-  std::vector<Row> rows;
+// Element i of a float VEC4 accessor.
+std::array<float, 4> Vec4(const tg::Model& m, int accessor, size_t i) {
+  const tg::Accessor& a = m.accessors[size_t(accessor)];
+  EXPECT_EQ(a.type, TINYGLTF_TYPE_VEC4);
+  const tg::BufferView& v = m.bufferViews[size_t(a.bufferView)];
+  std::array<float, 4> out{};
+  std::memcpy(out.data(), m.buffers[size_t(v.buffer)].data.data() + v.byteOffset + a.byteOffset + i * 16, 16);
+  return out;
+}
+
+// Calls f(primitive, i, world position) for every vertex i of every primitive (through the root's translation).
+template <typename F>
+void ForEachVertex(const tg::Model& m, F f) {
   const tg::Node& root = m.nodes[size_t(m.scenes[0].nodes[0])];
   const std::vector<double> t = root.translation.empty() ? std::vector<double>{0, 0, 0} : root.translation;
   for (int child : root.children)
     for (const tg::Primitive& p : m.meshes[size_t(m.nodes[size_t(child)].mesh)].primitives)
       for (size_t i = 0; i < m.accessors[size_t(p.attributes.at("POSITION"))].count; ++i) {
-        const auto x = Vec3(m, p.attributes.at("POSITION"), i), h = Vec3(m, p.attributes.at("_IRRADIANCE"), i),
-                   l = Vec3(m, p.attributes.at("_RADIANCE"), i), c = Vec3(m, p.attributes.at("COLOR_0"), i),
-                   r = Vec3(m, p.attributes.at("_REFLECTANCE"), i);
-        rows.push_back({float(t[0] + x[0]), float(t[1] + x[1]), float(t[2] + x[2]), h[0], h[1], h[2], l[0], l[1],
-                        l[2], c[0], c[1], c[2], r[0], r[1], r[2]});
+        const auto x = Vec3(m, p.attributes.at("POSITION"), i);
+        f(p, i, std::array<float, 3>{float(t[0] + x[0]), float(t[1] + x[1]), float(t[2] + x[2])});
       }
+}
+
+// Every vertex of every primitive: position (world), then H, L, COLOR_0, R.
+using Row = std::array<float, 15>;
+std::vector<Row> Rows(const tg::Model& m) {
+  std::vector<Row> rows;
+  ForEachVertex(m, [&](const tg::Primitive& p, size_t i, std::array<float, 3> x) {
+    const auto h = Vec3(m, p.attributes.at("_IRRADIANCE"), i), l = Vec3(m, p.attributes.at("_RADIANCE"), i),
+               c = Vec3(m, p.attributes.at("COLOR_0"), i), r = Vec3(m, p.attributes.at("_REFLECTANCE"), i);
+    rows.push_back({x[0], x[1], x[2], h[0], h[1], h[2], l[0], l[1], l[2], c[0], c[1], c[2], r[0], r[1], r[2]});
+  });
   std::sort(rows.begin(), rows.end());
   return rows;
 }
@@ -84,10 +102,11 @@ class GltfOutput : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = test::TempDirectory("gltf-output");
     const std::string scene = test::WriteClosedBox(dir_, 1.0f, 0.6f, 0.3f, 5.0f);
-    for (const char* out : {"b.ply", "b.glb", "b.gltf"}) {
+    for (const char* out : {"b.ply", "b.glb", "b.gltf", "sh.ply", "sh.glb"}) {
+      const std::string sh = std::string(out).starts_with("sh") ? " --sh" : "";
       const test::ToolRun run = test::RunTool(PB_BAKE_EXE, scene + " -o " + dir_ + "/" + out +
                                                                " --photons 20000 --threads 2 --seed 3 -q --report " +
-                                                               dir_ + "/" + out + ".json");
+                                                               dir_ + "/" + out + ".json" + sh);
       ASSERT_EQ(run.status, 0) << run.output;
     }
   }
@@ -104,6 +123,42 @@ TEST_F(GltfOutput, CarriesTheLightOfThePlyOfTheSameBake) {
       for (int k : {0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 13, 14}) ASSERT_EQ(gltf[v][size_t(k)], ply[v][size_t(k)]) << name << " " << v << " " << k;
     }
   }
+}
+
+// Every vertex: position (world), then sh_r0..sh_r3, sh_g0..sh_g3, sh_b0..sh_b3.
+using ShRow = std::array<float, 15>;
+std::vector<ShRow> ShRows(const tg::Model& m) {
+  std::vector<ShRow> rows;
+  ForEachVertex(m, [&](const tg::Primitive& p, size_t i, std::array<float, 3> x) {
+    ShRow r{x[0], x[1], x[2]};
+    int k = 3;
+    for (const char* channel : {"_SH_R", "_SH_G", "_SH_B"})
+      for (float c : Vec4(m, p.attributes.at(channel), i)) r[size_t(k++)] = c;
+    rows.push_back(r);
+  });
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
+std::vector<ShRow> ShRows(const test::PlyData& ply) {
+  std::vector<ShRow> rows;
+  for (size_t v = 0; v < ply.VertexCount(); ++v) {
+    ShRow r{float(ply.vertex.at("x")[v]), float(ply.vertex.at("y")[v]), float(ply.vertex.at("z")[v])};
+    int k = 3;
+    for (const char* channel : {"r", "g", "b"})
+      for (int c = 0; c < 4; ++c) r[size_t(k++)] = float(ply.vertex.at(std::string("sh_") + channel + std::to_string(c))[v]);
+    rows.push_back(r);
+  }
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
+TEST_F(GltfOutput, CarriesTheShOfThePlyOfTheSameBake) {
+  const std::vector<ShRow> ply = ShRows(test::ReadPly(dir_ + "/sh.ply")), gltf = ShRows(Read(dir_ + "/sh.glb"));
+  ASSERT_EQ(gltf.size(), ply.size());
+  EXPECT_EQ(gltf, ply);
+  EXPECT_GT(std::count_if(ply.begin(), ply.end(), [](const ShRow& r) { return r[5] != 0; }), 0) << "some light";
+  EXPECT_FALSE(Read(dir_ + "/b.glb").meshes[0].primitives[0].attributes.count("_SH_R")) << "only with --sh";
 }
 
 TEST_F(GltfOutput, Color0IsTheLinearToneCurveOfTheRadiance) {
@@ -142,8 +197,10 @@ TEST_F(GltfOutput, PassesTheKhronosValidator) {
                     "(tools/run-tests.sh does, and then requires it)";
   }
   const test::ToolRun run = test::RunTool("PB_GLTF_VALIDATOR_MODULE=" + ValidatorModule() + " node",
-                                          PB_SOURCE_DIR "/tools/gltf-validate.js " + dir_ + "/b.glb " + dir_ + "/b.gltf");
+                                          PB_SOURCE_DIR "/tools/gltf-validate.js " + dir_ + "/b.glb " + dir_ +
+                                              "/b.gltf " + dir_ + "/sh.glb");
   EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("sh.glb: 0 errors, 0 warnings"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("b.glb: 0 errors, 0 warnings"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("b.gltf: 0 errors, 0 warnings"), std::string::npos) << run.output;
 }

@@ -67,7 +67,8 @@ TEST(BakeMpi, ThreeRanksWriteTheBytesOfOneProcess) {
   }
 }
 
-// A grey room under an image sky through its window and an IES lamp inside: three ranks bake the bytes of one.
+// A grey room under an image sky through its window and an IES lamp inside, with --sh: three ranks bake the bytes of
+// one.
 TEST(BakeMpi, IesLampsAndSkyImagesBakeAsInOneProcess) {
   REQUIRE_BAKE_MPI();
   const std::string dir = test::TempDirectory("bake-mpi-lights");
@@ -87,12 +88,13 @@ TEST(BakeMpi, IesLampsAndSkyImagesBakeAsInOneProcess) {
   test::WriteText(dir + "/r.lights.json", R"({"lights": [{"type": "sky", "image": "sky.exr"},
       {"type": "point", "ies": "lamp.ies", "position_m": [0.5, 0.8, 0.3], "scale": 10}],
       "portals": [{"corners_m": [[-0.25, 1, -0.25], [0.25, 1, -0.25], [0.25, 1, 0.25], [-0.25, 1, 0.25]]}]})");
-  const std::string common = dir + "/r.obj -q --photons 600000 --h 0.2 --direct-samples 16";
+  const std::string common = dir + "/r.obj -q --photons 600000 --h 0.2 --direct-samples 16 --sh";
   const test::ToolRun single = test::RunTool(PB_BAKE_EXE, common + " -o " + dir + "/one.ply");
   ASSERT_EQ(single.status, 0) << single.output;
   const test::ToolRun run = test::RunTool(kMpirun, common + " -o " + dir + "/mpi.ply");
   ASSERT_EQ(run.status, 0) << run.output;
   EXPECT_TRUE(test::ReadBytes(dir + "/mpi.ply") == test::ReadBytes(dir + "/one.ply"));
+  EXPECT_NE(test::ReadBytes(dir + "/mpi.ply").find("property float sh_b3"), std::string::npos);
 }
 
 TEST(BakeMpi, BadInputAndUnsharedOptionsAreReportedOnce) {
