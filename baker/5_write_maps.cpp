@@ -25,8 +25,24 @@ GridSize TexelGrid(const Bounds2& b, float texel) {
 
 std::string Vec(double x, double y, double z) { return fmt::format("{:.9g} {:.9g} {:.9g}", x, y, z); }
 
+// The planes sh_r0..sh_r3, sh_g0..sh_g3, sh_b0..sh_b3 of `texels` texels, named as the PLY's properties.
+std::vector<ExrChannel> ShChannels(size_t texels) {
+  std::vector<ExrChannel> channels;
+  for (const char c : {'r', 'g', 'b'})
+    for (int k = 0; k < 4; ++k) channels.push_back({fmt::format("sh_{}{}", c, k), std::vector<float>(texels)});
+  return channels;
+}
+
+void StoreSh(std::vector<ExrChannel>& channels, size_t texel, const ShL1& sh) {
+  for (size_t k = 0; k < 4; ++k) {
+    channels[k].values[texel] = sh.c[k].r;
+    channels[4 + k].values[texel] = sh.c[k].g;
+    channels[8 + k].values[texel] = sh.c[k].b;
+  }
+}
+
 void WriteSurfaceMap(OutputFiles& outputs, const std::string& path, float texel, const IrradianceField& field,
-                     const SurfacePointSampler& sampler, uint32_t s, Progress& progress) {
+                     const SurfacePointSampler& sampler, uint32_t s, bool sh, Progress& progress) {
   const Scene& scene = field.Prepared().scene;
   const Surface& surface = field.Prepared().surfaces.surfaces[s];
   const SurfaceRegion& region = *field.Prepared().regions[s];
@@ -36,6 +52,7 @@ void WriteSurfaceMap(OutputFiles& outputs, const std::string& path, float texel,
   Image image(nu, nv);
   std::vector<float> coverage(size_t(nu) * size_t(nv));
   const std::vector<double> area = region.GridOverlapAreas(b.lo, texel, nu, nv);
+  std::vector<ExrChannel> channels = sh ? ShChannels(coverage.size()) : std::vector<ExrChannel>{};
   // Row by row, in parallel: a map of 10^8 texels is minutes of work, and each texel's estimate is its own.
   tbb::parallel_for(0, nv, [&](int j) {
     for (int i = 0; i < nu; ++i) {
@@ -43,26 +60,32 @@ void WriteSurfaceMap(OutputFiles& outputs, const std::string& path, float texel,
       coverage[k] = float(std::clamp(area[k] / (double(texel) * texel), 0.0, 1.0));
       if (coverage[k] == 0) continue;
       const Point2 uv{b.lo.u + (float(i) + 0.5f) * texel, b.lo.v + (float(j) + 0.5f) * texel};
-      image.At(i, j) = field.Irradiance(sampler.AtChartPoint(s, uv));
+      const SurfacePoint p = sampler.AtChartPoint(s, uv);
+      image.At(i, j) = field.Irradiance(p);
+      if (sh) StoreSh(channels, k, ShProjection(field.Moments(p), p.normal, image.At(i, j)));
     }
     progress.Advance(uint64_t(nu));
   });
   const SurfaceChart& chart = surface.chart;
   const std::array<double, 3> o = scene.ToWorld(chart.origin);
   const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
-  WriteExr(outputs, path, image,
-           {{"quantity", "irradiance"},
-            {"units", "W/m^2, linear Rec.709 RGB; A: fraction of the texel on the surface"},
-            {"surface", std::to_string(s)},
-            {"object", object},
-            {"material", scene.materials[surface.material].name},
-            {"chart", surface.planar ? "planar projection" : "least-squares conformal map"},
-            {"texel_size_m", fmt::format("{:.9g}", texel)},
-            {"uv_corner_m", fmt::format("{:.9g} {:.9g}", b.lo.u, b.lo.v)},
-            {"chart_origin_m", Vec(o[0], o[1], o[2])},
-            {"chart_u_axis", Vec(chart.frame.s.x, chart.frame.s.y, chart.frame.s.z)},
-            {"chart_v_axis", Vec(chart.frame.t.x, chart.frame.t.y, chart.frame.t.z)}},
-           &coverage);
+  std::vector<std::pair<std::string, std::string>> attributes = {
+      {"quantity", "irradiance"},
+      {"units", "W/m^2, linear Rec.709 RGB; A: fraction of the texel on the surface"},
+      {"surface", std::to_string(s)},
+      {"object", object},
+      {"material", scene.materials[surface.material].name},
+      {"chart", surface.planar ? "planar projection" : "least-squares conformal map"},
+      {"texel_size_m", fmt::format("{:.9g}", texel)},
+      {"uv_corner_m", fmt::format("{:.9g} {:.9g}", b.lo.u, b.lo.v)},
+      {"chart_origin_m", Vec(o[0], o[1], o[2])},
+      {"chart_u_axis", Vec(chart.frame.s.x, chart.frame.s.y, chart.frame.s.z)},
+      {"chart_v_axis", Vec(chart.frame.t.x, chart.frame.t.y, chart.frame.t.z)}};
+  if (sh)
+    attributes.emplace_back("sh", "sh_C0..sh_C3: L1 spherical harmonics of the incident radiance [W/(m^2 sr)] per "
+                                  "channel C: L00 and L1 along world x, y, z; E(n) = 2.0466534 (sh_C1 nx + sh_C2 ny + "
+                                  "sh_C3 nz)");
+  WriteExr(outputs, path, image, attributes, &coverage, channels);
 }
 
 }  // namespace
@@ -115,7 +138,7 @@ std::vector<std::string> MapPaths(const std::string& directory, size_t surfaces)
 }
 
 MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,
-                                const SplitMesh& base, const Log& log, const std::vector<bool>& only) {
+                                const SplitMesh& base, const Log& log, const std::vector<bool>& only, bool sh) {
   const PreparedScene& prepared = field.Prepared();
   const SurfaceSet& surfaces = prepared.surfaces;
   const SurfaceRegions& regions = prepared.regions;
@@ -134,7 +157,7 @@ MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directo
   const SurfacePointSampler sampler(prepared.scene, surfaces, base);
   Progress progress(log, "irradiance maps (texels)", written.texels);
   tbb::parallel_for(size_t(0), mapped.size(), [&](size_t i) {
-    WriteSurfaceMap(outputs, written.paths[i], texel, field, sampler, mapped[i], progress);
+    WriteSurfaceMap(outputs, written.paths[i], texel, field, sampler, mapped[i], sh, progress);
   });
   return written;
 }

@@ -9,7 +9,8 @@
 // (SurfacePointSampler::AtChartPoint: on curved charts with the area ratio interpolated from the vertices, so
 // that a texel centre at a vertex reads exactly what the vertex holds); a centre off the surface reads the
 // surface's nearest point. The header names the quantity and units, the surface (index, object, material), the texel size and
-// the chart: origin and u, v axes in world coordinates [m], and (u0, v0).
+// the chart: origin and u, v axes in world coordinates [m], and (u0, v0). With --sh, twelve more channels hold the
+// L1 SH of the incident radiance (estimators/incident_moments.h).
 #pragma once
 
 #include <string>
@@ -43,8 +44,10 @@ std::vector<std::string> MapTimeWarnings(float texel, const SurfaceRegions& regi
 double MapMemoryBytes(float texel, const SurfaceRegions& regions, unsigned threads);
 
 // `base` is SplitBySurface of the field's scene, every surface. With `only` (a flag per surface, --only), the maps
-// of those surfaces alone, each the same as in a bake of them all.
+// of those surfaces alone, each the same as in a bake of them all. With `sh` (--sh; the field's moments prepared),
+// each map also holds the channels sh_r0..sh_b3, the texel's L1 SH as a vertex's (EstimateDirections).
 MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,
-                                const SplitMesh& base, const Log& log, const std::vector<bool>& only = {});
+                                const SplitMesh& base, const Log& log, const std::vector<bool>& only = {},
+                                bool sh = false);
 
 }  // namespace pb

@@ -364,15 +364,16 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   WarnAboutTheLight(journal, o, scene, rounds, lit, log);
   const float exposure = DisplayExposure(lit.baked, o.exposure);
 
+  if (o.sh) clock.Time("directions", [&] { lit.field->PrepareMoments(rounds.Bins(), &log); });
   MapsWritten maps;
   const double secondsPerPoint = SecondsPerPoint(lit, rounds, clock);  // what a texel or a refined vertex costs
   journal.Warn(SubdivisionTimeWarnings(scene.scene.triangles.size(), o.refine.subdivide, secondsPerPoint), log);
   if (!o.mapsDirectory.empty()) {
     journal.Warn(MapTimeWarnings(o.texel, scene.regions, secondsPerPoint), log);
     maps = clock.Time("maps", [&] {
-      if (o.only.empty()) return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, lit.baked.mesh, log);
+      if (o.only.empty()) return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, lit.baked.mesh, log, {}, o.sh);
       return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, SplitBySurface(scene.scene, scene.surfaces),
-                                 log, EstimatedSurfaces(o, scene));
+                                 log, EstimatedSurfaces(o, scene), o.sh);
     });
   }
   RefineReport refine;
@@ -384,10 +385,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
     journal.Warn(refine.warnings, log);
   }
   if (o.sh)
-    lit.baked.sh = clock.Time("directions", [&] {
-      lit.field->PrepareMoments(rounds.Bins(), &log);
-      return EstimateDirections(field, lit.baked, log);
-    });
+    lit.baked.sh = clock.Time("directions", [&] { return EstimateDirections(field, lit.baked, log); });
 
   BakeReport report = DescribeBake({o, threads.Count(), scene, rounds.Store(), rounds.Bins(), field, lit.baked,
                                     exposure, refine, maps, rounds.Report(), lit.noise, journal.stageSeconds, journal.warnings});

@@ -184,8 +184,8 @@ void DefineOutputOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("--maps", o.mapsDirectory, "also write each surface's irradiance H(u,v) as an OpenEXR map into "
                                             "this folder, created if missing (surface_N.exr; docs/bake.md, 'Irradiance maps')");
   app.add_flag("--sh", o.sh, "also write where each vertex's light comes from: the L1 spherical harmonics of its "
-                             "incident radiance per colour (PLY sh_r0..sh_b3, glTF _SH_R/_SH_G/_SH_B; docs/bake.md, "
-                             "'Directional light')");
+                             "incident radiance per colour (PLY sh_r0..sh_b3, glTF _SH_R/_SH_G/_SH_B, --maps channels "
+                             "sh_r0..sh_b3; docs/bake.md, 'Directional light')");
   app.add_option("--texel", o.texel, "texel side of --maps [m]; range 1e-6 to 1e4, typical 0.005-0.05")->capture_default_str();
   app.add_option("--preview", o.previewPath, "also write a PNG of the baked mesh as a viewer shows it (vertex colours, "
                                             "no lighting), from the scene's camera SCENE.camera.json or --camera");

@@ -41,6 +41,12 @@ Imf::Slice FloatSlice(const Image& image, size_t channel) {
   return Imf::Slice(Imf::FLOAT, base, sizeof(Rgb), sizeof(Rgb) * size_t(image.width));
 }
 
+// One float per pixel, row-major, `width` to a row; `fill` where a file read has no such channel.
+Imf::Slice PlaneSlice(const std::vector<float>& plane, int width, double fill = 0.0) {
+  char* base = const_cast<char*>(reinterpret_cast<const char*>(plane.data()));
+  return Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * size_t(width), 1, 1, fill);
+}
+
 void PngWrite(png_structp png, png_bytep data, png_size_t length) {
   static_cast<std::ostream*>(png_get_io_ptr(png))->write(reinterpret_cast<const char*>(data), std::streamsize(length));
 }
@@ -49,11 +55,13 @@ void PngFlush(png_structp) {}
 }  // namespace
 
 void WriteExr(OutputFiles& outputs, const std::string& path, const Image& image,
-              const std::vector<std::pair<std::string, std::string>>& attributes, const std::vector<float>* alpha) {
+              const std::vector<std::pair<std::string, std::string>>& attributes, const std::vector<float>* alpha,
+              const std::vector<ExrChannel>& channels) {
   outputs.Write(path, [&](std::ostream& out) {
     Imf::Header header(image.width, image.height);
     for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
     if (alpha) header.channels().insert("A", Imf::Channel(Imf::FLOAT));
+    for (const ExrChannel& c : channels) header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
     header.insert("quantity", Imf::StringAttribute("radiance"));
     header.insert("units", Imf::StringAttribute("W/(m^2 sr), linear Rec.709 RGB"));
     for (const auto& [key, value] : attributes) header.insert(key, Imf::StringAttribute(value));
@@ -61,9 +69,8 @@ void WriteExr(OutputFiles& outputs, const std::string& path, const Image& image,
     frame.insert("R", FloatSlice(image, 0));
     frame.insert("G", FloatSlice(image, 1));
     frame.insert("B", FloatSlice(image, 2));
-    if (alpha)
-      frame.insert("A", Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(alpha->data())),
-                                   sizeof(float), sizeof(float) * size_t(image.width)));
+    if (alpha) frame.insert("A", PlaneSlice(*alpha, image.width));
+    for (const ExrChannel& c : channels) frame.insert(c.name, PlaneSlice(c.values, image.width));
     ExrStream stream(out, path);
     try {
       Imf::OutputFile file(stream, header);
@@ -76,7 +83,7 @@ void WriteExr(OutputFiles& outputs, const std::string& path, const Image& image,
 }
 
 Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes,
-              std::vector<float>* alpha) {
+              std::vector<float>* alpha, std::vector<ExrChannel>* channels) {
   try {
     Imf::InputFile file(path.c_str());
     if (attributes)
@@ -89,9 +96,10 @@ Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::s
     for (size_t c = 0; c < 3; ++c) frame.insert(c == 0 ? "R" : c == 1 ? "G" : "B", FloatSlice(image, c));
     if (alpha) {
       alpha->assign(image.pixels.size(), 0.0f);
-      frame.insert("A", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(alpha->data()), sizeof(float),
-                                   sizeof(float) * size_t(image.width), 1, 1, 1.0));
+      frame.insert("A", PlaneSlice(*alpha, image.width, 1.0));
     }
+    if (channels)
+      for (ExrChannel& c : *channels) c.values.assign(image.pixels.size(), 0.0f), frame.insert(c.name, PlaneSlice(c.values, image.width));
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
     return image;

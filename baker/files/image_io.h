@@ -22,15 +22,22 @@ struct Image {
   const Rgb& At(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
+// A float channel of an EXR image besides R, G, B and A: one value per pixel, row-major, top row first.
+struct ExrChannel {
+  std::string name;
+  std::vector<float> values;
+};
+
 // Extra string attributes go into the EXR header beside "quantity" and "units" (radiance unless the attributes
-// name another). With `alpha` (one value per pixel) the image also gets an A channel.
+// name another). With `alpha` (one value per pixel) the image also gets an A channel, and `channels` after it.
 void WriteExr(OutputFiles& outputs, const std::string& path, const Image& image,
               const std::vector<std::pair<std::string, std::string>>& attributes = {},
-              const std::vector<float>* alpha = nullptr);
+              const std::vector<float>* alpha = nullptr, const std::vector<ExrChannel>& channels = {});
 // For tests and tools; InputError on failure. With `attributes`, also returns the header's string attributes;
-// with `alpha`, the A channel (one value per pixel, row-major; 1 where the file has none).
+// with `alpha`, the A channel (one value per pixel, row-major; 1 where the file has none); with `channels`, the
+// channels of those names (0 where the file has none).
 Image ReadExr(const std::string& path, std::vector<std::pair<std::string, std::string>>* attributes = nullptr,
-              std::vector<float>* alpha = nullptr);
+              std::vector<float>* alpha = nullptr, std::vector<ExrChannel>* channels = nullptr);
 void WritePng(OutputFiles& outputs, const std::string& path, const Image& image, float exposure);
 // An 8-bit RGB PNG of display colours as they are (`rgb`: 3 bytes per pixel, row-major, top row first).
 void WritePngRgb8(OutputFiles& outputs, const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);

@@ -16,10 +16,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "baker/bake.h"
+#include "baker/files/image_io.h"
 #include "estimators/incident_moments.h"
 #include "tests/lambert.h"
 #include "tests/ply_reader.h"
@@ -61,8 +65,9 @@ ShL1 ShOf(const test::PlyData& ply, size_t v) {
 
 // Bakes `scene` with --sh, 1M photons and h [m] into dir/out.ply; its report into `report` when given.
 test::PlyData BakeWithSh(const std::string& scene, const std::string& dir, float h, DirectLight direct,
-                         BakeReport* report = nullptr, bool stored = false) {
+                         BakeReport* report = nullptr, bool stored = false, bool maps = false) {
   BakeOptions o;
+  if (maps) o.mapsDirectory = dir + "/maps", o.texel = 0.1f;
   if (stored) o.savePhotonsPath = dir + "/photons";  // which keeps every photon stored, not binned while traced
   o.scenePath = scene;
   o.outputPath = dir + "/out.ply";
@@ -138,6 +143,46 @@ TEST(Directional, BinnedWhileTracedAsStored) {
       }
   EXPECT_GT(largest, 0.1);
   EXPECT_LT(difference, 1e-5 * largest);
+}
+
+// A map's texels carry the SH as vertices do: on the floor's map, the interior texels' L1 points at the light's
+// centroid (the photons alone, as above) and E at the floor's normal is the texel's H.
+TEST(Directional, MapsCarryTheShToo) {
+  const std::string dir = test::TempDirectory("sh-maps");
+  BakeWithSh(test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 40), dir, 0.1f, DirectLight::kPhotons,
+             nullptr, false, true);
+  int checked = 0;
+  double sumAngle = 0;
+  for (const auto& file : std::filesystem::directory_iterator(dir + "/maps")) {
+    std::vector<std::pair<std::string, std::string>> attributes;
+    std::vector<float> coverage;
+    std::vector<ExrChannel> sh;
+    for (const char c : {'r', 'g', 'b'})
+      for (int k = 0; k < 4; ++k) sh.push_back({std::string("sh_") + c + std::to_string(k), {}});
+    const Image image = ReadExr(file.path().string(), &attributes, &coverage, &sh);
+    std::map<std::string, std::string> a(attributes.begin(), attributes.end());
+    double ox, oy, oz, ux, uy, uz, vx, vy, vz, u0, v0;
+    std::istringstream(a.at("chart_origin_m")) >> ox >> oy >> oz;
+    std::istringstream(a.at("chart_u_axis")) >> ux >> uy >> uz;
+    std::istringstream(a.at("chart_v_axis")) >> vx >> vy >> vz;
+    std::istringstream(a.at("uv_corner_m")) >> u0 >> v0;
+    if (oy != 0 || uy != 0 || vy != 0) continue;  // the light's map
+    for (int j = 0; j < image.height; ++j)
+      for (int i = 0; i < image.width; ++i) {
+        const size_t k = size_t(j) * size_t(image.width) + size_t(i);
+        const double u = u0 + (i + 0.5) * 0.1, v = v0 + (j + 0.5) * 0.1;
+        const V3 x{ox + u * ux + v * vx, 0, oz + u * uz + v * vz};
+        if (coverage[k] < 0.999 || std::fabs(x.x) > 1.5 || std::fabs(x.z) > 1.5) continue;
+        const V3 l1{sh[5].values[k], sh[6].values[k], sh[7].values[k]};
+        const double angle = AngleDegrees(l1, IrradianceVector(x));
+        EXPECT_LT(angle, 10) << "texel at (" << x.x << ", " << x.z << ")";
+        sumAngle += angle;
+        EXPECT_NEAR(std::sqrt(4 * M_PI / 3) * l1.y, image.At(i, j).g, 1e-5 * image.At(i, j).g);
+        ++checked;
+      }
+  }
+  ASSERT_EQ(checked, 900);
+  EXPECT_LT(sumAngle / checked, 1);
 }
 
 TEST(Directional, ShadowRaysPointAtTheLightsCentroid) {
@@ -267,4 +312,5 @@ TEST(Directional, ProjectionSetsTheNormalComponentToTheIrradiance) {
 
 }  // namespace
 }  // namespace pb
+
 
