@@ -27,7 +27,7 @@ out, sweep = sys.argv[1], [int(s) for s in sys.argv[2].split(",")]
 rows = {}
 for sampling in ("brdf", "photons"):
     report = json.load(open(f"{out}/{sampling}.json"))
-    setup = sum(v for k, v in report["seconds"].items() if k in ("trace photons", "photon map"))
+    setup = sum(v for k, v in report["seconds"].items() if k in ("trace photons", "photon map", "importance cache"))
     images = [f"{out}/{sampling}_spp{s}.exr" for s in sweep]
     errors = subprocess.run(["build/image_error", f"{out}/reference.exr"] + images, check=True,
                             capture_output=True, text=True).stdout.split("\n")

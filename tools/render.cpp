@@ -23,12 +23,19 @@ void DefineOptions(CLI::App& app, pb::RenderOptions& o) {
   pb::tools::AddNamedOption(app, "--sampling", o.path.sampling, pb::ParseSampling, pb::SamplingName,
                             pb::JoinNames(pb::kAllSamplings, pb::SamplingName), "sampling",
                             "direction sampling at diffuse surfaces: the BRDF alone, or the photon importance map");
+  app.add_flag("!--no-light-sampling", o.path.lightSampling,
+               "find the lights only by hitting them, the paper's pure form; by default each diffuse hit also casts "
+               "one shadow ray to them (next-event estimation), in both samplers");
   app.add_option("--photons", o.photons, "photons traced for the photon map (--sampling photons)")->capture_default_str();
   app.add_option("--neighbours", o.path.neighbours, "nearest photons per importance map; >= 1, typical 20-200")
       ->capture_default_str();
   pb::tools::AddPairOption(app, "--regions", o.path.thetaRegions, o.path.phiRegions,
                 "importance map regions, THETAxPHI (equal solid angle; powers of two for --warp mipmap)");
   app.add_option("--floor", o.path.floorFraction, "fraction of the total importance spread over every region; [0, 1]")
+      ->capture_default_str();
+  app.add_option("--cache-stride", o.path.cacheStride,
+                 "importance maps are built once, at every Nth photon, and a hit uses the nearest facing its way; "
+                 "0 builds one at every hit (the paper's form); 0-1000000")
       ->capture_default_str();
   pb::tools::AddNamedOption(app, "--warp", o.path.warp, pb::ParseWarp, pb::WarpName,
                             pb::JoinNames(pb::kAllWarps, pb::WarpName), "warp",

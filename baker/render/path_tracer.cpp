@@ -7,15 +7,6 @@
 #include "mesh/errors.h"
 
 namespace pb {
-namespace {
-
-// A neighbour whose surface normal is more than about 25 degrees from the hit's describes light arriving at a
-// different surface (the floor beside a wall, the other side of a thin panel); it would steer samples toward
-// directions that do not light this point.
-constexpr float kSameSurfaceCosine = 0.9f;
-
-}  // namespace
-
 std::string SamplingName(DirectionSampling s) { return s == DirectionSampling::kBrdf ? "brdf" : "photons"; }
 std::string WarpName(ImportanceWarp w) { return w == ImportanceWarp::kMipmap ? "mipmap" : "inversion"; }
 
@@ -23,29 +14,28 @@ void PathStats::Add(const PathStats& o) {
   paths += o.paths;
   rays += o.rays;
   importanceMaps += o.importanceMaps;
+  mapsBuiltAtHits += o.mapsBuiltAtHits;
   importanceSeconds += o.importanceSeconds;
 }
 
-PathTracer::PathTracer(const Scene& scene, const RayScene& rays, const PhotonMap* photons, const PathSettings& settings)
-    : scene_(scene), rays_(rays), photons_(photons), settings_(settings) {
+PathTracer::PathTracer(const Scene& scene, const RayScene& rays, const PhotonMap* photons, const LightSampler* lights,
+                       const PathSettings& settings, const ImportanceCache* cache)
+    : scene_(scene), rays_(rays), photons_(photons), lights_(lights), settings_(settings), cache_(cache) {
   PB_CHECK(settings.sampling == DirectionSampling::kBrdf || photons != nullptr, "photon sampling needs a photon map");
+  PB_CHECK(!settings.lightSampling || lights != nullptr, "light sampling needs the lights");
 }
 
 PathTracer::Direction PathTracer::SampleByPhotons(Point3 p, Normal3 side, Rgb albedo, Point2 u, PathScratch& scratch,
                                                   PathStats& stats) const {
   const auto start = std::chrono::steady_clock::now();
   const Frame frame = Frame::FromNormal(side);
-  const float brdf = Luminance(albedo) * kInvPi;  // Lambertian: the same for every pair of directions
-  ImportanceMap& map = scratch.map;
-  map.Clear();
-  const size_t found = photons_->Nearest(p, settings_.neighbours, scratch.indices, scratch.distance2);
-  for (size_t i = 0; i < found; ++i) {
-    const MapPhoton& photon = (*photons_)[scratch.indices[i]];
-    if (Dot(photon.normal, side) < kSameSurfaceCosine) continue;  // light that reached another surface
-    map.Add(frame.ToLocal(photon.wi), Luminance(photon.flux) * brdf);  // ignored unless in the hemisphere
+  const ImportanceMap* map = cache_ ? cache_->At(p, side, scratch.indices, scratch.distance2) : nullptr;
+  if (map == nullptr) {
+    BuildImportanceMap(scratch.map, *photons_, p, side, settings_.Map(), scratch.indices, scratch.distance2);
+    map = &scratch.map;
+    ++stats.mapsBuiltAtHits;
   }
-  map.Finish(settings_.floorFraction);
-  const ImportanceSample s = map.Sample(u, settings_.warp);
+  const ImportanceSample s = map->Sample(u, settings_.warp);
   ++stats.importanceMaps;
   stats.importanceSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // f cos / pdf, with f = Kd / pi.
@@ -55,13 +45,27 @@ PathTracer::Direction PathTracer::SampleByPhotons(Point3 p, Normal3 side, Rgb al
 Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& scratch, PathStats& stats) const {
   ++stats.paths;
   Rgb radiance, throughput{1, 1, 1};
+  bool countEmission = true;  // from the camera, after a specular event, or without light sampling
+  const bool sampled = settings_.lightSampling;
+  // Kd / pi E_d at a hit with a diffuse lobe, before the event is chosen (so that Russian roulette does not
+  // discard it): the shadow ray's part of the path.
+  const auto nextEvent = [&](const SurfaceHit& at) {
+    const MaterialClass kind = at.material->kind;
+    if ((kind != MaterialClass::kDiffuse && kind != MaterialClass::kMirror) || at.albedo.IsBlack()) return;
+    ++stats.rays;
+    radiance += throughput * at.albedo * lights_->Irradiance(at.point, at.side, 1, rng).irradiance * float(kInvPi);
+  };
   for (uint32_t depth = 0; depth < settings_.maxDepth; ++depth) {
     ++stats.rays;
     const auto hit = rays_.Intersect(origin, direction);
-    if (!hit) break;
+    if (!hit) {
+      if (sampled && countEmission) radiance += throughput * lights_->SkyRadiance(direction);
+      break;
+    }
     const SurfaceHit at = SurfaceHit::Meet(scene_, *hit, direction);
     const Material& material = *at.material;
-    if (at.onFront && material.IsEmissive()) radiance += throughput * material.emission;
+    if (at.onFront && material.IsEmissive() && countEmission) radiance += throughput * material.emission;
+    if (sampled) nextEvent(at);
     const float uEvent = rng.Uniform();
     const Point2 uDirection = rng.Uniform2();
     bool transmitted = false;
@@ -71,6 +75,7 @@ Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& s
       const Direction d = SampleByPhotons(at.point, at.side, at.albedo, uDirection, scratch, stats);
       throughput = throughput * d.weight / survival;
       direction = d.wi;
+      countEmission = !sampled;
     } else {
       const ScatterSample s =
           SampleScatter(material, at.albedo, -direction, at.front, TransportMode::kRadiance, uEvent, uDirection);
@@ -78,6 +83,7 @@ Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& s
       throughput = throughput * s.weight;
       direction = s.wi;
       transmitted = s.transmitted;
+      countEmission = !sampled || s.Specular();
     }
     origin = at.NextOrigin(rays_, transmitted);
   }

@@ -1,7 +1,12 @@
 // The importance-driven path tracer of the particle-tracing paper's second half (Jensen 1995, "Importance
 // Driven Path Tracing using the Photon Map"). A path starts at the camera and continues at each surface in a new
 // direction until it is absorbed, leaves the scene or reaches maxDepth. Radiance [W/(m^2 sr)] is collected when
-// a path reaches a light's front side (the paper's pure form: lights are hit, not sampled).
+// a path reaches a light's front side (the paper's pure form: lights are hit, not sampled), or, with light
+// sampling (next-event estimation, the default), from one shadow ray to the lights at each diffuse hit
+// (estimators/light_sampler.h, one sample: Kd / pi E_d, the sky and the point, spot and sun lights included); a
+// path then counts the emission it meets only straight from the camera or after a mirror or glass, which no
+// shadow ray covers, and a path that escapes after one sees the sky. Every path of light is counted once (as
+// estimators/irradiance_gather.h). Both samplers share it, so that their comparison is about indirect directions.
 //
 // At a diffuse surface the direction comes from one of two samplers:
 //   kBrdf:    cosine-weighted, the BRDF alone (the baseline); weight Kd / max(Kd) with Russian roulette.
@@ -10,7 +15,9 @@
 //             Jensen's photon map lookups) each add power x BRDF (luminance) to the region of their incoming
 //             direction; a floor fraction of the total is spread over all regions (estimators/importance_map.h).
 //             The direction is drawn by the chosen warp and weighted by f cos / pdf: for equal-area regions the
-//             pdf is P_k n / (2 pi), so the weight holds the paper's scale factor s = I / (I_k n).
+//             pdf is P_k n / (2 pi), so the weight holds the paper's scale factor s = I / (I_k n). With a cache
+//             (estimators/importance_cache.h, the default), the map is a nearby site's, built once before the
+//             paths; a hit builds its own only where no site faces its way.
 // Mirrors and glass scatter by their own lobes (estimators/scatter.h) in radiance mode.
 //
 // Determinism: a pixel's samples draw from one stream keyed by (seed, pixel index) in order (baker/render/render.h), so
@@ -21,7 +28,9 @@
 #include <string>
 
 #include "estimators/enum_names.h"
+#include "estimators/importance_cache.h"
 #include "estimators/importance_map.h"
+#include "estimators/light_sampler.h"
 #include "estimators/photon_map.h"
 #include "estimators/rng.h"
 #include "mesh/ray_scene.h"
@@ -39,15 +48,21 @@ inline std::optional<ImportanceWarp> ParseWarp(std::string_view s) { return Pars
 
 struct PathSettings {
   DirectionSampling sampling = DirectionSampling::kBrdf;
-  uint32_t neighbours = 50;       // N nearest photons per importance map; >= 1, typical 20-200
-  // Defaults measured on the box (docs/render.md, "Photon-driven path tracing"): with 50 photons, 4 x 8 regions and a
-  // 0.3 floor gave the lowest RMSE at equal spp of the settings tried; finer maps are too sparse (rare
+  uint32_t neighbours = 200;      // N nearest photons per importance map; >= 1, typical 20-800
+  // Defaults measured on the box (docs/render.md, "Photon-driven path tracing"): with light sampling and cached maps,
+  // 200 photons, 4 x 8 regions and a 0.3 floor gave the lowest mean absolute error at equal spp of the settings
+  // tried (50-800 photons, floors 0.1 and 0.3, every 16th or 64th photon a site); finer maps are too sparse (rare
   // floor-weighted samples become fireflies).
   int thetaRegions = 4;           // importance map rows (equal solid angle bands from the normal)
   int phiRegions = 8;             // importance map columns (azimuth)
   float floorFraction = 0.3f;     // share of the total importance spread over all regions; [0, 1]
   ImportanceWarp warp = ImportanceWarp::kMipmap;
+  // Sites of the importance cache: every cacheStride-th photon; 0 builds a map at every hit (the paper's form).
+  uint32_t cacheStride = 64;
+  bool lightSampling = true;      // one shadow ray per diffuse hit (next-event estimation); off: lights are hit
   uint32_t maxDepth = 1000;       // safety cap on surfaces per path
+
+  MapSettings Map() const { return {neighbours, thetaRegions, phiRegions, floorFraction}; }
 };
 
 // Per-thread working memory, reused from path to path.
@@ -59,15 +74,18 @@ struct PathScratch {
 };
 
 struct PathStats {
-  uint64_t paths = 0, rays = 0, importanceMaps = 0;
-  double importanceSeconds = 0;  // thread-seconds spent finding neighbours and building maps
+  uint64_t paths = 0, rays = 0;
+  uint64_t importanceMaps = 0;    // directions drawn from importance maps
+  uint64_t mapsBuiltAtHits = 0;   // of them, from maps built at the hit (no cache, or no site facing its way)
+  double importanceSeconds = 0;   // thread-seconds spent finding maps (and building them) and drawing from them
   void Add(const PathStats& o);
 };
 
 class PathTracer {
  public:
-  // `photons` may be null for kBrdf.
-  PathTracer(const Scene& scene, const RayScene& rays, const PhotonMap* photons, const PathSettings& settings);
+  // `photons` may be null for kBrdf, `lights` without lightSampling, `cache` for maps built at every hit.
+  PathTracer(const Scene& scene, const RayScene& rays, const PhotonMap* photons, const LightSampler* lights,
+             const PathSettings& settings, const ImportanceCache* cache = nullptr);
   // Radiance arriving at `origin` from direction -`direction` [W/(m^2 sr)], one sample.
   Rgb Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& scratch, PathStats& stats) const;
 
@@ -81,7 +99,9 @@ class PathTracer {
   const Scene& scene_;
   const RayScene& rays_;
   const PhotonMap* photons_;
+  const LightSampler* lights_;
   PathSettings settings_;
+  const ImportanceCache* cache_;
 };
 
 }  // namespace pb

@@ -54,6 +54,7 @@ void RenderOptions::Validate() const {
     RequireOption(s >= 1 && s <= kMostSamplesPerPixel, "--spp-sweep", "every count must lie in [1, 2^24]");
   RequireOption(path.neighbours >= 1 && path.neighbours <= 1'000'000, "--neighbours", "must lie in [1, 1000000]");
   RequireOption(Within(path.floorFraction, 0, 1), "--floor", "must lie in [0, 1]");
+  RequireOption(path.cacheStride <= 1'000'000, "--cache-stride", "must lie in [0, 1000000]");
   const auto powerOfTwo = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
   RequireOption(path.thetaRegions >= 1 && path.phiRegions >= 1 && int64_t(path.thetaRegions) * path.phiRegions <= 65536,
                 "--regions", "needs ROWSxCOLS with 1 <= ROWS x COLS <= 65536");
@@ -120,6 +121,7 @@ Camera InLocalCoordinates(Camera c, const Scene& scene) {
 std::vector<std::pair<std::string, std::string>> ExrAttributes(const RenderOptions& o, uint32_t spp) {
   return {{"scene", o.scenePath},
           {"sampling", SamplingName(o.path.sampling)},
+          {"light_sampling", o.path.lightSampling ? "on" : "off"},
           {"spp", std::to_string(spp)},
           {"photons", o.path.sampling == DirectionSampling::kPhotons ? std::to_string(o.photons) : "0"},
           {"warp", WarpName(o.path.warp)},
@@ -132,16 +134,20 @@ void WriteRenderReport(OutputFiles& outputs, const std::string& path, const Rend
   nlohmann::json j;
   j["scene"] = r.options.scenePath;
   j["sampling"] = SamplingName(r.options.path.sampling);
+  j["light_sampling"] = r.options.path.lightSampling;
   j["warp"] = WarpName(r.options.path.warp);
   j["regions"] = {r.options.path.thetaRegions, r.options.path.phiRegions};
   j["floor"] = r.options.path.floorFraction;
   j["neighbours"] = r.options.path.neighbours;
   j["photons_stored"] = r.photonsStored;
+  j["cache_sites"] = r.cacheSites;
+  j["cache_stride"] = r.options.path.cacheStride;
   j["threads"] = r.threads;
   for (const auto& [name, seconds] : r.stageSeconds) j["seconds"][name] = seconds;
   for (const auto& [spp, image] : r.images)
     j["images"].push_back({{"spp", spp}, {"seconds", image.seconds}, {"paths", image.stats.paths},
                            {"rays", image.stats.rays}, {"importance_maps", image.stats.importanceMaps},
+                           {"maps_built_at_hits", image.stats.mapsBuiltAtHits},
                            {"importance_thread_seconds", image.stats.importanceSeconds}});
   j["outputs"] = r.outputs;
   WriteJsonFile(outputs, path, j);
@@ -200,20 +206,30 @@ RenderReport Render(const RenderOptions& o, const Log& log) {
   const PreparedScene scene = PrepareScene(SceneSettings{o.scenePath, o.scale, {}}, clock);
   RequireDistinctFiles(OutputFilesOf(o), scene.scene.InputFiles());
   for (const std::string& w : scene.warnings) log.Warning(w);
-  if (!scene.scene.analyticLights.empty())
-    log.Warning(fmt::format("{}: warning: render finds light by hitting emissive surfaces, so its {} point, spot, sun "
-                            "and sky lights are not rendered; bake sees them", o.scenePath,
+  if (!scene.scene.analyticLights.empty() && !o.path.lightSampling)
+    log.Warning(fmt::format("{}: warning: without light sampling render finds light by hitting emissive surfaces, so "
+                            "its {} point, spot, sun and sky lights are not rendered; bake sees them", o.scenePath,
                             scene.scene.analyticLights.size()));
   cameraData = InLocalCoordinates(cameraData, scene.scene);
   std::optional<PhotonMap> photonMap;
   if (o.path.sampling == DirectionSampling::kPhotons) {
     const PhotonStore hits = clock.Time("trace photons", [&] {
-      return TracePhotons(scene, {o.photons, o.seed, kDefaultMaxBounces}, log);
+      // With light sampling a path collects only light that has scattered once at least after a diffuse hit: the
+      // map is built from those photons alone, not from first hits, whose light the shadow rays bring.
+      return TracePhotons(scene, {o.photons, o.seed, kDefaultMaxBounces, !o.path.lightSampling}, log);
     });
     photonMap.emplace(clock.Time("photon map", [&] { return BuildPhotonMap(scene.scene, hits); }));
     report.photonsStored = photonMap->Size();
   }
-  const PathTracer tracer(scene.scene, *scene.rays, photonMap ? &*photonMap : nullptr, o.path);
+  std::optional<ImportanceCache> cache;
+  if (photonMap && o.path.cacheStride > 0) {
+    cache.emplace(clock.Time("importance cache", [&] { return ImportanceCache(*photonMap, o.path.Map(), o.path.cacheStride); }));
+    report.cacheSites = cache->Size();
+  }
+  std::optional<LightSampler> lights;
+  if (o.path.lightSampling) lights.emplace(scene.scene, scene.lights, *scene.rays);
+  const PathTracer tracer(scene.scene, *scene.rays, photonMap ? &*photonMap : nullptr, lights ? &*lights : nullptr,
+                          o.path, cache ? &*cache : nullptr);
   const PinholeCamera camera(cameraData, o.width, o.height);
 
   const std::vector<uint32_t> counts = o.sppSweep.empty() ? std::vector<uint32_t>{o.spp} : o.sppSweep;
@@ -249,11 +265,12 @@ void PrintRenderSummary(const RenderReport& r, const Log& log) {
   if (log.Quiet()) return;
   const RenderOptions& o = r.options;
   std::string s = fmt::format("\nrender summary: {} ({}x{}, {} threads)\n", o.scenePath, o.width, o.height, r.threads);
-  s += fmt::format("  sampling  {}", SamplingName(o.path.sampling));
+  s += fmt::format("  sampling  {}{}", SamplingName(o.path.sampling), o.path.lightSampling ? " with light sampling" : "");
   if (o.path.sampling == DirectionSampling::kPhotons)
-    s += fmt::format(": {} photons stored, {} nearest, {}x{} regions, floor {}, warp {}", r.photonsStored,
+    s += fmt::format(": {} photons stored, {} nearest, {}x{} regions, floor {}, warp {}, {}", r.photonsStored,
                      o.path.neighbours, o.path.thetaRegions, o.path.phiRegions, o.path.floorFraction,
-                     WarpName(o.path.warp));
+                     WarpName(o.path.warp),
+                     r.cacheSites ? fmt::format("{} cached maps", r.cacheSites) : std::string("a map at every hit"));
   s += "\n  seconds  ";
   for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
   s += "\n";
@@ -264,9 +281,10 @@ void PrintRenderSummary(const RenderReport& r, const Log& log) {
     s += fmt::format("  {:>5} spp {:.3f} s: mean L {:.5g} W/(m^2 sr), {} paths, {:.2f} M rays/s", spp, image.seconds,
                      Luminance(mean.ToRgb()), image.stats.paths, image.stats.rays / std::max(1e-9, image.seconds) * 1e-6);
     if (image.stats.importanceMaps)
-      s += fmt::format(", {} importance maps at {:.2f} us each ({:.0f}% of path time)", image.stats.importanceMaps,
+      s += fmt::format(", {} directions from importance maps at {:.2f} us each ({:.0f}% of path time; {} maps built "
+                       "at hits)", image.stats.importanceMaps,
                        1e6 * image.stats.importanceSeconds / double(image.stats.importanceMaps),
-                       100.0 * image.stats.importanceSeconds / std::max(1e-9, threadSeconds));
+                       100.0 * image.stats.importanceSeconds / std::max(1e-9, threadSeconds), image.stats.mapsBuiltAtHits);
     s += "\n";
   }
   for (const std::string& out : r.outputs) s += "  wrote     " + out + "\n";

@@ -51,6 +51,7 @@ struct RenderReport {
   RenderOptions options;
   unsigned threads = 0;
   size_t photonsStored = 0;
+  size_t cacheSites = 0;  // importance maps cached (estimators/importance_cache.h)
   std::vector<std::pair<std::string, double>> stageSeconds;  // in order
   std::vector<std::pair<uint32_t, RenderedImage>> images;    // spp -> image (pixels dropped after writing)
   std::vector<std::string> outputs;

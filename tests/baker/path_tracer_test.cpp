@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "baker/render/render.h"
 #include "baker/runtime/threads.h"
@@ -28,9 +29,14 @@ struct Fixture : test::TracedScene {
     const TransportPlan plan = PlanTransport(scene, surfaces, from, {});
     return BuildPhotonMap(scene, TracePhotons(scene, from, *rays, plan, {n, 99}, Log(true)));
   }
+  // With photon sampling, the maps cached as render caches them (s.cacheStride > 0) or built at every hit.
   RenderedImage Render(const PathSettings& s, const PhotonMap* map, const Camera& camera, int size, uint32_t spp,
                        uint64_t seed) const {
-    const PathTracer tracer(scene, *rays, map, s);
+    const LightSampler sampler(scene, lights, *rays);
+    std::optional<ImportanceCache> cache;
+    if (map != nullptr && s.sampling == DirectionSampling::kPhotons && s.cacheStride > 0)
+      cache.emplace(*map, s.Map(), s.cacheStride);
+    const PathTracer tracer(scene, *rays, map, &sampler, s, cache ? &*cache : nullptr);
     return RenderImage(tracer, s, PinholeCamera(camera, size, size), size, size, spp, seed, Log(true));
   }
 };
@@ -84,9 +90,11 @@ const Camera kInsideCube{{0.5f, 0.5f, 0.2f}, {0.5f, 0.5f, 1.0f}, {0, 1, 0}, 90};
 TEST(PathTracer, BothSamplersMatchTheFurnaceClosedForm) {
   const Fixture f(WriteGlowingCube(test::TempDirectory("furnace"), 1.0f, 0.5f));
   const PhotonMap photons = f.Photons(200000, f.lights);
-  for (DirectionSampling sampling : kAllSamplings) {
+  for (const auto& [sampling, stride] : {std::pair{DirectionSampling::kBrdf, 0u}, std::pair{DirectionSampling::kPhotons, 0u},
+                                         std::pair{DirectionSampling::kPhotons, 64u}}) {
     PathSettings s;
     s.sampling = sampling;
+    s.cacheStride = stride;
     // Photon sampling here is skewed (50 photons leave most regions to the floor, whose directions then carry
     // large weights), so each 4 x 4 block gets 8192 samples before its mean is close to normal.
     const RenderedImage image = f.Render(s, &photons, kInsideCube, 8, 512, 5);
@@ -94,7 +102,7 @@ TEST(PathTracer, BothSamplersMatchTheFurnaceClosedForm) {
     double chi2 = 0;
     for (size_t i = 0; i < b.mean.size(); ++i) chi2 += std::pow(b.mean[i] - 2.0, 2) / b.variance[i];
     EXPECT_GT(test::RegularizedGammaQ(b.mean.size() / 2.0, chi2 / 2.0), 1e-3)
-        << SamplingName(sampling) << " chi2 " << chi2 << " mean of block 0 " << b.mean[0];
+        << SamplingName(sampling) << " stride " << stride << " chi2 " << chi2 << " mean of block 0 " << b.mean[0];
   }
 }
 
@@ -121,6 +129,7 @@ TEST(PathTracer, TheFloorKeepsDirectionsWithoutPhotonsReachable) {
   const Camera down{{0, 0.8f, -0.01f}, {0, 0, 0}, {0, 0, 1}, 60};
   PathSettings brdf, guided;
   guided.sampling = DirectionSampling::kPhotons;
+  brdf.lightSampling = guided.lightSampling = false;  // the paper's pure form, where the map alone finds the lights
   const BlockStats reference = Blocks(f.Render(brdf, nullptr, down, 16, 256, 3), 16);  // one block: the image mean
   guided.floorFraction = 0;
   const BlockStats noFloor = Blocks(f.Render(guided, &firstOnly, down, 16, 64, 4), 16);
@@ -131,6 +140,42 @@ TEST(PathTracer, TheFloorKeepsDirectionsWithoutPhotonsReachable) {
   };
   EXPECT_LT(z(noFloor), -6) << "without a floor the second light is never sampled: the image is too dark";
   EXPECT_LT(std::abs(z(withFloor)), 4) << "with a floor every direction can be drawn: unbiased";
+}
+
+// Light sampling changes how the light is found, not what is found: on the box, paths that sample the lights at
+// every diffuse hit agree with paths that must hit them (both BRDF-sampled), block by block.
+TEST(PathTracer, LightSamplingAgreesWithHittingTheLights) {
+  const Fixture f(PB_SOURCE_DIR "/data/box/box.obj");
+  const Camera camera = LoadCamera(PB_SOURCE_DIR "/data/box/box.camera.json");
+  PathSettings hitting, sampled;
+  hitting.lightSampling = false;
+  const BlockStats a = Blocks(f.Render(hitting, nullptr, camera, 24, 512, 1), 8);
+  const BlockStats b = Blocks(f.Render(sampled, nullptr, camera, 24, 64, 2), 8);
+  std::string table;
+  EXPECT_GT(AgreementP(a, b, table), 1e-3) << table;
+}
+
+// A sun straight above a grey floor (Kd 0.5, E 2 W/m^2), seen from above: with light sampling every pixel is the
+// closed form Kd E / pi, exactly (one shadow ray finds a sun whole, before Russian roulette); without it the sun
+// is never hit.
+TEST(PathTracer, ASunIsRenderedWithLightSampling) {
+  const std::string dir = test::TempDirectory("render-sun");
+  test::WriteText(dir + "/f.mtl", "newmtl grey\nKd 0.5 0.5 0.5\n");
+  test::WriteText(dir + "/f.obj", "mtllib f.mtl\nusemtl grey\nv -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\nf 1 4 3 2\n");
+  test::WriteText(dir + "/f.lights.json", R"({"lights": [{"type": "sun", "direction": [0, -1, 0], "irradiance_W_m2": 2}]})");
+  test::WriteText(dir + "/f.camera.json", R"({"position_m": [0, 1, 0.01], "look_at_m": [0, 0, 0], "up": [0, 0, 1],
+                                             "vertical_fov_deg": 40})");
+  RenderOptions o;
+  o.scenePath = dir + "/f.obj";
+  o.outputPath = dir + "/f.exr";
+  o.width = o.height = 8;
+  o.spp = 4;
+  o.quiet = true;
+  Render(o, Log(true));
+  for (const Rgb& p : ReadExr(o.outputPath).pixels) EXPECT_NEAR(p.g, 0.5 * 2 / M_PI, 1e-6);
+  o.path.lightSampling = false;
+  Render(o, Log(true));
+  for (const Rgb& p : ReadExr(o.outputPath).pixels) EXPECT_EQ(p.g, 0.0f);
 }
 
 TEST(PathTracer, DegenerateImportanceMapsStayFinite) {
