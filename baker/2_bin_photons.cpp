@@ -182,14 +182,14 @@ void PhotonBinner::Take(uint32_t light, HitBlock& hits, size_t from) const {
 
 void PhotonBinner::AddMoments(const PhotonHit& hit, uint32_t s, int domain, Point2 uv, Rgb flux) const {
   const Vector3 from = hit.Wi();
-  const std::array<Rgb, 4> weighted = MomentFluxes(flux, from, Dot(from, scene_.scene.FrontNormal(hit.Triangle())));
-  for (size_t m = 0; m < 4; ++m) momentSums_[m][s][domain]->Add(uv, weighted[m]);
+  const std::array<Rgb, kMomentFluxes> weighted = MomentFluxes(flux, from, Dot(from, scene_.scene.FrontNormal(hit.Triangle())));
+  for (size_t m = 0; m < kMomentFluxes; ++m) momentSums_[m][s][domain]->Add(uv, weighted[m]);
 }
 
 namespace {
 // Calls f on every node sum: the fluxes', then each weighted flux's.
 template <typename F>
-void ForEachSum(std::vector<DomainSums>& sums, std::array<std::vector<DomainSums>, 4>& moments, F f) {
+void ForEachSum(std::vector<DomainSums>& sums, std::array<std::vector<DomainSums>, kMomentFluxes>& moments, F f) {
   const auto each = [&](std::vector<DomainSums>& list) {
     for (DomainSums& domains : list)
       for (auto& one : domains)

@@ -73,8 +73,8 @@ struct SurfaceBins {
   bool wide = false;                // BinningPlan::wide
   // Per surface and domain: the photons binned while they were traced (none when they were stored).
   std::vector<DomainSums> traced;
-  // With directions, the same for each of their four weighted fluxes (estimators/incident_moments.h, MomentFluxes).
-  std::array<std::vector<DomainSums>, 4> tracedMoments;
+  // With directions, the same for each of their weighted fluxes (estimators/incident_moments.h, MomentFluxes).
+  std::array<std::vector<DomainSums>, kMomentFluxes> tracedMoments;
 
   size_t SurfaceCount() const { return start.size() - 1; }
   uint64_t FrontHits(size_t s) const { return tally[s].frontHits; }
@@ -107,7 +107,7 @@ class PhotonBinner final : public HitSink {
   void SumWith(const std::function<void(std::span<int64_t>)>& sum);
   // The node sums and tallies, handed to BinPhotons.
   std::vector<DomainSums> TakeSums() { return std::move(sums_); }
-  std::array<std::vector<DomainSums>, 4> TakeMomentSums() { return std::move(momentSums_); }
+  std::array<std::vector<DomainSums>, kMomentFluxes> TakeMomentSums() { return std::move(momentSums_); }
   std::vector<SurfaceTally> TakeTallies() { return std::move(tallies_); }
 
  private:
@@ -118,7 +118,7 @@ class PhotonBinner final : public HitSink {
   std::vector<Rgb> photonFlux_;  // Phi_l / N_l [W] per light
   double fluxUnit_;
   std::vector<DomainSums> sums_;
-  std::array<std::vector<DomainSums>, 4> momentSums_;  // with directions; else empty
+  std::array<std::vector<DomainSums>, kMomentFluxes> momentSums_;  // with directions; else empty
   mutable std::vector<SurfaceTally> tallies_;  // of the hits taken; added to atomically
 };
 

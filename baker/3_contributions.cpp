@@ -33,16 +33,16 @@ std::unique_ptr<DensityEstimator> SurfaceEstimator(const PreparedScene& scene, s
                                      covered);
 }
 
-// The four weighted fluxes of surface s's stored photons (MomentFluxes), each as an array.
-std::array<std::vector<Rgb>, 4> StoredMomentFluxes(const SurfaceBins& bins, size_t s) {
+// The weighted fluxes of surface s's stored photons (MomentFluxes), each as an array.
+std::array<std::vector<Rgb>, kMomentFluxes> StoredMomentFluxes(const SurfaceBins& bins, size_t s) {
   const std::span<const Rgb> flux = bins.Flux(s);
   const std::span<const Vector3> from = bins.From(s);
   const std::span<const float> cosine = bins.Cosine(s);
-  std::array<std::vector<Rgb>, 4> moments;
+  std::array<std::vector<Rgb>, kMomentFluxes> moments;
   for (auto& m : moments) m.resize(flux.size());
   for (size_t j = 0; j < flux.size(); ++j) {
-    const std::array<Rgb, 4> weighted = MomentFluxes(flux[j], from[j], cosine[j]);
-    for (int m = 0; m < 4; ++m) moments[m][j] = weighted[m];
+    const std::array<Rgb, kMomentFluxes> weighted = MomentFluxes(flux[j], from[j], cosine[j]);
+    for (int m = 0; m < kMomentFluxes; ++m) moments[m][j] = weighted[m];
   }
   return moments;
 }
@@ -72,8 +72,8 @@ void PhotonIrradiance::BuildMoments(const PreparedScene& scene, const SurfaceBin
   std::optional<Progress> progress;
   if (log != nullptr) progress.emplace(*log, "build direction estimators", bins.SurfaceCount());
   tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
-    const std::array<std::vector<Rgb>, 4> fluxes = StoredMomentFluxes(bins, s);
-    for (int m = 0; m < 4; ++m)
+    const std::array<std::vector<Rgb>, kMomentFluxes> fluxes = StoredMomentFluxes(bins, s);
+    for (int m = 0; m < kMomentFluxes; ++m)
       moments_[s][m] = SurfaceEstimator(scene, s, Own(s), bins.Uv(s), fluxes[m], bins.MomentBinningOf(s, 0, m),
                                         bins.MomentBinningOf(s, 1, m));
     if (progress) progress->Advance(1);
@@ -87,6 +87,12 @@ void PhotonIrradiance::AddMoments(const SurfacePoint& p, IncidentMoments& moment
   IncidentMoments own;
   own.scalar = PerSurfaceArea(scalar, p);
   for (int k = 0; k < 3; ++k) own.vector[k] = PerSurfaceArea(m[k + 1]->Estimate(p.uv) - scalar, p);
+  std::array<double, 6> forms;  // a^T M a along CovarianceAxes, from the estimators' own noise
+  for (size_t k = 0; k < 6; ++k) {
+    const NoisyIrradiance e = m[4 + k]->EstimateWithNoise(p.uv);
+    forms[k] = std::pow(e.relativeNoise * Luminance(PerSurfaceArea(e.irradiance, p)), 2);
+  }
+  own.covariance = FromQuadraticForms(forms);
   moments.Add(own);
 }
 

@@ -51,9 +51,11 @@ std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const Surfac
 // (stage 2), with that surface's h, edge-corrected over its region. Estimators are built in parallel (with their
 // progress on `log` when given); they copy the photons and refer to the prepared scene's regions.
 //
-// Once BuildMoments is called, from bins that hold the photons' directions (--sh), their moments are estimated alike: by the same estimator,
-// kernel, h and regions, of the photons weighted phi / c (F) and phi (1 + w_m) / c (F + D_m; each weight >= 0, so
-// that no estimator sees a negative flux), c = max(cos, kGrazingCosine); D_m is their difference.
+// Once BuildMoments is called, from bins that hold the photons' directions (--sh), their moments are estimated
+// alike: by the same estimator, kernel, h and regions, of the photons weighted phi / c (F) and phi (1 + w_m) / c
+// (F + D_m; each weight >= 0, so that no estimator sees a negative flux), c = max(cos, kGrazingCosine); D_m is their
+// difference. D's covariance comes from the estimators' own noise of the photons weighted phi |a . w| / c along six
+// axes (estimators/incident_moments.h).
 class PhotonIrradiance final : public IrradianceContribution {
  public:
   PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings,
@@ -83,8 +85,8 @@ class PhotonIrradiance final : public IrradianceContribution {
   EstimatorSettings settings_;
   std::vector<float> bandwidths_;
   std::vector<std::unique_ptr<DensityEstimator>> estimators_;
-  // Once built: per surface, the estimators of F and F + D_x, F + D_y, F + D_z; else empty.
-  std::vector<std::array<std::unique_ptr<DensityEstimator>, 4>> moments_;
+  // Once built: per surface, the estimators of F, F + D_x, F + D_y, F + D_z and the six axes'; else empty.
+  std::vector<std::array<std::unique_ptr<DensityEstimator>, kMomentFluxes>> moments_;
 };
 
 // A term of H computed at each point by Monte Carlo, with `count` samples. The random numbers of point p come from

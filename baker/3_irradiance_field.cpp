@@ -128,20 +128,21 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
 
 namespace pb {
 
-std::vector<ShL1> EstimateDirections(const IrradianceField& field, const BakedMesh& baked, const Log& log) {
+void EstimateDirections(const IrradianceField& field, BakedMesh& baked, const Log& log) {
   const size_t n = baked.mesh.VertexCount();
-  std::vector<ShL1> sh(n);
+  baked.sh.resize(n), baked.directionNoise.resize(n);
   Progress progress(log, "estimate directions", n);
   const size_t chunks = (n + kVertexChunk - 1) / kVertexChunk;
   tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
     const size_t begin = c * kVertexChunk, end = std::min(n, begin + kVertexChunk);
     for (size_t v = begin; v != end; ++v) {
       const SurfacePoint p = baked.mesh.Point(v);
-      sh[v] = ShProjection(field.Moments(p), p.normal, baked.irradiance[v]);
+      const IncidentMoments moments = field.Moments(p);
+      baked.sh[v] = ShProjection(moments, p.normal, baked.irradiance[v]);
+      baked.directionNoise[v] = DirectionNoise(moments, p.normal, baked.irradiance[v]);
     }
     progress.Advance(end - begin);
   });
-  return sh;
 }
 
 }  // namespace pb

@@ -118,7 +118,8 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
                              const std::function<bool(size_t)>& owns = {});
 
 // The L1 SH of the light at every vertex of `baked` (BakedMesh::sh), each with its component along the vertex's
-// normal set to the vertex's H (ShProjection), in parallel, with its progress on `log`.
-std::vector<ShL1> EstimateDirections(const IrradianceField& field, const BakedMesh& baked, const Log& log);
+// normal set to the vertex's H (ShProjection), and the noise of its direction (BakedMesh::directionNoise), in
+// parallel, with its progress on `log`.
+void EstimateDirections(const IrradianceField& field, BakedMesh& baked, const Log& log);
 
 }  // namespace pb

@@ -385,7 +385,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
     journal.Warn(refine.warnings, log);
   }
   if (o.sh)
-    lit.baked.sh = clock.Time("directions", [&] { return EstimateDirections(field, lit.baked, log); });
+    clock.Time("directions", [&] { EstimateDirections(field, lit.baked, log); });
 
   BakeReport report = DescribeBake({o, threads.Count(), scene, rounds.Store(), rounds.Bins(), field, lit.baked,
                                     exposure, refine, maps, rounds.Report(), lit.noise, journal.stageSeconds, journal.warnings});

@@ -28,6 +28,7 @@ struct BakedMesh {
   std::vector<double> sampledShare;
   // With --sh: per vertex, the L1 SH of its incident radiance per colour (estimators/incident_moments.h); else empty.
   std::vector<ShL1> sh;
+  std::vector<double> directionNoise;  // with --sh: the standard error of each vertex's L1 direction [rad]
 
   Rgb Radiance(size_t vertex) const { return OutgoingRadiance(emitted[vertex], albedo[vertex], irradiance[vertex]); }
 };

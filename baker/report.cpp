@@ -232,6 +232,7 @@ BakeReport DescribeBake(const BakeResults& r) {
   report.refine = r.refine;
   report.progressive = r.progressive;
   report.noise = r.noise;
+  report.directionNoise = BakeDirectionNoise(r.mesh);
   return report;
 }
 
@@ -265,6 +266,9 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   if (r.options.autoBandwidth) s += AutomaticBandwidthLine(r.surfaces);
   s += fmt::format("  noise     {:.2f}% predicted (95th percentile over the vertices, by luminance x area, of the "
                    "displayed light's relative standard error; smoothing bias not included)\n", 100 * r.noise);
+  if (r.options.sh)
+    s += fmt::format("  directions  {:.2f} degrees predicted (95th percentile, as the noise, of the standard error of "
+                     "the direction of each vertex's L1)\n", r.directionNoise * 180 / kPi);
   s += SurfaceTable(r);
   s += "  seconds  ";
   for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
@@ -339,6 +343,7 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
   j["photons"] = TraceJson(r.trace, r.storedHits);
   j["progressive"] = ProgressiveJson(r.progressive);
   j["noise"] = r.noise;
+  if (r.options.sh) j["direction_noise_deg"] = r.directionNoise * 180 / kPi;
   const std::vector<size_t> surfaces =
       Listed(r.surfaces, r.options.reportAll, [](const SurfaceReport& a, const SurfaceReport& b) { return a.area > b.area; });
   j["surfaces"] = nlohmann::json::array();

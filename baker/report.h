@@ -69,6 +69,7 @@ struct BakeReport {
   RefineReport refine;  // --refine / --subdivide: vertices before and after, interpolation error
   ProgressiveReport progressive;  // --resume, --save-photons, --target-noise rounds, interruption
   double noise = 0;  // the bake's predicted noise: 95th percentile of sigma_L / L (baker/photons/progressive.h, BakeNoise)
+  double directionNoise = 0;  // with --sh, BakeDirectionNoise of the written mesh [rad]
 
   double TotalSeconds() const;
 };

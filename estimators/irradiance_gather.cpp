@@ -51,15 +51,25 @@ DirectSample IrradianceGatherer::Gather(Point3 p, Normal3 n, uint32_t paths, Rng
   const Point3 origin = rays_.SpawnPoint(p, n);
   SampleMean mean;
   IncidentMoments sum;  // of the paths, each at weight 1
-  IncidentMoments* const each = moments != nullptr ? &sum : nullptr;
   for (uint32_t k = 0; k < paths; ++k) {
+    IncidentMoments path;
+    IncidentMoments* const each = moments != nullptr ? &path : nullptr;
     const Rgb e = direct ? lights_.Irradiance(p, n, 1, rng, each).irradiance : Rgb{};
     const Vector3 w = frame.ToWorld(SampleCosineHemisphere(rng.Uniform2()).direction);
     const Rgb scattered = ScatteredRadiance(origin, w, rng, field) * float(kPi);
-    mean.Add(e + scattered);
-    if (each != nullptr && !scattered.IsBlack()) each->Add(scattered, w, Dot(w, n));
+    if (each == nullptr) {
+      mean.Add(e + scattered);
+      continue;
+    }
+    if (!scattered.IsBlack()) path.Add(scattered, w, Dot(w, n));
+    mean.Add(e + scattered, path.LuminanceVector());  // the path's vector x v: its light sample's and its own
+    path.covariance = {};                             // the paths' spread is their noise
+    sum.Add(path);
   }
-  if (moments != nullptr) moments->Add(sum, 1.0f / float(paths));
+  if (moments != nullptr) {
+    moments->Add(sum, 1.0f / float(paths));
+    moments->covariance.Add(mean.VectorCovariance(), 1);
+  }
   return mean.Result();
 }
 

@@ -231,9 +231,15 @@ DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples,
     }
     const Arrival a = SampleOne(pick->area, p, n, u, cache);
     const Rgb e = a.irradiance * float(1.0 / pick->pmf);
-    mean.Add(cell, e);
-    if (moments != nullptr && !e.IsBlack()) moments->Add(e, a.from, Dot(a.from, n), 1.0f / float(samples));
+    if (moments == nullptr) {
+      mean.Add(cell, e);
+      continue;
+    }
+    const float cosine = Dot(a.from, n);
+    mean.Add(cell, e, e.IsBlack() ? Vector3{} : MomentVector(e, a.from, cosine));
+    if (!e.IsBlack()) moments->Add(e, a.from, cosine, 1.0f / float(samples));
   }
+  if (moments != nullptr) moments->covariance.Add(mean.VectorCovariance(), 1);
   return mean.Result();
 }
 
@@ -241,7 +247,7 @@ bool LightSampler::Escapes(Point3 origin, Vector3 w) const { return !rays_.Occlu
 
 Rgb LightSampler::DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n, IncidentMoments* moments) const {
   const Arrival a = DeltaArrival(light, p, n);
-  if (moments != nullptr && !a.irradiance.IsBlack()) moments->Add(a.irradiance, a.from, Dot(a.from, n));
+  if (moments != nullptr && !a.irradiance.IsBlack()) moments->Add(a.irradiance, a.from, Dot(a.from, n));  // exact
   return a.irradiance;
 }
 
@@ -278,9 +284,14 @@ DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Nor
     const Vector3 w = frame.ToWorld(SampleCosineHemisphere(u).direction);
     const bool open = (sky.wholeSphere || Dot(w, sky.up) > 0) && Escapes(origin, w);
     const Rgb e = open ? sky.intensity * float(kPi) : Rgb{};
-    mean.Add(cell, e);
-    if (moments != nullptr && open) moments->Add(e, w, Dot(w, n), 1.0f / float(samples));
+    if (moments == nullptr) {
+      mean.Add(cell, e);
+      continue;
+    }
+    mean.Add(cell, e, open ? MomentVector(e, w, Dot(w, n)) : Vector3{});
+    if (open) moments->Add(e, w, Dot(w, n), 1.0f / float(samples));
   }
+  if (moments != nullptr) moments->covariance.Add(mean.VectorCovariance(), 1);
   return mean.Result();
 }
 
@@ -293,6 +304,7 @@ DirectSample LightSampler::AimedSkyIrradiance(const Light& sky, Point3 p, Normal
   const Frame frame = Frame::FromNormal(n);
   const Point3 origin = rays_.SpawnPoint(p, n);
   const bool portals = !sky.portals.empty();
+  Vector3 stratumVector;  // the moment vectors of the stratum's directions
   const auto weighed = [&](Vector3 w) {
     const float cosX = Dot(w, n);
     if (!(cosX > 0)) return Rgb{};
@@ -300,7 +312,10 @@ DirectSample LightSampler::AimedSkyIrradiance(const Light& sky, Point3 p, Normal
     if (radiance.IsBlack() || !Escapes(origin, w)) return Rgb{};
     const float pdf = CosineHemispherePdf(cosX) + SkyImagePdf(sky, w) + (portals ? TowardPortalsPdf(sky, p, w) : 0);
     const Rgb e = radiance * (cosX / pdf);
-    if (moments != nullptr) moments->Add(e, w, cosX, 1.0f / float(samples));
+    if (moments != nullptr) {
+      moments->Add(e, w, cosX, 1.0f / float(samples));
+      stratumVector = stratumVector + MomentVector(e, w, cosX);
+    }
     return e;
   };
   const auto stratum = [&](uint32_t cell) {
@@ -309,12 +324,14 @@ DirectSample LightSampler::AimedSkyIrradiance(const Light& sky, Point3 p, Normal
   };
   StratifiedMean mean(side);
   for (uint32_t cell = 0; cell < samples; ++cell) {
+    stratumVector = {};
     Rgb e = weighed(frame.ToWorld(SampleCosineHemisphere(stratum(cell)).direction));
     if (const std::optional<SkySample> image = SampleSkyImage(sky, stratum(cell))) e += weighed(image->from);
     if (portals)
       if (const std::optional<SkySample> out = SampleTowardPortals(sky, p, stratum(cell))) e += weighed(out->from);
-    mean.Add(cell, e);
+    moments != nullptr ? mean.Add(cell, e, stratumVector) : mean.Add(cell, e);
   }
+  if (moments != nullptr) moments->covariance.Add(mean.VectorCovariance(), 1);
   return mean.Result();
 }
 
@@ -366,23 +383,61 @@ void StratifiedMean::Add(uint32_t cell, Rgb e) {
   byCell_[cell] = Luminance(e);
 }
 
+void StratifiedMean::Add(uint32_t cell, Rgb e, Vector3 v) {
+  all_.Add(e, v);
+  byCell_[cell] = Luminance(e);
+  if (vectors_.empty()) vectors_.resize(byCell_.size());
+  vectors_[cell] = v;
+}
+
+template <typename Pair>
+double StratifiedMean::ForEachPair(Pair pair) const {
+  double n = 0;
+  for (uint32_t b = 0; b < side_; ++b)
+    for (uint32_t a = 0; a < side_; ++a) {
+      const size_t cell = size_t(b) * side_ + a;
+      if (byCell_[cell] < 0) continue;
+      ++n;
+      if (a % 2 == 0 && a + 1 < side_ && byCell_[cell + 1] >= 0) pair(cell, cell + 1);
+    }
+  return n;
+}
+
 DirectSample StratifiedMean::Result() const {
   DirectSample result = all_.Result();
   const double mean = Luminance(result.irradiance);
-  double squares = 0, n = 0, paired = 0;
-  for (uint32_t b = 0; b < side_; ++b)
-    for (uint32_t a = 0; a < side_; ++a) {
-      const double f = byCell_[size_t(b) * side_ + a];
-      if (f < 0) continue;
-      ++n;
-      const double g = a % 2 == 0 && a + 1 < side_ ? byCell_[size_t(b) * side_ + a + 1] : -1.0;
-      if (g >= 0) squares += (f - g) * (f - g), paired += 2;
-    }
+  double squares = 0, paired = 0;
+  const double n = ForEachPair([&](size_t first, size_t second) {
+    squares += std::pow(byCell_[first] - byCell_[second], 2), paired += 2;
+  });
   if (paired < 4 || !(mean > 0)) return result;  // too few pairs: the independent-sample error
   // Per sample, the pairs give (f_1 - f_2)^2 / 2 each; the mean of n samples has n times that over n^2.
   const double variance = squares / paired / n;
   result.relativeNoise = std::sqrt(variance) / mean;
   return result;
+}
+
+Symmetric3 StratifiedMean::VectorCovariance() const {
+  Symmetric3 squares;
+  double paired = 0;
+  const double n = ForEachPair([&](size_t first, size_t second) {
+    squares.AddOuter(vectors_[first] - vectors_[second], 1), paired += 2;
+  });
+  if (paired < 4) return all_.VectorCovariance();
+  Symmetric3 covariance;
+  covariance.Add(squares, 1 / paired / n);
+  return covariance;
+}
+
+Symmetric3 SampleMean::VectorCovariance() const {
+  Symmetric3 covariance;
+  if (n_ < 2) return covariance;
+  const double n = n_;
+  // (sum v v^T - n m m^T) / (n - 1), the sample covariance, over n for the mean's.
+  covariance.Add(outer_, 1 / (n * (n - 1)));
+  const Vector3 mean{float(vectorSum_[0] / n), float(vectorSum_[1] / n), float(vectorSum_[2] / n)};
+  covariance.AddOuter(mean, -n / (n * (n - 1)));
+  return covariance;
 }
 
 DirectSample SampleMean::Result() const {

@@ -61,7 +61,8 @@ struct DirectSample : NoisyIrradiance {
   uint32_t samples = 0;  // shadow rays (or gathered paths) cast for it (the adaptive ones: the pilot's included)
 };
 
-// The mean of independent samples of an irradiance, and the standard error of its luminance.
+// The mean of independent samples of an irradiance, and the standard error of its luminance; with each sample's
+// moment vector (estimators/incident_moments.h, MomentVector), also the covariance of their mean.
 class SampleMean {
  public:
   void Add(Rgb e) {
@@ -69,12 +70,20 @@ class SampleMean {
     const double y = Luminance(e);
     luminance_ += y, squares_ += y * y, ++n_;
   }
+  void Add(Rgb e, Vector3 v) {
+    Add(e);
+    vectorSum_[0] += v.x, vectorSum_[1] += v.y, vectorSum_[2] += v.z;
+    outer_.AddOuter(v, 1);
+  }
   DirectSample Result() const;
+  Symmetric3 VectorCovariance() const;  // of the mean of the vectors; 0 below two samples
 
  private:
   RgbSum sum_;
   double luminance_ = 0, squares_ = 0;
   uint32_t n_ = 0;
+  std::array<double, 3> vectorSum_{};
+  Symmetric3 outer_;
 };
 
 // The mean of samples stratified on a side x side grid of cells (one sample per cell), and a standard error that
@@ -83,16 +92,23 @@ class SampleMean {
 // (Cochran, "Sampling Techniques", 5A.12, collapsed strata). Still conservative, as neighbouring cells' means
 // differ a little, but not blind to stratification as the independent-sample error is, which predicted about
 // twice the true error on the closed form. Samples without a partner count at the pairs' rate.
+// With each sample's moment vector, the covariance of the vectors' mean alike, from the paired strata's differences.
 class StratifiedMean {
  public:
   explicit StratifiedMean(uint32_t side) : side_(side), byCell_(size_t(side) * side, -1.0) {}
   void Add(uint32_t cell, Rgb e);
+  void Add(uint32_t cell, Rgb e, Vector3 v);
   DirectSample Result() const;
+  Symmetric3 VectorCovariance() const;
 
  private:
+  // Calls pair(first, second) for the cells (2a, b), (2a + 1, b) that both hold a sample; returns the samples.
+  template <typename Pair>
+  double ForEachPair(Pair pair) const;
   uint32_t side_;
   SampleMean all_;
-  std::vector<double> byCell_;  // each cell's sample luminance; -1 for none
+  std::vector<double> byCell_;   // each cell's sample luminance; -1 for none
+  std::vector<Vector3> vectors_;  // each cell's moment vector, once one is added
 };
 
 class LightSampler {

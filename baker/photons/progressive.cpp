@@ -92,6 +92,11 @@ double BakeNoise(const BakedMesh& baked, double photonScale, double pointScale) 
   return VertexNoise(baked).Percentile(photonScale, pointScale);
 }
 
+double BakeDirectionNoise(const BakedMesh& baked) {
+  if (baked.directionNoise.empty()) return 0;
+  return WeightedPercentile(baked.directionNoise, VertexNoise(baked).weight, 0.95);
+}
+
 constexpr double kPointShare = 0.6;
 
 NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,

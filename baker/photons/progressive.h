@@ -56,6 +56,10 @@ double WeightedPercentile(const std::vector<double>& value, const std::vector<do
 // (n / n' for n' photons, S / S' for S' samples per point).
 double BakeNoise(const BakedMesh& baked, double photonScale = 1, double pointScale = 1);
 
+// With --sh, the 95th percentile of the vertices' direction noise [rad] (BakedMesh::directionNoise), by the same
+// weights as BakeNoise's; 0 without.
+double BakeDirectionNoise(const BakedMesh& baked);
+
 // What would bring the bake's noise to `target`: the photon count, and the samples per point (shadow rays or
 // --reference paths) when the points' own noise alone passes 60% of it and `raisePoints` (to 60%; else the current
 // count). photons is the current count when no photon count reaches the target (the points' noise holds it).

@@ -185,12 +185,60 @@ TEST(Directional, MapsCarryTheShToo) {
   EXPECT_LT(sumAngle / checked, 1);
 }
 
+// The predicted noise of each vertex's direction against its actual error on the closed form, and the same for H:
+// over the interior vertices, the RMS of the predicted standard errors over the RMS of the actual errors (the
+// angle between L1 and Arvo's vector; H against Lambert's formula).
+struct NoiseRatios {
+  double direction, irradiance;  // predicted / actual
+};
+NoiseRatios PredictedOverActual(DirectLight direct, const std::string& name) {
+  const std::string dir = test::TempDirectory(name);
+  BakeOptions o;
+  o.scenePath = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 40);
+  o.outputPath = dir + "/out.ply";
+  o.photons = 1'000'000;
+  o.estimator.bandwidth = 0.1f;
+  o.direct.mode = direct;
+  o.sh = true;
+  o.quiet = true;
+  const BakeResult r = BakeMesh(o, Log(true));
+  double predicted = 0, actual = 0, predictedH = 0, actualH = 0;
+  int n = 0;
+  for (size_t v = 0; v < r.mesh.mesh.VertexCount(); ++v) {
+    const Point3 p = r.mesh.mesh.positions[v];
+    if (p.y != 0 || std::fabs(p.x) > 1.5f || std::fabs(p.z) > 1.5f) continue;
+    const ShL1& sh = r.mesh.sh[v];
+    const V3 l1{Luminance(sh.c[1]), Luminance(sh.c[2]), Luminance(sh.c[3])};
+    actual += std::pow(AngleDegrees(l1, IrradianceVector({p.x, p.y, p.z})) * M_PI / 180, 2);
+    predicted += std::pow(r.mesh.directionNoise[v], 2);
+    const double exact = test::LambertPolygonIrradiance({p.x, 0, p.z}, {0, 1, 0}, kLight, 1.0);
+    actualH += std::pow(Luminance(r.mesh.irradiance[v]) / exact - 1, 2);
+    predictedH += std::pow(r.mesh.irradianceNoise[v], 2);
+    ++n;
+  }
+  EXPECT_GT(n, 600);
+  return {std::sqrt(predicted / actual), std::sqrt(predictedH / actualH)};
+}
+
+// Photons: the prediction is the Poisson variance (measured: 0.364 degrees RMS predicted, 0.369 actual). Shadow
+// rays: as conservative as H's own prediction, which the paired strata make (measured: 0.33 against 0.20 degrees,
+// and H's 0.30% against 0.17%).
+TEST(Directional, DirectionNoiseIsPredictedAsHs) {
+  const NoiseRatios photons = PredictedOverActual(DirectLight::kPhotons, "sh-noise-photons");
+  EXPECT_NEAR(photons.direction, 1, 0.25);
+  EXPECT_NEAR(photons.irradiance, 1, 0.25);
+  const NoiseRatios rays = PredictedOverActual(DirectLight::kSampled, "sh-noise-rays");
+  EXPECT_NEAR(rays.direction / rays.irradiance, 1, 0.3);
+  EXPECT_GE(rays.direction, 1) << "conservative, as H's";
+}
+
 TEST(Directional, ShadowRaysPointAtTheLightsCentroid) {
   ExpectClosedForms(BakeSquareLight("sh-sampled", DirectLight::kSampled), 3, 0.5, 0.005);
 }
 
 // The box (data/box), whose light is mostly interreflected off its walls, baked with --sh twice.
-test::PlyData BakeBox(const std::string& name, uint32_t referencePaths, unsigned threads, uint64_t photons) {
+test::PlyData BakeBox(const std::string& name, uint32_t referencePaths, unsigned threads, uint64_t photons,
+                      BakeReport* report = nullptr) {
   const std::string dir = test::TempDirectory(name);
   BakeOptions o;
   o.scenePath = PB_SOURCE_DIR "/data/box/box.obj";
@@ -200,7 +248,8 @@ test::PlyData BakeBox(const std::string& name, uint32_t referencePaths, unsigned
   o.threads = threads;
   o.sh = true;
   o.quiet = true;
-  Bake(o, Log(true));
+  const BakeReport r = Bake(o, Log(true));
+  if (report != nullptr) *report = r;
   return test::ReadPly(o.outputPath);
 }
 
@@ -232,7 +281,11 @@ TEST(Directional, PhotonsAgreeWithGatheredPathsOnTheBox) {
 }
 
 TEST(Directional, SameBytesOnAnyThreadCount) {
-  const test::PlyData one = BakeBox("sh-threads-1", 0, 1, 100'000), three = BakeBox("sh-threads-3", 0, 3, 100'000);
+  BakeReport report;
+  const test::PlyData one = BakeBox("sh-threads-1", 0, 1, 100'000, &report), three = BakeBox("sh-threads-3", 0, 3, 100'000);
+  // The report's 95th percentile of the direction noise: a few degrees at 100,000 photons.
+  EXPECT_GT(report.directionNoise * 180 / M_PI, 0.1);
+  EXPECT_LT(report.directionNoise * 180 / M_PI, 30);
   for (const std::string c : {"r", "g", "b"})
     for (int k = 0; k < 4; ++k) {
       const std::string name = "sh_" + c + std::to_string(k);
