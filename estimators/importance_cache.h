@@ -9,14 +9,17 @@
 // is the same for every direction and drops out when the map is normalised.)
 //
 // The cache's sites are every `stride`-th photon of the photon map, in its order, each with the map its own N
-// nearest photons build. A hit takes the map of the nearest of its kCandidates nearest sites whose normal is within
-// 25 degrees of its own, and reads it in its own normal's frame; where no site qualifies, the caller builds a map
-// at the hit. Either way the direction's pdf is that of the map it was drawn from, so the estimate stays unbiased
+// nearest photons build. A hit takes the map of the nearest site in its cell of a uniform grid (cells of the
+// median distance from a site to its kCandidates-th nearest, so that a cell holds a few sites) whose normal is
+// within 25 degrees of its own, or, where its cell holds none, of the nearest of its kCandidates nearest sites; it
+// reads the map in its own normal's frame. Where no site qualifies, the caller builds a map at the hit. Either way the direction's pdf is that of the map it was drawn from, so the estimate stays unbiased
 // whichever map answers (the floor keeps every direction possible); a neighbour's map only fits the hit's light a
 // little less well.
 #pragma once
 
 #include <cstdint>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "estimators/importance_map.h"
@@ -51,8 +54,15 @@ class ImportanceCache {
   const ImportanceMap* At(Point3 p, Normal3 side, std::vector<uint32_t>& indices, std::vector<float>& distance2) const;
 
  private:
+  void BuildGrid(std::vector<float> spacing);
+  uint64_t CellOf(Point3 p) const;
+  const ImportanceMap* FromCell(Point3 p, Normal3 side) const;
+
   PhotonMap sites_;                  // the sites' positions and normals
   std::vector<ImportanceMap> maps_;  // per site
+  float cell_ = 0;                   // the grid's cell side [m]; 0: no grid
+  std::vector<uint32_t> bySite_;     // site indices, cell by cell
+  std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> cells_;  // cell -> its range of bySite_
 };
 
 }  // namespace pb

@@ -13,6 +13,22 @@ namespace {
 
 constexpr double kUniformShare = 0.1;  // of the light choice spread evenly over the lights that can reach x
 
+// Adds sample e, arriving from w at `cosine` to the normal, to `cell` of `mean`; with `moments`, its moment vector
+// too, and its moments at weight 1 / samples.
+void AddSample(StratifiedMean& mean, IncidentMoments* moments, uint32_t cell, Rgb e, Vector3 w, float cosine,
+               uint32_t samples) {
+  if (moments == nullptr) return mean.Add(cell, e);
+  if (e.IsBlack()) return mean.Add(cell, e, Vector3{});
+  mean.Add(cell, e, MomentVector(e, w, cosine));
+  moments->Add(e, w, cosine, 1.0f / float(samples));
+}
+
+// The stratified samples' mean, their moments' covariance added to `moments` when given.
+DirectSample Finish(const StratifiedMean& mean, IncidentMoments* moments) {
+  if (moments != nullptr) moments->covariance.Add(mean.VectorCovariance(), 1);
+  return mean.Result();
+}
+
 // A random order of the cells 0..n-1 (Fisher-Yates).
 std::vector<uint32_t> Shuffled(uint32_t n, Rng& rng) {
   std::vector<uint32_t> order(n);
@@ -225,22 +241,10 @@ DirectSample LightSampler::AreaIrradiance(Point3 p, Normal3 n, uint32_t samples,
     const uint32_t cell = cells[j];
     const Point2 jitter = rng.Uniform2();
     const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
-    if (!pick) {
-      mean.Add(cell, Rgb{});
-      continue;
-    }
-    const Arrival a = SampleOne(pick->area, p, n, u, cache);
-    const Rgb e = a.irradiance * float(1.0 / pick->pmf);
-    if (moments == nullptr) {
-      mean.Add(cell, e);
-      continue;
-    }
-    const float cosine = Dot(a.from, n);
-    mean.Add(cell, e, e.IsBlack() ? Vector3{} : MomentVector(e, a.from, cosine));
-    if (!e.IsBlack()) moments->Add(e, a.from, cosine, 1.0f / float(samples));
+    const Arrival a = pick ? SampleOne(pick->area, p, n, u, cache) : Arrival{};
+    AddSample(mean, moments, cell, a.irradiance * float(pick ? 1.0 / pick->pmf : 0.0), a.from, Dot(a.from, n), samples);
   }
-  if (moments != nullptr) moments->covariance.Add(mean.VectorCovariance(), 1);
-  return mean.Result();
+  return Finish(mean, moments);
 }
 
 bool LightSampler::Escapes(Point3 origin, Vector3 w) const { return !rays_.Occluded(origin, w); }
@@ -283,16 +287,9 @@ DirectSample LightSampler::SkyIrradiance(const AnalyticLight& sky, Point3 p, Nor
     const Point2 u{(float(cell % side) + jitter.u) / float(side), (float(cell / side) + jitter.v) / float(side)};
     const Vector3 w = frame.ToWorld(SampleCosineHemisphere(u).direction);
     const bool open = (sky.wholeSphere || Dot(w, sky.up) > 0) && Escapes(origin, w);
-    const Rgb e = open ? sky.intensity * float(kPi) : Rgb{};
-    if (moments == nullptr) {
-      mean.Add(cell, e);
-      continue;
-    }
-    mean.Add(cell, e, open ? MomentVector(e, w, Dot(w, n)) : Vector3{});
-    if (open) moments->Add(e, w, Dot(w, n), 1.0f / float(samples));
+    AddSample(mean, moments, cell, open ? sky.intensity * float(kPi) : Rgb{}, w, Dot(w, n), samples);
   }
-  if (moments != nullptr) moments->covariance.Add(mean.VectorCovariance(), 1);
-  return mean.Result();
+  return Finish(mean, moments);
 }
 
 // Per stratum, one cosine-distributed direction, one drawn from the image and, with portals, one toward them, each
@@ -331,8 +328,7 @@ DirectSample LightSampler::AimedSkyIrradiance(const Light& sky, Point3 p, Normal
       if (const std::optional<SkySample> out = SampleTowardPortals(sky, p, stratum(cell))) e += weighed(out->from);
     moments != nullptr ? mean.Add(cell, e, stratumVector) : mean.Add(cell, e);
   }
-  if (moments != nullptr) moments->covariance.Add(mean.VectorCovariance(), 1);
-  return mean.Result();
+  return Finish(mean, moments);
 }
 
 DirectSample LightSampler::Irradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng, IncidentMoments* moments) const {

@@ -14,7 +14,7 @@ void PathStats::Add(const PathStats& o) {
   paths += o.paths;
   rays += o.rays;
   importanceMaps += o.importanceMaps;
-  mapsBuiltAtHits += o.mapsBuiltAtHits;
+  cosineFallbacks += o.cosineFallbacks;
   importanceSeconds += o.importanceSeconds;
 }
 
@@ -30,16 +30,21 @@ PathTracer::Direction PathTracer::SampleByPhotons(Point3 p, Normal3 side, Rgb al
   const auto start = std::chrono::steady_clock::now();
   const Frame frame = Frame::FromNormal(side);
   const ImportanceMap* map = cache_ ? cache_->At(p, side, scratch.indices, scratch.distance2) : nullptr;
-  if (map == nullptr) {
+  if (map == nullptr && cache_ == nullptr) {
     BuildImportanceMap(scratch.map, *photons_, p, side, settings_.Map(), scratch.indices, scratch.distance2);
     map = &scratch.map;
-    ++stats.mapsBuiltAtHits;
   }
-  const ImportanceSample s = map->Sample(u, settings_.warp);
+  Direction d;
+  if (map == nullptr) {  // no site faces this hit's way: the cosine lobe, f cos / pdf = Kd
+    d = {frame.ToWorld(SampleCosineHemisphere(u).direction), albedo};
+    ++stats.cosineFallbacks;
+  } else {  // f cos / pdf, with f = Kd / pi
+    const ImportanceSample s = map->Sample(u, settings_.warp);
+    d = {frame.ToWorld(s.direction), albedo * (kInvPi * s.direction.z / s.pdf)};
+  }
   ++stats.importanceMaps;
   stats.importanceSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // f cos / pdf, with f = Kd / pi.
-  return {frame.ToWorld(s.direction), albedo * (kInvPi * s.direction.z / s.pdf)};
+  return d;
 }
 
 Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& scratch, PathStats& stats) const {

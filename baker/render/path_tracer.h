@@ -17,7 +17,8 @@
 //             The direction is drawn by the chosen warp and weighted by f cos / pdf: for equal-area regions the
 //             pdf is P_k n / (2 pi), so the weight holds the paper's scale factor s = I / (I_k n). With a cache
 //             (estimators/importance_cache.h, the default), the map is a nearby site's, built once before the
-//             paths; a hit builds its own only where no site faces its way.
+//             paths; where no site faces a hit's way (a surface few photons reach), its direction comes from
+//             the cosine lobe. Without one, a hit builds its own map, the paper's form.
 // Mirrors and glass scatter by their own lobes (estimators/scatter.h) in radiance mode.
 //
 // Determinism: a pixel's samples draw from one stream keyed by (seed, pixel index) in order (baker/render/render.h), so
@@ -75,9 +76,9 @@ struct PathScratch {
 
 struct PathStats {
   uint64_t paths = 0, rays = 0;
-  uint64_t importanceMaps = 0;    // directions drawn from importance maps
-  uint64_t mapsBuiltAtHits = 0;   // of them, from maps built at the hit (no cache, or no site facing its way)
-  double importanceSeconds = 0;   // thread-seconds spent finding maps (and building them) and drawing from them
+  uint64_t importanceMaps = 0;    // directions drawn by photon sampling
+  uint64_t cosineFallbacks = 0;   // of them, from the cosine lobe: a cache held no site facing the hit's way
+  double importanceSeconds = 0;   // thread-seconds spent finding maps (or building them) and drawing from them
   void Add(const PathStats& o);
 };
 

@@ -147,7 +147,7 @@ void WriteRenderReport(OutputFiles& outputs, const std::string& path, const Rend
   for (const auto& [spp, image] : r.images)
     j["images"].push_back({{"spp", spp}, {"seconds", image.seconds}, {"paths", image.stats.paths},
                            {"rays", image.stats.rays}, {"importance_maps", image.stats.importanceMaps},
-                           {"maps_built_at_hits", image.stats.mapsBuiltAtHits},
+                           {"cosine_fallbacks", image.stats.cosineFallbacks},
                            {"importance_thread_seconds", image.stats.importanceSeconds}});
   j["outputs"] = r.outputs;
   WriteJsonFile(outputs, path, j);
@@ -281,10 +281,10 @@ void PrintRenderSummary(const RenderReport& r, const Log& log) {
     s += fmt::format("  {:>5} spp {:.3f} s: mean L {:.5g} W/(m^2 sr), {} paths, {:.2f} M rays/s", spp, image.seconds,
                      Luminance(mean.ToRgb()), image.stats.paths, image.stats.rays / std::max(1e-9, image.seconds) * 1e-6);
     if (image.stats.importanceMaps)
-      s += fmt::format(", {} directions from importance maps at {:.2f} us each ({:.0f}% of path time; {} maps built "
-                       "at hits)", image.stats.importanceMaps,
+      s += fmt::format(", {} directions drawn with importance maps at {:.2f} us each ({:.0f}% of path time; {} from the cosine "
+                       "lobe, where no cached map faced the hit)", image.stats.importanceMaps,
                        1e6 * image.stats.importanceSeconds / double(image.stats.importanceMaps),
-                       100.0 * image.stats.importanceSeconds / std::max(1e-9, threadSeconds), image.stats.mapsBuiltAtHits);
+                       100.0 * image.stats.importanceSeconds / std::max(1e-9, threadSeconds), image.stats.cosineFallbacks);
     s += "\n";
   }
   for (const std::string& out : r.outputs) s += "  wrote     " + out + "\n";
