@@ -47,6 +47,17 @@ std::array<std::vector<Rgb>, kMomentFluxes> StoredMomentFluxes(const SurfaceBins
   return moments;
 }
 
+// D's covariance at p (estimators/incident_moments.h): a^T M a along each of the six axes is the square of the
+// noise that estimator `axes[k]` predicts for its own estimate.
+Symmetric3 PhotonCovariance(std::span<const std::unique_ptr<DensityEstimator>> axes, const SurfacePoint& p) {
+  std::array<double, 6> forms;
+  for (size_t k = 0; k < 6; ++k) {
+    const NoisyIrradiance e = axes[k]->EstimateWithNoise(p.uv);
+    forms[k] = std::pow(e.relativeNoise * Luminance(PerSurfaceArea(e.irradiance, p)), 2);
+  }
+  return FromQuadraticForms(forms);
+}
+
 }  // namespace
 
 PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins,
@@ -87,12 +98,7 @@ void PhotonIrradiance::AddMoments(const SurfacePoint& p, IncidentMoments& moment
   IncidentMoments own;
   own.scalar = PerSurfaceArea(scalar, p);
   for (int k = 0; k < 3; ++k) own.vector[k] = PerSurfaceArea(m[k + 1]->Estimate(p.uv) - scalar, p);
-  std::array<double, 6> forms;  // a^T M a along CovarianceAxes, from the estimators' own noise
-  for (size_t k = 0; k < 6; ++k) {
-    const NoisyIrradiance e = m[4 + k]->EstimateWithNoise(p.uv);
-    forms[k] = std::pow(e.relativeNoise * Luminance(PerSurfaceArea(e.irradiance, p)), 2);
-  }
-  own.covariance = FromQuadraticForms(forms);
+  own.covariance = PhotonCovariance(std::span(m).subspan(4), p);
   moments.Add(own);
 }
 

@@ -46,22 +46,27 @@ double WeightedPercentile(const std::vector<double>& value, const std::vector<do
 
 namespace {
 
+// Each vertex's weight in the bake's percentiles: the luminance of its displayed light times its area.
+std::vector<double> DisplayWeights(const BakedMesh& baked) {
+  std::vector<double> weight = VertexAreas(baked.mesh);
+  for (size_t v = 0; v < weight.size(); ++v) weight[v] *= Luminance(baked.Radiance(v));
+  return weight;
+}
+
 // Each vertex's relative noise of displayed light split into the photons' and the points' variance, and its
-// weight (luminance x area): computed once, so that RemedyForNoise's search only re-takes the percentile.
+// weight (DisplayWeights): computed once, so that RemedyForNoise's search only re-takes the percentile.
 struct VertexNoise {
   std::vector<double> photonVariance, pointVariance, weight;
 
-  explicit VertexNoise(const BakedMesh& baked) {
-    const std::vector<double> area = VertexAreas(baked.mesh);
-    photonVariance.resize(area.size()), pointVariance.resize(area.size()), weight.resize(area.size());
-    for (size_t v = 0; v < area.size(); ++v) {
+  explicit VertexNoise(const BakedMesh& baked) : weight(DisplayWeights(baked)) {
+    photonVariance.resize(weight.size()), pointVariance.resize(weight.size());
+    for (size_t v = 0; v < weight.size(); ++v) {
       const double radiance = Luminance(baked.Radiance(v));
       const double reflected = Luminance(OutgoingRadiance({}, baked.albedo[v], baked.irradiance[v]));
       const double noise = radiance > 0 ? reflected / radiance * baked.irradianceNoise[v] : 0.0;
       const double share = baked.photonVarianceShare.empty() ? 1.0 : baked.photonVarianceShare[v];
       photonVariance[v] = share * noise * noise;
       pointVariance[v] = (1 - share) * noise * noise;
-      weight[v] = radiance * area[v];
     }
   }
   double Percentile(double photonScale, double pointScale) const {
@@ -94,7 +99,7 @@ double BakeNoise(const BakedMesh& baked, double photonScale, double pointScale) 
 
 double BakeDirectionNoise(const BakedMesh& baked) {
   if (baked.directionNoise.empty()) return 0;
-  return WeightedPercentile(baked.directionNoise, VertexNoise(baked).weight, 0.95);
+  return WeightedPercentile(baked.directionNoise, DisplayWeights(baked), 0.95);
 }
 
 constexpr double kPointShare = 0.6;

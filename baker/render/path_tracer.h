@@ -52,14 +52,15 @@ struct PathSettings {
   uint32_t neighbours = 200;      // N nearest photons per importance map; >= 1, typical 20-800
   // Defaults measured on the box (docs/render.md, "Photon-driven path tracing"): with light sampling and cached maps,
   // 200 photons, 4 x 8 regions and a 0.3 floor gave the lowest mean absolute error at equal spp of the settings
-  // tried (50-800 photons, floors 0.1 and 0.3, every 16th or 64th photon a site); finer maps are too sparse (rare
+  // tried (50-800 photons, floors 0.1 and 0.3, every 16th to 256th photon a site: every 128th as well as every
+  // 16th, at an eighth of the cache's time); finer maps are too sparse (rare
   // floor-weighted samples become fireflies).
   int thetaRegions = 4;           // importance map rows (equal solid angle bands from the normal)
   int phiRegions = 8;             // importance map columns (azimuth)
   float floorFraction = 0.3f;     // share of the total importance spread over all regions; [0, 1]
   ImportanceWarp warp = ImportanceWarp::kMipmap;
   // Sites of the importance cache: every cacheStride-th photon; 0 builds a map at every hit (the paper's form).
-  uint32_t cacheStride = 64;
+  uint32_t cacheStride = 128;
   bool lightSampling = true;      // one shadow ray per diffuse hit (next-event estimation); off: lights are hit
   uint32_t maxDepth = 1000;       // safety cap on surfaces per path
 

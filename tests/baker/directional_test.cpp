@@ -237,17 +237,21 @@ TEST(Directional, ShadowRaysPointAtTheLightsCentroid) {
 }
 
 // The box (data/box), whose light is mostly interreflected off its walls, baked with --sh twice.
-test::PlyData BakeBox(const std::string& name, uint32_t referencePaths, unsigned threads, uint64_t photons,
-                      BakeReport* report = nullptr) {
-  const std::string dir = test::TempDirectory(name);
+BakeOptions BoxWithSh(const std::string& name, uint64_t photons) {
   BakeOptions o;
   o.scenePath = PB_SOURCE_DIR "/data/box/box.obj";
-  o.outputPath = dir + "/out.ply";
+  o.outputPath = test::TempDirectory(name) + "/out.ply";
   o.photons = photons;
-  o.referencePaths = referencePaths;
-  o.threads = threads;
   o.sh = true;
   o.quiet = true;
+  return o;
+}
+
+test::PlyData BakeBox(const std::string& name, uint32_t referencePaths, unsigned threads, uint64_t photons,
+                      BakeReport* report = nullptr) {
+  BakeOptions o = BoxWithSh(name, photons);
+  o.referencePaths = referencePaths;
+  o.threads = threads;
   const BakeReport r = Bake(o, Log(true));
   if (report != nullptr) *report = r;
   return test::ReadPly(o.outputPath);
@@ -336,6 +340,20 @@ void ExpectEvenSky(DirectLight direct, const std::string& name) {
 TEST(Directional, EvenSkyShowsTheStatedTruncation) {
   ExpectEvenSky(DirectLight::kSampled, "sh-sky-rays");
   ExpectEvenSky(DirectLight::kPhotons, "sh-sky-photons");
+}
+
+// A refined mesh (new vertices, no per-vertex noise of H: --refine and --subdivide alike) carries the SH of its own
+// vertices, E at each normal its H, and the report its direction noise (such a bake once crashed there).
+TEST(Directional, RefinedMeshesCarryTheShToo) {
+  BakeOptions o = BoxWithSh("sh-subdivided", 100'000);
+  o.refine.subdivide = 1;
+  const BakeResult r = BakeMesh(o, Log(true));
+  ASSERT_TRUE(r.mesh.irradianceNoise.empty()) << "the case that crashed";
+  ASSERT_EQ(r.mesh.sh.size(), r.mesh.mesh.VertexCount());
+  for (size_t v = 0; v < r.mesh.sh.size(); ++v)
+    ASSERT_NEAR(ShIrradiance(r.mesh.sh[v], r.mesh.mesh.normals[v]).g, r.mesh.irradiance[v].g,
+                1e-4f * (1 + r.mesh.irradiance[v].g));
+  EXPECT_GT(r.report.directionNoise, 0);
 }
 
 TEST(Directional, OneArrivalGivesItsOwnMoments) {
