@@ -42,8 +42,8 @@ SurfaceLight IrradianceField::Light(const SurfacePoint& p) const { return LightW
 
 IncidentMoments IrradianceField::Moments(const SurfacePoint& p) const {
   IncidentMoments moments;
-  const SurfacePoint start = RayStart(*scene_, p);
-  if (gaps_ && gaps_->InGap(p, start)) gaps_->Gathered(p, start, &moments);
+  const std::optional<SurfacePoint> start = gaps_ ? std::optional(RayStart(*scene_, p)) : std::nullopt;
+  if (start && gaps_->InGap(p, *start)) gaps_->Gathered(p, *start, &moments);
   else contributions_.front()->AddMoments(p, moments);
   for (size_t i = 1; i < contributions_.size(); ++i) contributions_[i]->AddMoments(p, moments);
   return moments;
@@ -93,6 +93,25 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
   return field;
 }
 
+namespace {
+
+// Calls f(v, point of v) for every vertex of `mesh`, in chunks of kVertexChunk in parallel, with `title`'s progress
+// on `log`; with `owns`, only in the chunks it owns.
+template <typename F>
+void ForEachVertex(const SplitMesh& mesh, const Log& log, const char* title, const std::function<bool(size_t)>& owns,
+                   F f) {
+  const size_t n = mesh.VertexCount();
+  Progress progress(log, title, n);
+  tbb::parallel_for(size_t(0), (n + kVertexChunk - 1) / kVertexChunk, [&](size_t c) {
+    const size_t begin = c * kVertexChunk, end = std::min(n, begin + kVertexChunk);
+    if (!owns || owns(c))
+      for (size_t v = begin; v != end; ++v) f(v, mesh.Point(v));
+    progress.Advance(end - begin);
+  });
+}
+
+}  // namespace
+
 BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise,
                              const std::function<bool(size_t)>& owns) {
   BakedMesh baked;
@@ -102,46 +121,27 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
   baked.emitted.resize(n);
   if (withNoise)
     baked.irradianceNoise.assign(n, 0.0), baked.photonVarianceShare.assign(n, 1.0), baked.sampledShare.assign(n, 0.0);
-  Progress progress(log, "estimate irradiance", n);
-  const size_t chunks = (n + kVertexChunk - 1) / kVertexChunk;
-  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-    const size_t begin = c * kVertexChunk, end = std::min(n, begin + kVertexChunk);
-    if (owns && !owns(c)) return progress.Advance(end - begin);
-    for (size_t v = begin; v != end; ++v) {
-      const SurfacePoint p = mesh.Point(v);
-      const SurfaceLight light = withNoise ? field.LightWithNoise(p) : field.Light(p);
-      baked.irradiance[v] = light.irradiance;
-      baked.albedo[v] = light.albedo;
-      baked.emitted[v] = light.emitted;
-      if (withNoise) {
-        baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
-        baked.sampledShare[v] = light.sampledShare;
-      }
+  ForEachVertex(mesh, log, "estimate irradiance", owns, [&](size_t v, const SurfacePoint& p) {
+    const SurfaceLight light = withNoise ? field.LightWithNoise(p) : field.Light(p);
+    baked.irradiance[v] = light.irradiance;
+    baked.albedo[v] = light.albedo;
+    baked.emitted[v] = light.emitted;
+    if (withNoise) {
+      baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
+      baked.sampledShare[v] = light.sampledShare;
     }
-    progress.Advance(end - begin);
   });
   baked.mesh = std::move(mesh);
   return baked;
 }
 
-}  // namespace pb
-
-namespace pb {
-
 void EstimateDirections(const IrradianceField& field, BakedMesh& baked, const Log& log) {
   const size_t n = baked.mesh.VertexCount();
   baked.sh.resize(n), baked.directionNoise.resize(n);
-  Progress progress(log, "estimate directions", n);
-  const size_t chunks = (n + kVertexChunk - 1) / kVertexChunk;
-  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-    const size_t begin = c * kVertexChunk, end = std::min(n, begin + kVertexChunk);
-    for (size_t v = begin; v != end; ++v) {
-      const SurfacePoint p = baked.mesh.Point(v);
-      const IncidentMoments moments = field.Moments(p);
-      baked.sh[v] = ShProjection(moments, p.normal, baked.irradiance[v]);
-      baked.directionNoise[v] = DirectionNoise(moments, p.normal, baked.irradiance[v]);
-    }
-    progress.Advance(end - begin);
+  ForEachVertex(baked.mesh, log, "estimate directions", {}, [&](size_t v, const SurfacePoint& p) {
+    const IncidentMoments moments = field.Moments(p);
+    baked.sh[v] = ShProjection(moments, p.normal, baked.irradiance[v]);
+    baked.directionNoise[v] = DirectionNoise(moments, p.normal, baked.irradiance[v]);
   });
 }
 
