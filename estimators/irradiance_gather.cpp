@@ -63,8 +63,7 @@ DirectSample IrradianceGatherer::Gather(Point3 p, Normal3 n, uint32_t paths, Rng
     }
     if (!scattered.IsBlack()) path.Add(scattered, w, Dot(w, n));
     mean.Add(e + scattered, path.LuminanceVector());  // the path's vector x v: its light sample's and its own
-    path.covariance = {};                             // the paths' spread is their noise
-    sum.Add(path);
+    sum.Add(path);  // (one light sample predicts no covariance: the paths' spread is their noise)
   }
   if (moments != nullptr) {
     moments->Add(sum, 1.0f / float(paths));
