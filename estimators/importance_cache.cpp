@@ -35,7 +35,7 @@ void BuildImportanceMap(ImportanceMap& map, const PhotonMap& photons, Point3 p, 
 
 ImportanceCache::ImportanceCache(const PhotonMap& photons, const MapSettings& settings, uint32_t stride)
     : sites_(SitesOf(photons, std::max(stride, 1u))) {
-  maps_.assign(sites_.Size(), ImportanceMap(settings.rows, settings.cols));
+  maps_.assign(sites_.Size(), ImportanceMap(settings.rows, settings.cols, settings.domain));
   std::vector<float> spacing(sites_.Size());  // each site's distance to its kCandidates-th nearest [m]
   tbb::parallel_for(tbb::blocked_range<size_t>(0, maps_.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
     std::vector<uint32_t> indices;

@@ -34,8 +34,9 @@ inline constexpr float kSameSurfaceCosine = 0.9f;
 
 struct MapSettings {
   uint32_t neighbours = 50;  // N
-  int rows = 4, cols = 8;    // regions, equal solid angle
+  int rows = 4, cols = 8;    // regions, each the same measure of the domain
   float floorFraction = 0.3f;
+  MapDomain domain = MapDomain::kCosineHemisphere;
 };
 
 // Fills `map` (Clear, Add, Finish) from the photons nearest to p (world [m]) on a surface of normal `side`;

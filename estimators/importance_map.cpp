@@ -33,33 +33,45 @@ bool Descend(float& u, double q) {
 
 }  // namespace
 
-ImportanceMap::ImportanceMap(int rows, int cols, bool sphere)
-    : rows_(rows), cols_(cols), sphere_(sphere), importance_(size_t(rows) * size_t(cols), 0.0) {
+ImportanceMap::ImportanceMap(int rows, int cols, MapDomain domain)
+    : rows_(rows), cols_(cols), domain_(domain), importance_(size_t(rows) * size_t(cols), 0.0) {
   PB_CHECK_GE(rows, 1);  // an importance map has at least one region
   PB_CHECK_GE(cols, 1);
   Finish(1.0f);  // uniform until built
 }
 
-float ImportanceMap::RegionSolidAngle() const { return float((sphere_ ? 4.0 : 2.0) * kPi / Regions()); }
+float ImportanceMap::RegionMeasure() const {
+  const double whole = domain_ == MapDomain::kSphere ? 4 * kPi : domain_ == MapDomain::kHemisphere ? 2 * kPi : kPi;
+  return float(whole / Regions());
+}
+
+float ImportanceMap::PdfIn(uint32_t region, float cosTheta) const {
+  const float density = probability_[region] / RegionMeasure();
+  return domain_ == MapDomain::kCosineHemisphere ? density * std::max(cosTheta, 0.0f) : density;
+}
 
 void ImportanceMap::Clear() { std::fill(importance_.begin(), importance_.end(), 0.0); }
 
 Point2 ImportanceMap::ToSquare(Vector3 d) const {
-  const float s = sphere_ ? 0.5f * (1.0f - d.z) : 1.0f - d.z;
+  const float s = domain_ == MapDomain::kSphere       ? 0.5f * (1.0f - d.z)
+                  : domain_ == MapDomain::kHemisphere ? 1.0f - d.z
+                                                      : 1.0f - d.z * d.z;
   float phi = std::atan2(d.y, d.x);
   if (phi < 0) phi += float(2 * kPi);
   return {Unit(s), Unit(phi / (2 * kPi))};
 }
 
 Vector3 ImportanceMap::FromSquare(Point2 st) const {
-  const float z = sphere_ ? 1.0f - 2.0f * st.u : 1.0f - st.u;
+  const float z = domain_ == MapDomain::kSphere       ? 1.0f - 2.0f * st.u
+                  : domain_ == MapDomain::kHemisphere ? 1.0f - st.u
+                                                      : std::sqrt(1.0f - st.u);
   const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
   const float phi = float(2 * kPi) * st.v;
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
 std::optional<uint32_t> ImportanceMap::RegionOf(Vector3 d) const {
-  if (!sphere_ && d.z < 0) return std::nullopt;
+  if (domain_ != MapDomain::kSphere && d.z < 0) return std::nullopt;
   const Point2 st = ToSquare(d);
   const int row = std::min(rows_ - 1, int(st.u * float(rows_))), col = std::min(cols_ - 1, int(st.v * float(cols_)));
   return uint32_t(row * cols_ + col);
@@ -131,12 +143,13 @@ ImportanceSample ImportanceMap::Sample(Point2 u, ImportanceWarp warp) const {
            "mip-map warping needs power-of-two rows and cols");
   uint32_t region = 0;
   const Point2 st = warp == ImportanceWarp::kMipmap ? SampleMipmapSquare(u, region) : SampleInversionSquare(u, region);
-  return {FromSquare(st), probability_[region] / RegionSolidAngle(), region};
+  const Vector3 d = FromSquare(st);
+  return {d, PdfIn(region, d.z), region};
 }
 
 float ImportanceMap::Pdf(Vector3 d) const {
   const auto region = RegionOf(d);
-  return region ? probability_[*region] / RegionSolidAngle() : 0.0f;
+  return region ? PdfIn(*region, d.z) : 0.0f;
 }
 
 Point2 ImportanceMap::InvertInversionSquare(uint32_t region, Point2 local) const {

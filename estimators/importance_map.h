@@ -5,13 +5,21 @@
 // region's importance, uniformly within the region.
 //
 // Directions are in a local frame whose z axis is the surface normal. The map is a rows x cols grid over the
-// unit square (s, t) (Point2 u = s, v = t): cos(theta) = 1 - s (hemisphere) or 1 - 2s (sphere), phi = 2 pi t. That map preserves
-// area, so every region spans the same solid angle Omega_r = Omega / (rows cols), with Omega = 2 pi (hemisphere)
-// or 4 pi (sphere) [sr].
+// unit square (s, t) (Point2 u = s, v = t), phi = 2 pi t, and one of three domains (MapDomain):
+//   kHemisphere:        cos(theta) = 1 - s; every region spans the same solid angle, 2 pi / n [sr];
+//   kCosineHemisphere:  cos(theta)^2 = 1 - s; every region spans the same projected solid angle, pi / n [sr]
+//                       (the measure cos(theta) d omega), and a point uniform in (s, t) is a direction drawn
+//                       from the cosine lobe (Malley's method in polar form);
+//   kSphere:            cos(theta) = 1 - 2 s; every region spans 4 pi / n [sr];
+// with n = rows cols.
 //
-// The pdf of a direction in region k is P_k / Omega_r [1/sr], with P_k = I_k / I its share of the importance.
-// The weight of a sample, f cos / pdf, therefore carries the factor 1 / (P_k n) times Omega: for equal-area
-// regions this is the paper's scale factor s = I / (I_k n), with n the number of regions.
+// The pdf of a direction in region k is P_k / M_r times cos(theta) in the cosine domain (else times 1) [1/sr],
+// with P_k = I_k / I its share of the importance and M_r the region's measure. The weight of a sample, f cos /
+// pdf, therefore carries the factor 1 / (P_k n): the paper's scale factor s = I / (I_k n), with n the number of
+// regions. In the cosine domain the weight of a Lambertian BRDF is Kd / (P_k n) whatever the direction in the
+// region, and a uniform map (or the floor) is exactly the BRDF's own sampling; the paper's equal-solid-angle
+// regions leave a factor cos(theta) that varies within each region (4/3 across the first of four bands, without
+// bound across the last), noise that cosine sampling does not have.
 //
 // Two warps pick the region and the point in it:
 //   kInversion: the regions in row order as one array; a binary search of its CDF (the paper's linear scan picks
@@ -31,6 +39,7 @@
 namespace pb {
 
 enum class ImportanceWarp : uint8_t { kMipmap, kInversion };
+enum class MapDomain : uint8_t { kHemisphere, kCosineHemisphere, kSphere };
 
 struct ImportanceSample {
   Vector3 direction;  // unit, local frame
@@ -41,12 +50,13 @@ struct ImportanceSample {
 class ImportanceMap {
  public:
   // rows, cols >= 1; for kMipmap both must be powers of two.
-  ImportanceMap(int rows, int cols, bool sphere = false);
+  ImportanceMap(int rows, int cols, MapDomain domain = MapDomain::kHemisphere);
 
   int Rows() const { return rows_; }
   int Cols() const { return cols_; }
   int Regions() const { return rows_ * cols_; }
-  float RegionSolidAngle() const;  // [sr]
+  MapDomain Domain() const { return domain_; }
+  float RegionMeasure() const;  // solid angle [sr], or projected solid angle in the cosine domain
 
   // Accumulation. `importance` >= 0 [any consistent unit, e.g. W/sr]; directions below the domain are ignored.
   void Clear();
@@ -56,7 +66,7 @@ class ImportanceMap {
   void Finish(float floorFraction);
 
   ImportanceSample Sample(Point2 u, ImportanceWarp warp) const;
-  float Pdf(Vector3 localDirection) const;                   // [1/sr]; 0 outside the domain
+  float Pdf(Vector3 localDirection) const;                   // [1/sr] (solid angle); 0 outside the domain
   std::optional<Point2> Invert(Vector3 localDirection, ImportanceWarp warp) const;  // none where pdf is 0
   float RegionProbability(uint32_t region) const { return probability_[region]; }
   std::optional<uint32_t> RegionOf(Vector3 localDirection) const;
@@ -64,6 +74,7 @@ class ImportanceMap {
  private:
   Point2 ToSquare(Vector3 localDirection) const;  // (s, t)
   Vector3 FromSquare(Point2 st) const;
+  float PdfIn(uint32_t region, float cosTheta) const;  // [1/sr]
   double RectangleSum(int r0, int r1, int c0, int c1) const;  // rows [r0, r1), cols [c0, c1)
   // Hierarchical warping: a node of the grid, halved along its longer side into two children.
   struct Split {
@@ -83,7 +94,7 @@ class ImportanceMap {
   Point2 InvertMipmapSquare(int row, int col, Point2 local) const;
 
   int rows_, cols_;
-  bool sphere_;
+  MapDomain domain_;
   std::vector<double> importance_;   // accumulated, row-major
   std::vector<float> probability_;   // P_k after the floor
   std::vector<double> cdf_;          // inclusive prefix sums of probability_, back() == 1

@@ -30,13 +30,17 @@ void DefineOptions(CLI::App& app, pb::RenderOptions& o) {
   app.add_option("--neighbours", o.path.neighbours, "nearest photons per importance map; >= 1, typical 20-200")
       ->capture_default_str();
   pb::tools::AddPairOption(app, "--regions", o.path.thetaRegions, o.path.phiRegions,
-                "importance map regions, THETAxPHI (equal solid angle; powers of two for --warp mipmap)");
+                "importance map regions, THETAxPHI (powers of two for --warp mipmap)");
   app.add_option("--floor", o.path.floorFraction, "fraction of the total importance spread over every region; [0, 1]")
       ->capture_default_str();
   app.add_option("--cache-stride", o.path.cacheStride,
                  "importance maps are built once, at every Nth photon, and a hit uses the nearest facing its way; "
                  "0 builds one at every hit (the paper's form); 0-1000000")
       ->capture_default_str();
+  pb::tools::AddNamedOption(app, "--map-domain", o.path.domain, pb::ParseDomain, pb::DomainName,
+                            pb::JoinNames(pb::kMapDomains, pb::DomainName), "domain",
+                            "regions of the same projected solid angle (cosine: a uniform map is the BRDF's cosine lobe) "
+                            "or of the same solid angle (the paper's)");
   pb::tools::AddNamedOption(app, "--warp", o.path.warp, pb::ParseWarp, pb::WarpName,
                             pb::JoinNames(pb::kAllWarps, pb::WarpName), "warp",
                             "how a region is drawn: hierarchical mip-map warping, or inversion of the region CDF");

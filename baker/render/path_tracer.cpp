@@ -9,6 +9,7 @@
 namespace pb {
 std::string SamplingName(DirectionSampling s) { return s == DirectionSampling::kBrdf ? "brdf" : "photons"; }
 std::string WarpName(ImportanceWarp w) { return w == ImportanceWarp::kMipmap ? "mipmap" : "inversion"; }
+std::string DomainName(MapDomain d) { return d == MapDomain::kCosineHemisphere ? "cosine" : "solid-angle"; }
 
 void PathStats::Add(const PathStats& o) {
   paths += o.paths;

@@ -46,6 +46,9 @@ inline constexpr std::array<ImportanceWarp, 2> kAllWarps = {ImportanceWarp::kMip
 std::string WarpName(ImportanceWarp w);
 inline std::optional<DirectionSampling> ParseSampling(std::string_view s) { return ParseName(s, kAllSamplings, SamplingName); }
 inline std::optional<ImportanceWarp> ParseWarp(std::string_view s) { return ParseName(s, kAllWarps, WarpName); }
+inline constexpr std::array<MapDomain, 2> kMapDomains = {MapDomain::kCosineHemisphere, MapDomain::kHemisphere};
+std::string DomainName(MapDomain d);  // "cosine" or "solid-angle"
+inline std::optional<MapDomain> ParseDomain(std::string_view s) { return ParseName(s, kMapDomains, DomainName); }
 
 struct PathSettings {
   DirectionSampling sampling = DirectionSampling::kBrdf;
@@ -55,16 +58,17 @@ struct PathSettings {
   // tried (50-800 photons, floors 0.1 and 0.3, every 16th to 256th photon a site: every 128th as well as every
   // 16th, at an eighth of the cache's time); finer maps are too sparse (rare
   // floor-weighted samples become fireflies).
-  int thetaRegions = 4;           // importance map rows (equal solid angle bands from the normal)
+  int thetaRegions = 4;           // importance map rows (bands from the normal, each the same measure)
   int phiRegions = 8;             // importance map columns (azimuth)
   float floorFraction = 0.3f;     // share of the total importance spread over all regions; [0, 1]
   ImportanceWarp warp = ImportanceWarp::kMipmap;
+  MapDomain domain = MapDomain::kCosineHemisphere;  // regions of equal projected (or plain) solid angle
   // Sites of the importance cache: every cacheStride-th photon; 0 builds a map at every hit (the paper's form).
   uint32_t cacheStride = 128;
   bool lightSampling = true;      // one shadow ray per diffuse hit (next-event estimation); off: lights are hit
   uint32_t maxDepth = 1000;       // safety cap on surfaces per path
 
-  MapSettings Map() const { return {neighbours, thetaRegions, phiRegions, floorFraction}; }
+  MapSettings Map() const { return {neighbours, thetaRegions, phiRegions, floorFraction, domain}; }
 };
 
 // Per-thread working memory, reused from path to path.
@@ -72,7 +76,7 @@ struct PathScratch {
   ImportanceMap map;
   std::vector<uint32_t> indices;
   std::vector<float> distance2;
-  explicit PathScratch(const PathSettings& s) : map(s.thetaRegions, s.phiRegions) {}
+  explicit PathScratch(const PathSettings& s) : map(s.thetaRegions, s.phiRegions, s.domain) {}
 };
 
 struct PathStats {

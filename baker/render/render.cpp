@@ -126,6 +126,7 @@ std::vector<std::pair<std::string, std::string>> ExrAttributes(const RenderOptio
           {"photons", o.path.sampling == DirectionSampling::kPhotons ? std::to_string(o.photons) : "0"},
           {"warp", WarpName(o.path.warp)},
           {"regions", fmt::format("{}x{}", o.path.thetaRegions, o.path.phiRegions)},
+          {"map_domain", DomainName(o.path.domain)},
           {"floor", fmt::format("{}", o.path.floorFraction)},
           {"seed", std::to_string(o.seed)}};
 }
@@ -137,6 +138,7 @@ void WriteRenderReport(OutputFiles& outputs, const std::string& path, const Rend
   j["light_sampling"] = r.options.path.lightSampling;
   j["warp"] = WarpName(r.options.path.warp);
   j["regions"] = {r.options.path.thetaRegions, r.options.path.phiRegions};
+  j["map_domain"] = DomainName(r.options.path.domain);
   j["floor"] = r.options.path.floorFraction;
   j["neighbours"] = r.options.path.neighbours;
   j["photons_stored"] = r.photonsStored;
@@ -267,8 +269,9 @@ void PrintRenderSummary(const RenderReport& r, const Log& log) {
   std::string s = fmt::format("\nrender summary: {} ({}x{}, {} threads)\n", o.scenePath, o.width, o.height, r.threads);
   s += fmt::format("  sampling  {}{}", SamplingName(o.path.sampling), o.path.lightSampling ? " with light sampling" : "");
   if (o.path.sampling == DirectionSampling::kPhotons)
-    s += fmt::format(": {} photons stored, {} nearest, {}x{} regions, floor {}, warp {}, {}", r.photonsStored,
-                     o.path.neighbours, o.path.thetaRegions, o.path.phiRegions, o.path.floorFraction,
+    s += fmt::format(": {} photons stored, {} nearest, {}x{} {} regions, floor {}, warp {}, {}", r.photonsStored,
+                     o.path.neighbours, o.path.thetaRegions, o.path.phiRegions, DomainName(o.path.domain),
+                     o.path.floorFraction,
                      WarpName(o.path.warp),
                      r.cacheSites ? fmt::format("{} cached maps", r.cacheSites) : std::string("a map at every hit"));
   s += "\n  seconds  ";

@@ -43,7 +43,7 @@ TEST(ImportanceCache, AHitTakesTheMapOfASiteFacingItsWay) {
     const MapPhoton& site = photons[uint32_t(i)];
     const float dx = site.position.x - hit.x, dz = site.position.z - hit.z;
     if (site.normal.y < 0.5f || dx * dx + dz * dz > 0.15f * 0.15f) continue;
-    ImportanceMap own(4, 8);
+    ImportanceMap own(4, 8, settings.domain);
     BuildImportanceMap(own, photons, site.position, {0, 1, 0}, settings, indices, distance2);
     some = own.Pdf(toLight) == map->Pdf(toLight) && own.Pdf(away) == map->Pdf(away);
   }
