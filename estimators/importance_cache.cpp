@@ -1,8 +1,5 @@
 #include "estimators/importance_cache.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -11,11 +8,51 @@
 namespace pb {
 namespace {
 
-std::vector<MapPhoton> SitesOf(const PhotonMap& photons, uint32_t stride) {
-  std::vector<MapPhoton> sites;
-  sites.reserve(photons.Size() / stride + 1);
-  for (size_t i = 0; i < photons.Size(); i += stride) sites.push_back(photons[uint32_t(i)]);
-  return sites;
+constexpr int kCellBits = 21;
+constexpr float kCellsPerAxis = float(1 << kCellBits);
+
+uint64_t Mix(uint64_t key) {  // SplitMix64's finaliser: neighbouring cells land far apart in the table
+  key = (key ^ (key >> 30)) * 0xbf58476d1ce4e5b9ull;
+  key = (key ^ (key >> 27)) * 0x94d049bb133111ebull;
+  return key ^ (key >> 31);
+}
+
+struct Bounds {
+  Point3 low{INFINITY, INFINITY, INFINITY}, high{-INFINITY, -INFINITY, -INFINITY};
+  float Extent() const { return std::max({high.x - low.x, high.y - low.y, high.z - low.z}); }
+};
+
+Bounds BoundsOf(const std::vector<MapPhoton>& photons) {
+  Bounds b;
+  for (const MapPhoton& p : photons) {
+    b.low = {std::min(b.low.x, p.position.x), std::min(b.low.y, p.position.y), std::min(b.low.z, p.position.z)};
+    b.high = {std::max(b.high.x, p.position.x), std::max(b.high.y, p.position.y), std::max(b.high.z, p.position.z)};
+  }
+  return b;
+}
+
+uint64_t KeyOf(Point3 p, Point3 origin, float cell) {
+  const auto index = [&](float x, float o) -> int64_t { return int64_t(std::floor((x - o) / cell)); };
+  const int64_t i = index(p.x, origin.x), j = index(p.y, origin.y), k = index(p.z, origin.z);
+  constexpr int64_t kLimit = int64_t(1) << kCellBits;
+  if (i < 0 || j < 0 || k < 0 || i >= kLimit || j >= kLimit || k >= kLimit) return ImportanceCache::kOutside;
+  return uint64_t(i) | uint64_t(j) << kCellBits | uint64_t(k) << (2 * kCellBits);
+}
+
+// The cell side [m] at which a cell that photons reached holds about `perCell` of them on average. Photons lie on
+// surfaces, so that count grows as the side squared: two rounds of counting the occupied cells at a trial side
+// correct the side by the square root of the ratio. At least extent / 2^21, so that every cell has its own key.
+float CellSideFor(const std::vector<MapPhoton>& photons, const Bounds& bounds, uint32_t perCell) {
+  const float extent = bounds.Extent(), smallest = extent / (kCellsPerAxis - 2);
+  if (!(extent > 0) || !std::isfinite(extent)) return 1.0f;
+  float side = extent / 256;
+  for (int round = 0; round < 2; ++round) {
+    CellTable occupied(photons.size() / 4);
+    for (const MapPhoton& p : photons) occupied.Insert(KeyOf(p.position, bounds.low, side));
+    const double mean = double(photons.size()) / double(occupied.Size());
+    side = std::max(smallest, float(side * std::sqrt(double(perCell) / mean)));
+  }
+  return side;
 }
 
 }  // namespace
@@ -33,67 +70,87 @@ void BuildImportanceMap(ImportanceMap& map, const PhotonMap& photons, Point3 p, 
   map.Finish(s.floorFraction);
 }
 
-ImportanceCache::ImportanceCache(const PhotonMap& photons, const MapSettings& settings, uint32_t stride)
-    : sites_(SitesOf(photons, std::max(stride, 1u))) {
-  maps_.assign(sites_.Size(), ImportanceMap(settings.rows, settings.cols, settings.domain));
-  std::vector<float> spacing(sites_.Size());  // each site's distance to its kCandidates-th nearest [m]
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, maps_.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-    std::vector<uint32_t> indices;
-    std::vector<float> distance2;
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const MapPhoton& site = sites_[uint32_t(i)];
-      BuildImportanceMap(maps_[i], photons, site.position, site.normal, settings, indices, distance2);
-      sites_.Nearest(site.position, kCandidates, indices, distance2);
-      spacing[i] = distance2.empty() ? 0.0f : std::sqrt(distance2.back());
+CellTable::CellTable(size_t expectedKeys) {
+  size_t slots = 16;
+  while (slots < 2 * expectedKeys) slots *= 2;
+  keys_.assign(slots, 0);
+  values_.assign(slots, kAbsent);
+}
+
+size_t CellTable::SlotOf(uint64_t key) const {
+  const size_t mask = keys_.size() - 1;
+  size_t slot = size_t(Mix(key)) & mask;
+  while (values_[slot] != kAbsent && keys_[slot] != key) slot = (slot + 1) & mask;
+  return slot;
+}
+
+void CellTable::Grow() {
+  std::vector<uint64_t> keys(keys_.size() * 2, 0);
+  std::vector<uint32_t> values(values_.size() * 2, kAbsent);
+  keys_.swap(keys);
+  values_.swap(values);
+  for (size_t i = 0; i < keys.size(); ++i)
+    if (values[i] != kAbsent) {
+      const size_t slot = SlotOf(keys[i]);
+      keys_[slot] = keys[i];
+      values_[slot] = values[i];
     }
-  });
-  BuildGrid(std::move(spacing));
 }
 
-void ImportanceCache::BuildGrid(std::vector<float> spacing) {
-  if (spacing.empty()) return;
-  std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
-  cell_ = spacing[spacing.size() / 2];
-  if (!(cell_ > 0) || !std::isfinite(cell_)) return void(cell_ = 0);
-  std::vector<std::pair<uint64_t, uint32_t>> keyed(sites_.Size());
-  for (uint32_t i = 0; i < sites_.Size(); ++i) keyed[i] = {CellOf(sites_[i].position), i};
-  std::sort(keyed.begin(), keyed.end());
-  bySite_.resize(keyed.size());
-  for (size_t i = 0; i < keyed.size(); ++i) {
-    bySite_[i] = keyed[i].second;
-    auto& range = cells_.try_emplace(keyed[i].first, uint32_t(i), uint32_t(i)).first->second;
-    range.second = uint32_t(i + 1);
+uint32_t CellTable::Insert(uint64_t key) {
+  if (2 * (count_ + 1) > keys_.size()) Grow();
+  const size_t slot = SlotOf(key);
+  if (values_[slot] == kAbsent) {
+    keys_[slot] = key;
+    values_[slot] = uint32_t(count_++);
   }
+  return values_[slot];
 }
 
-uint64_t ImportanceCache::CellOf(Point3 p) const {
-  // 21 bits a coordinate, wrapping: cells far apart may share a key, which only costs a scan of their sites.
-  const auto bits = [&](float x) { return uint64_t(int64_t(std::floor(x / cell_))) & 0x1fffff; };
-  return bits(p.x) | bits(p.y) << 21 | bits(p.z) << 42;
+uint32_t CellTable::Find(uint64_t key) const { return values_[SlotOf(key)]; }
+
+ImportanceCache::ImportanceCache(const std::vector<MapPhoton>& photons, const MapSettings& settings) {
+  if (photons.empty()) return;
+  const Bounds bounds = BoundsOf(photons);
+  origin_ = bounds.low;
+  cell_ = CellSideFor(photons, bounds, std::max(settings.neighbours, 1u));
+  Bin(photons, settings);
 }
 
-const ImportanceMap* ImportanceCache::FromCell(Point3 p, Normal3 side) const {
-  if (cell_ == 0) return nullptr;
-  const auto it = cells_.find(CellOf(p));
-  if (it == cells_.end()) return nullptr;
+uint64_t ImportanceCache::CellOf(Point3 p) const { return cell_ > 0 ? KeyOf(p, origin_, cell_) : kOutside; }
+
+void ImportanceCache::Bin(const std::vector<MapPhoton>& photons, const MapSettings& settings) {
+  std::vector<Frame> frames;  // per group
+  for (const MapPhoton& photon : photons) {
+    const uint32_t cell = cells_.Insert(CellOf(photon.position));
+    if (cell == firstGroup_.size()) firstGroup_.push_back(UINT32_MAX);
+    uint32_t* link = &firstGroup_[cell];
+    while (*link != UINT32_MAX && Dot(groups_[*link].normal, photon.normal) < kSameSurfaceCosine)
+      link = &groups_[*link].next;
+    if (*link == UINT32_MAX) {  // the first photon of its cell facing its way
+      *link = uint32_t(groups_.size());
+      groups_.push_back({photon.normal});
+      frames.push_back(Frame::FromNormal(photon.normal));
+      maps_.emplace_back(settings.rows, settings.cols, settings.domain);
+    }
+    ++groups_[*link].photons;
+    maps_[*link].Add(frames[*link].ToLocal(photon.wi), Luminance(photon.flux));  // ignored unless in the hemisphere
+  }
+  const double n = std::max(settings.neighbours, 1u);
+  for (size_t g = 0; g < maps_.size(); ++g)
+    maps_[g].Finish(std::max(settings.floorFraction, float(1.0 - groups_[g].photons / n)));
+}
+
+const ImportanceMap* ImportanceCache::At(Point3 p, Normal3 side) const {
+  const uint64_t key = CellOf(p);
+  if (key == kOutside) return nullptr;
+  const uint32_t cell = cells_.Find(key);
+  if (cell == CellTable::kAbsent) return nullptr;
   const ImportanceMap* best = nullptr;
-  float nearest = INFINITY;
-  for (uint32_t k = it->second.first; k < it->second.second; ++k) {
-    const MapPhoton& site = sites_[bySite_[k]];
-    const Vector3 d = site.position - p;
-    const float d2 = Dot(d, d);
-    if (d2 < nearest && Dot(site.normal, side) >= kSameSurfaceCosine) nearest = d2, best = &maps_[bySite_[k]];
-  }
+  float closest = kSameSurfaceCosine;
+  for (uint32_t g = firstGroup_[cell]; g != UINT32_MAX; g = groups_[g].next)
+    if (const float c = Dot(groups_[g].normal, side); c >= closest) closest = c, best = &maps_[g];
   return best;
-}
-
-const ImportanceMap* ImportanceCache::At(Point3 p, Normal3 side, std::vector<uint32_t>& indices,
-                                         std::vector<float>& distance2) const {
-  if (const ImportanceMap* map = FromCell(p, side)) return map;
-  const size_t found = sites_.Nearest(p, kCandidates, indices, distance2);
-  for (size_t i = 0; i < found; ++i)
-    if (Dot(sites_[indices[i]].normal, side) >= kSameSurfaceCosine) return &maps_[indices[i]];
-  return nullptr;
 }
 
 }  // namespace pb

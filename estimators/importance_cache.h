@@ -3,23 +3,26 @@
 // at a million photons), where a BRDF bounce costs one ray (about 0.2 us), so building one at every hit loses at
 // equal time whatever it saves in variance.
 //
-// A map is the paper's (estimators/importance_map.h): the N nearest photons that arrived on a surface facing the
-// same way (normals within about 25 degrees) each add their power (luminance) to the region of their incoming
+// A map is the paper's (estimators/importance_map.h): photons that arrived near a point, on a surface facing the
+// same way (normals within about 25 degrees), each add their power (luminance) to the region of their incoming
 // direction, in the frame of the normal, and a floor fraction is spread over every region. (The BRDF, Lambertian,
 // is the same for every direction and drops out when the map is normalised.)
 //
-// The cache's sites are every `stride`-th photon of the photon map, in its order, each with the map its own N
-// nearest photons build. A hit takes the map of the nearest site in its cell of a uniform grid (cells of the
-// median distance from a site to its kCandidates-th nearest, so that a cell holds a few sites) whose normal is
-// within 25 degrees of its own, or, where its cell holds none, of the nearest of its kCandidates nearest sites; it
-// reads the map in its own normal's frame. Where no site qualifies, the caller builds a map at the hit. Either way the direction's pdf is that of the map it was drawn from, so the estimate stays unbiased
-// whichever map answers (the floor keeps every direction possible); a neighbour's map only fits the hit's light a
-// little less well.
+// The cache bins the photons into a uniform grid of cubic cells [m], sized so that a cell a photon reached holds
+// about N of them on average (N = MapSettings::neighbours, the paper's N nearest), and within a cell into groups
+// by surface orientation: a photon joins the first group whose normal (that of its first photon) lies within 25
+// degrees of its own. Each group's photons build one map, in the frame of the group's normal. Building costs one
+// pass over the photons and no nearest-neighbour search: no kd-tree is needed. A hit takes the map of the group
+// in its own cell that faces its way most nearly, and reads it in its own normal's frame; where none does, the
+// caller draws from the cosine lobe. Either way the direction's pdf is that of the map (or lobe) it was drawn
+// from, so the estimate stays unbiased whichever answers (the floor keeps every direction possible).
+//
+// A group of fewer than N photons describes its light less surely, so its floor grows toward the whole map: floor
+// max(f, 1 - count / N). A group of one photon is then almost the cosine lobe, not a spike that sends most paths
+// one way and weights the rest heavily.
 #pragma once
 
 #include <cstdint>
-#include <unordered_map>
-#include <utility>
 #include <vector>
 
 #include "estimators/importance_map.h"
@@ -33,7 +36,7 @@ namespace pb {
 inline constexpr float kSameSurfaceCosine = 0.9f;
 
 struct MapSettings {
-  uint32_t neighbours = 50;  // N
+  uint32_t neighbours = 50;  // N: nearest photons per map at a hit, photons per cell on average in the cache
   int rows = 4, cols = 8;    // regions, each the same measure of the domain
   float floorFraction = 0.3f;
   MapDomain domain = MapDomain::kCosineHemisphere;
@@ -44,26 +47,52 @@ struct MapSettings {
 void BuildImportanceMap(ImportanceMap& map, const PhotonMap& photons, Point3 p, Normal3 side, const MapSettings& s,
                         std::vector<uint32_t>& indices, std::vector<float>& distance2);
 
-class ImportanceCache {
+// An open-addressing table of 64-bit cell keys to dense indices 0, 1, 2, ... in the order first inserted; it
+// doubles when half full.
+class CellTable {
  public:
-  static constexpr size_t kCandidates = 4;
-  // Builds the sites' maps in parallel. stride >= 1.
-  ImportanceCache(const PhotonMap& photons, const MapSettings& settings, uint32_t stride);
-
-  size_t Size() const { return maps_.size(); }
-  // The map for a hit at p with normal `side`, or null where no site nearby faces its way.
-  const ImportanceMap* At(Point3 p, Normal3 side, std::vector<uint32_t>& indices, std::vector<float>& distance2) const;
+  explicit CellTable(size_t expectedKeys = 0);
+  uint32_t Insert(uint64_t key);        // the key's index, new or old
+  uint32_t Find(uint64_t key) const;    // kAbsent when absent
+  size_t Size() const { return count_; }
+  static constexpr uint32_t kAbsent = UINT32_MAX;
 
  private:
-  void BuildGrid(std::vector<float> spacing);
-  uint64_t CellOf(Point3 p) const;
-  const ImportanceMap* FromCell(Point3 p, Normal3 side) const;
+  size_t SlotOf(uint64_t key) const;  // the key's slot, or the empty slot where it would go
+  void Grow();
+  std::vector<uint64_t> keys_;
+  std::vector<uint32_t> values_;  // kAbsent where no key
+  size_t count_ = 0;
+};
 
-  PhotonMap sites_;                  // the sites' positions and normals
-  std::vector<ImportanceMap> maps_;  // per site
-  float cell_ = 0;                   // the grid's cell side [m]; 0: no grid
-  std::vector<uint32_t> bySite_;     // site indices, cell by cell
-  std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> cells_;  // cell -> its range of bySite_
+class ImportanceCache {
+ public:
+  // Builds the maps from `photons` (positions [m], directions, flux, normals). N = settings.neighbours >= 1.
+  ImportanceCache(const std::vector<MapPhoton>& photons, const MapSettings& settings);
+
+  size_t Size() const { return groups_.size(); }  // maps
+  float CellSide() const { return cell_; }          // [m]; 0 without photons
+  // The map for a hit at p (world [m]) with normal `side`, or null where none in its cell faces its way.
+  const ImportanceMap* At(Point3 p, Normal3 side) const;
+  // The key of p's cell: (i, j, k) counted from the photons' lowest corner, 21 bits each, so no two cells share
+  // one; kOutside beyond the photons' bounds.
+  uint64_t CellOf(Point3 p) const;
+  static constexpr uint64_t kOutside = UINT64_MAX;
+
+ private:
+  struct Group {
+    Normal3 normal;
+    uint32_t photons = 0;
+    uint32_t next = UINT32_MAX;  // the next group of the same cell
+  };
+  void Bin(const std::vector<MapPhoton>& photons, const MapSettings& settings);
+
+  Point3 origin_;  // the photons' lowest corner [m]
+  float cell_ = 0;
+  CellTable cells_;
+  std::vector<uint32_t> firstGroup_;  // per cell
+  std::vector<Group> groups_;
+  std::vector<ImportanceMap> maps_;   // per group
 };
 
 }  // namespace pb

@@ -27,16 +27,15 @@ void DefineOptions(CLI::App& app, pb::RenderOptions& o) {
                "find the lights only by hitting them, the paper's pure form; by default each diffuse hit also casts "
                "one shadow ray to them (next-event estimation), in both samplers");
   app.add_option("--photons", o.photons, "photons traced for the photon map (--sampling photons)")->capture_default_str();
-  app.add_option("--neighbours", o.path.neighbours, "nearest photons per importance map; >= 1, typical 20-200")
+  app.add_option("--neighbours", o.path.neighbours, "photons per importance map: a cached map's cell holds about N, an uncached map takes the N nearest; >= 1")
       ->capture_default_str();
   pb::tools::AddPairOption(app, "--regions", o.path.thetaRegions, o.path.phiRegions,
                 "importance map regions, THETAxPHI (powers of two for --warp mipmap)");
   app.add_option("--floor", o.path.floorFraction, "fraction of the total importance spread over every region; [0, 1]")
       ->capture_default_str();
-  app.add_option("--cache-stride", o.path.cacheStride,
-                 "importance maps are built once, at every Nth photon, and a hit uses the nearest facing its way; "
-                 "0 builds one at every hit (the paper's form); 0-1000000")
-      ->capture_default_str();
+  app.add_flag("!--no-map-cache", o.path.mapCache,
+               "build a map at every hit from its own nearest photons (the paper's form) instead of caching maps on a "
+               "grid of cells of about --neighbours photons each");
   pb::tools::AddNamedOption(app, "--map-domain", o.path.domain, pb::ParseDomain, pb::DomainName,
                             pb::JoinNames(pb::kMapDomains, pb::DomainName), "domain",
                             "regions of the same projected solid angle (cosine: a uniform map is the BRDF's cosine lobe) "

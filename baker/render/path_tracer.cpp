@@ -22,7 +22,8 @@ void PathStats::Add(const PathStats& o) {
 PathTracer::PathTracer(const Scene& scene, const RayScene& rays, const PhotonMap* photons, const LightSampler* lights,
                        const PathSettings& settings, const ImportanceCache* cache)
     : scene_(scene), rays_(rays), photons_(photons), lights_(lights), settings_(settings), cache_(cache) {
-  PB_CHECK(settings.sampling == DirectionSampling::kBrdf || photons != nullptr, "photon sampling needs a photon map");
+  PB_CHECK(settings.sampling == DirectionSampling::kBrdf || photons != nullptr || cache != nullptr,
+           "photon sampling needs a photon map or a cache of maps");
   PB_CHECK(!settings.lightSampling || lights != nullptr, "light sampling needs the lights");
 }
 
@@ -30,7 +31,7 @@ PathTracer::Direction PathTracer::SampleByPhotons(Point3 p, Normal3 side, Rgb al
                                                   PathStats& stats) const {
   const auto start = std::chrono::steady_clock::now();
   const Frame frame = Frame::FromNormal(side);
-  const ImportanceMap* map = cache_ ? cache_->At(p, side, scratch.indices, scratch.distance2) : nullptr;
+  const ImportanceMap* map = cache_ ? cache_->At(p, side) : nullptr;
   if (map == nullptr && cache_ == nullptr) {
     BuildImportanceMap(scratch.map, *photons_, p, side, settings_.Map(), scratch.indices, scratch.distance2);
     map = &scratch.map;

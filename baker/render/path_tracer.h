@@ -17,8 +17,8 @@
 //             The direction is drawn by the chosen warp and weighted by f cos / pdf: for equal-area regions the
 //             pdf is P_k n / (2 pi), so the weight holds the paper's scale factor s = I / (I_k n). With a cache
 //             (estimators/importance_cache.h, the default), the map is a nearby site's, built once before the
-//             paths; where no site faces a hit's way (a surface few photons reach), its direction comes from
-//             the cosine lobe. Without one, a hit builds its own map, the paper's form.
+//             paths; where none in its cell faces a hit's way (a surface few photons reach), its direction comes
+//             from the cosine lobe. Without one, a hit builds its own map, the paper's form.
 // Mirrors and glass scatter by their own lobes (estimators/scatter.h) in radiance mode.
 //
 // Determinism: a pixel's samples draw from one stream keyed by (seed, pixel index) in order (baker/render/render.h), so
@@ -63,8 +63,9 @@ struct PathSettings {
   float floorFraction = 0.3f;     // share of the total importance spread over all regions; [0, 1]
   ImportanceWarp warp = ImportanceWarp::kMipmap;
   MapDomain domain = MapDomain::kCosineHemisphere;  // regions of equal projected (or plain) solid angle
-  // Sites of the importance cache: every cacheStride-th photon; 0 builds a map at every hit (the paper's form).
-  uint32_t cacheStride = 128;
+  // Maps cached on a grid of cells of about `neighbours` photons (estimators/importance_cache.h); off, a map is
+  // built at every hit from its N nearest photons (the paper's form).
+  bool mapCache = true;
   bool lightSampling = true;      // one shadow ray per diffuse hit (next-event estimation); off: lights are hit
   uint32_t maxDepth = 1000;       // safety cap on surfaces per path
 
@@ -89,7 +90,7 @@ struct PathStats {
 
 class PathTracer {
  public:
-  // `photons` may be null for kBrdf, `lights` without lightSampling, `cache` for maps built at every hit.
+  // `photons` (the kd-tree) is needed for kPhotons without a cache, `lights` for lightSampling.
   PathTracer(const Scene& scene, const RayScene& rays, const PhotonMap* photons, const LightSampler* lights,
              const PathSettings& settings, const ImportanceCache* cache = nullptr);
   // Radiance arriving at `origin` from direction -`direction` [W/(m^2 sr)], one sample.

@@ -54,7 +54,6 @@ void RenderOptions::Validate() const {
     RequireOption(s >= 1 && s <= kMostSamplesPerPixel, "--spp-sweep", "every count must lie in [1, 2^24]");
   RequireOption(path.neighbours >= 1 && path.neighbours <= 1'000'000, "--neighbours", "must lie in [1, 1000000]");
   RequireOption(Within(path.floorFraction, 0, 1), "--floor", "must lie in [0, 1]");
-  RequireOption(path.cacheStride <= 1'000'000, "--cache-stride", "must lie in [0, 1000000]");
   const auto powerOfTwo = [](int n) { return n > 0 && (n & (n - 1)) == 0; };
   RequireOption(path.thetaRegions >= 1 && path.phiRegions >= 1 && int64_t(path.thetaRegions) * path.phiRegions <= 65536,
                 "--regions", "needs ROWSxCOLS with 1 <= ROWS x COLS <= 65536");
@@ -142,8 +141,9 @@ void WriteRenderReport(OutputFiles& outputs, const std::string& path, const Rend
   j["floor"] = r.options.path.floorFraction;
   j["neighbours"] = r.options.path.neighbours;
   j["photons_stored"] = r.photonsStored;
-  j["cache_sites"] = r.cacheSites;
-  j["cache_stride"] = r.options.path.cacheStride;
+  j["map_cache"] = r.options.path.mapCache;
+  j["cached_maps"] = r.cachedMaps;
+  j["cache_cell_m"] = r.cacheCell;
   j["threads"] = r.threads;
   for (const auto& [name, seconds] : r.stageSeconds) j["seconds"][name] = seconds;
   for (const auto& [spp, image] : r.images)
@@ -157,14 +157,14 @@ void WriteRenderReport(OutputFiles& outputs, const std::string& path, const Rend
 
 }  // namespace
 
-PhotonMap BuildPhotonMap(const Scene& scene, const PhotonStore& hits) {
+std::vector<MapPhoton> MapPhotonsOf(const Scene& scene, const PhotonStore& hits) {
   std::vector<MapPhoton> photons;
   photons.reserve(hits.stats.hits);
   hits.ForEach([&](const PhotonHit& h, Rgb flux) {
     const Normal3 front = scene.FrontNormal(h.Triangle());
     photons.push_back({scene.PointAt(h.Triangle(), h.b1, h.b2), h.Wi(), flux, h.OnFront() ? front : -front});
   });
-  return PhotonMap(std::move(photons));
+  return photons;
 }
 
 RenderedImage RenderImage(const PathTracer& tracer, const PathSettings& settings, const PinholeCamera& camera,
@@ -214,19 +214,22 @@ RenderReport Render(const RenderOptions& o, const Log& log) {
                             scene.scene.analyticLights.size()));
   cameraData = InLocalCoordinates(cameraData, scene.scene);
   std::optional<PhotonMap> photonMap;
+  std::optional<ImportanceCache> cache;
   if (o.path.sampling == DirectionSampling::kPhotons) {
-    const PhotonStore hits = clock.Time("trace photons", [&] {
+    std::vector<MapPhoton> photons = clock.Time("trace photons", [&] {
       // With light sampling a path collects only light that has scattered once at least after a diffuse hit: the
       // map is built from those photons alone, not from first hits, whose light the shadow rays bring.
-      return TracePhotons(scene, {o.photons, o.seed, kDefaultMaxBounces, !o.path.lightSampling}, log);
+      return MapPhotonsOf(scene.scene,
+                          TracePhotons(scene, {o.photons, o.seed, kDefaultMaxBounces, !o.path.lightSampling}, log));
     });
-    photonMap.emplace(clock.Time("photon map", [&] { return BuildPhotonMap(scene.scene, hits); }));
-    report.photonsStored = photonMap->Size();
-  }
-  std::optional<ImportanceCache> cache;
-  if (photonMap && o.path.cacheStride > 0) {
-    cache.emplace(clock.Time("importance cache", [&] { return ImportanceCache(*photonMap, o.path.Map(), o.path.cacheStride); }));
-    report.cacheSites = cache->Size();
+    report.photonsStored = photons.size();
+    if (o.path.mapCache) {
+      cache.emplace(clock.Time("importance cache", [&] { return ImportanceCache(photons, o.path.Map()); }));
+      report.cachedMaps = cache->Size();
+      report.cacheCell = cache->CellSide();
+    } else {
+      photonMap.emplace(clock.Time("photon map", [&] { return PhotonMap(std::move(photons)); }));
+    }
   }
   std::optional<LightSampler> lights;
   if (o.path.lightSampling) lights.emplace(scene.scene, scene.lights, *scene.rays);
@@ -273,7 +276,8 @@ void PrintRenderSummary(const RenderReport& r, const Log& log) {
                      o.path.neighbours, o.path.thetaRegions, o.path.phiRegions, DomainName(o.path.domain),
                      o.path.floorFraction,
                      WarpName(o.path.warp),
-                     r.cacheSites ? fmt::format("{} cached maps", r.cacheSites) : std::string("a map at every hit"));
+                     o.path.mapCache ? fmt::format("{} cached maps in cells of {:.3g} m", r.cachedMaps, r.cacheCell)
+                                     : std::string("a map at every hit"));
   s += "\n  seconds  ";
   for (const auto& [name, seconds] : r.stageSeconds) s += fmt::format(" {} {:.3f} |", name, seconds);
   s += "\n";

@@ -51,15 +51,16 @@ struct RenderReport {
   RenderOptions options;
   unsigned threads = 0;
   size_t photonsStored = 0;
-  size_t cacheSites = 0;  // importance maps cached (estimators/importance_cache.h)
+  size_t cachedMaps = 0;   // importance maps cached (estimators/importance_cache.h)
+  float cacheCell = 0;     // the cache's cell side [m]
   std::vector<std::pair<std::string, double>> stageSeconds;  // in order
   std::vector<std::pair<uint32_t, RenderedImage>> images;    // spp -> image (pixels dropped after writing)
   std::vector<std::string> outputs;
   float exposure = 1;
 };
 
-// The photon map of every stored hit: its world position, incoming direction and flux.
-PhotonMap BuildPhotonMap(const Scene& scene, const PhotonStore& hits);
+// Every stored hit as the photon map holds it: its world position, incoming direction, flux and normal.
+std::vector<MapPhoton> MapPhotonsOf(const Scene& scene, const PhotonStore& hits);
 
 // Renders `spp` samples per pixel with `tracer`; pixel i draws from Rng(SplitMix64(seed ^ c), i), a family of
 // streams apart from the photons' Rng(seed, i).

@@ -25,18 +25,23 @@ namespace {
 
 struct Fixture : test::TracedScene {
   using TracedScene::TracedScene;
-  PhotonMap Photons(uint64_t n, const std::vector<Light>& from) const {
+  std::vector<MapPhoton> Photons(uint64_t n, const std::vector<Light>& from) const {
     const TransportPlan plan = PlanTransport(scene, surfaces, from, {});
-    return BuildPhotonMap(scene, TracePhotons(scene, from, *rays, plan, {n, 99}, Log(true)));
+    return MapPhotonsOf(scene, TracePhotons(scene, from, *rays, plan, {n, 99}, Log(true)));
   }
-  // With photon sampling, the maps cached as render caches them (s.cacheStride > 0) or built at every hit.
-  RenderedImage Render(const PathSettings& s, const PhotonMap* map, const Camera& camera, int size, uint32_t spp,
-                       uint64_t seed) const {
+  // With photon sampling, the maps cached as render caches them (s.mapCache) or built at every hit.
+  RenderedImage Render(const PathSettings& s, const std::vector<MapPhoton>* photons, const Camera& camera, int size,
+                       uint32_t spp, uint64_t seed) const {
     const LightSampler sampler(scene, lights, *rays);
     std::optional<ImportanceCache> cache;
-    if (map != nullptr && s.sampling == DirectionSampling::kPhotons && s.cacheStride > 0)
-      cache.emplace(*map, s.Map(), s.cacheStride);
-    const PathTracer tracer(scene, *rays, map, &sampler, s, cache ? &*cache : nullptr);
+    std::optional<PhotonMap> map;
+    if (photons != nullptr && s.sampling == DirectionSampling::kPhotons) {
+      if (s.mapCache)
+        cache.emplace(*photons, s.Map());
+      else
+        map.emplace(*photons);
+    }
+    const PathTracer tracer(scene, *rays, map ? &*map : nullptr, &sampler, s, cache ? &*cache : nullptr);
     return RenderImage(tracer, s, PinholeCamera(camera, size, size), size, size, spp, seed, Log(true));
   }
 };
@@ -89,12 +94,12 @@ const Camera kInsideCube{{0.5f, 0.5f, 0.2f}, {0.5f, 0.5f, 1.0f}, {0, 1, 0}, 90};
 
 TEST(PathTracer, BothSamplersMatchTheFurnaceClosedForm) {
   const Fixture f(WriteGlowingCube(test::TempDirectory("furnace"), 1.0f, 0.5f));
-  const PhotonMap photons = f.Photons(200000, f.lights);
-  for (const auto& [sampling, stride] : {std::pair{DirectionSampling::kBrdf, 0u}, std::pair{DirectionSampling::kPhotons, 0u},
-                                         std::pair{DirectionSampling::kPhotons, 64u}}) {
+  const std::vector<MapPhoton> photons = f.Photons(200000, f.lights);
+  for (const auto& [sampling, cached] : {std::pair{DirectionSampling::kBrdf, false}, std::pair{DirectionSampling::kPhotons, false},
+                                         std::pair{DirectionSampling::kPhotons, true}}) {
     PathSettings s;
     s.sampling = sampling;
-    s.cacheStride = stride;
+    s.mapCache = cached;
     // Photon sampling here is skewed (50 photons leave most regions to the floor, whose directions then carry
     // large weights), so each 4 x 4 block gets 8192 samples before its mean is close to normal.
     const RenderedImage image = f.Render(s, &photons, kInsideCube, 8, 512, 5);
@@ -102,13 +107,13 @@ TEST(PathTracer, BothSamplersMatchTheFurnaceClosedForm) {
     double chi2 = 0;
     for (size_t i = 0; i < b.mean.size(); ++i) chi2 += std::pow(b.mean[i] - 2.0, 2) / b.variance[i];
     EXPECT_GT(test::RegularizedGammaQ(b.mean.size() / 2.0, chi2 / 2.0), 1e-3)
-        << SamplingName(sampling) << " stride " << stride << " chi2 " << chi2 << " mean of block 0 " << b.mean[0];
+        << SamplingName(sampling) << (cached ? " cached" : "") << " chi2 " << chi2 << " mean of block 0 " << b.mean[0];
   }
 }
 
 TEST(PathTracer, PhotonSamplingMatchesBrdfSamplingOnTheBox) {
   const Fixture f(PB_SOURCE_DIR "/data/box/box.obj");
-  const PhotonMap photons = f.Photons(300000, f.lights);
+  const std::vector<MapPhoton> photons = f.Photons(300000, f.lights);
   const Camera camera = LoadCamera(PB_SOURCE_DIR "/data/box/box.camera.json");
   PathSettings brdf, guided;
   guided.sampling = DirectionSampling::kPhotons;
@@ -125,11 +130,12 @@ TEST(PathTracer, TheFloorKeepsDirectionsWithoutPhotonsReachable) {
   const std::string dir = test::TempDirectory("floor-matters");
   const Fixture f(test::WriteFloorWithLamps(dir, 0.5f, 5.0f, {{-0.9f, -0.5f, -0.2f, 0.2f, 1}, {0.5f, 0.9f, -0.2f, 0.2f, 1}}));
   ASSERT_EQ(f.lights.size(), 2u);
-  const PhotonMap firstOnly = f.Photons(100000, {f.lights[0]});
+  const std::vector<MapPhoton> firstOnly = f.Photons(100000, {f.lights[0]});
   const Camera down{{0, 0.8f, -0.01f}, {0, 0, 0}, {0, 0, 1}, 60};
   PathSettings brdf, guided;
   guided.sampling = DirectionSampling::kPhotons;
   brdf.lightSampling = guided.lightSampling = false;  // the paper's pure form, where the map alone finds the lights
+  guided.mapCache = false;  // the cache raises the floor of maps from few photons
   const BlockStats reference = Blocks(f.Render(brdf, nullptr, down, 16, 256, 3), 16);  // one block: the image mean
   guided.floorFraction = 0;
   const BlockStats noFloor = Blocks(f.Render(guided, &firstOnly, down, 16, 64, 4), 16);
@@ -181,15 +187,17 @@ TEST(PathTracer, ASunIsRenderedWithLightSampling) {
 TEST(PathTracer, DegenerateImportanceMapsStayFinite) {
   const Fixture f(PB_SOURCE_DIR "/data/box/box.obj");
   const Camera camera = LoadCamera(PB_SOURCE_DIR "/data/box/box.camera.json");
-  std::vector<PhotonMap> maps;
-  maps.emplace_back(std::vector<MapPhoton>{});                                            // no photons at all
-  maps.emplace_back(std::vector<MapPhoton>{{{0.3f, 0.01f, 0.3f}, {0, 1, 0}, {1, 1, 1}, {0, 1, 0}}});  // one photon
-  maps.emplace_back(std::vector<MapPhoton>(500, {{0.3f, 0.2f, 0.3f}, {0, 1, 0}, {1, 1, 1}, {0, 1, 0}}));  // one region
+  std::vector<std::vector<MapPhoton>> maps;
+  maps.emplace_back();                                                                     // no photons at all
+  maps.push_back({{{0.3f, 0.01f, 0.3f}, {0, 1, 0}, {1, 1, 1}, {0, 1, 0}}});                // one photon
+  maps.emplace_back(500, MapPhoton{{0.3f, 0.2f, 0.3f}, {0, 1, 0}, {1, 1, 1}, {0, 1, 0}});  // one region, one point
   for (float floor : {0.0f, 0.1f})
-    for (const PhotonMap& map : maps) {
+    for (bool cached : {false, true})
+    for (const std::vector<MapPhoton>& map : maps) {
       PathSettings s;
       s.sampling = DirectionSampling::kPhotons;
       s.floorFraction = floor;
+      s.mapCache = cached;
       const RenderedImage image = f.Render(s, &map, camera, 8, 4, 6);
       for (const Rgb& p : image.mean.pixels) {
         ASSERT_TRUE(std::isfinite(p.r) && std::isfinite(p.g) && std::isfinite(p.b));
@@ -200,7 +208,7 @@ TEST(PathTracer, DegenerateImportanceMapsStayFinite) {
 
 TEST(PathTracer, ImagesDoNotDependOnTheThreadCount) {
   const Fixture f(PB_SOURCE_DIR "/data/box/box.obj");
-  const PhotonMap photons = f.Photons(50000, f.lights);
+  const std::vector<MapPhoton> photons = f.Photons(50000, f.lights);
   const Camera camera = LoadCamera(PB_SOURCE_DIR "/data/box/box.camera.json");
   PathSettings s;
   s.sampling = DirectionSampling::kPhotons;
