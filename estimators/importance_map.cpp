@@ -99,6 +99,27 @@ void ImportanceMap::Finish(float floorFraction) {
   for (int r = 0; r < rows_; ++r)
     for (int c = 0; c < cols_; ++c)
       at(r + 1, c + 1) = probability_[size_t(r * cols_ + c)] + at(r, c + 1) + at(r + 1, c) - at(r, c);
+  splits_.clear();
+  if (IsPowerOfTwo(rows_) && IsPowerOfTwo(cols_)) {
+    splits_.resize(size_t(Regions() - 1));
+    TabulateSplits({0, rows_, 0, cols_}, 0);
+  }
+}
+
+void ImportanceMap::TabulateSplits(const Node& n, size_t index) {
+  if (n.IsCell()) return;
+  const Split s = SplitOf(n);
+  splits_[index] = s.first;
+  for (const bool second : {false, true}) {
+    Node child = n;
+    child.Keep(s, second);
+    TabulateSplits(child, 2 * index + 1 + size_t(second));
+  }
+}
+
+ImportanceMap::Split ImportanceMap::TabulatedSplit(const Node& n, size_t index) const {
+  const bool rows = n.r1 - n.r0 >= n.c1 - n.c0;
+  return {rows, rows ? (n.r0 + n.r1) / 2 : (n.c0 + n.c1) / 2, splits_[index]};
 }
 
 double ImportanceMap::RectangleSum(int r0, int r1, int c0, int c1) const {
@@ -130,9 +151,11 @@ void ImportanceMap::Node::Keep(const Split& s, bool second) {
 
 Point2 ImportanceMap::SampleMipmapSquare(Point2 u, uint32_t& region) const {
   Node n{0, rows_, 0, cols_};
-  while (!n.IsCell()) {
-    const Split s = SplitOf(n);
-    n.Keep(s, Descend(s.rows ? u.u : u.v, s.first));
+  for (size_t index = 0; !n.IsCell();) {
+    const Split s = TabulatedSplit(n, index);
+    const bool second = Descend(s.rows ? u.u : u.v, s.first);
+    n.Keep(s, second);
+    index = 2 * index + 1 + size_t(second);
   }
   region = uint32_t(n.r0 * cols_ + n.c0);
   return {(float(n.r0) + Inside(u.u)) / float(rows_), (float(n.c0) + Inside(u.v)) / float(cols_)};
@@ -160,9 +183,10 @@ Point2 ImportanceMap::InvertInversionSquare(uint32_t region, Point2 local) const
 Point2 ImportanceMap::InvertMipmapSquare(int row, int col, Point2 local) const {
   Node n{0, rows_, 0, cols_};
   double ox = 0, sx = 1, oy = 0, sy = 1;  // u = o + s * (the coordinate inside the current node)
-  while (!n.IsCell()) {
-    const Split split = SplitOf(n);
+  for (size_t index = 0; !n.IsCell();) {
+    const Split split = TabulatedSplit(n, index);
     const bool second = (split.rows ? row : col) >= split.mid;
+    index = 2 * index + 1 + size_t(second);
     double& o = split.rows ? ox : oy;
     double& s = split.rows ? sx : sy;
     if (second) o += s * split.first;

@@ -26,7 +26,9 @@
 //               the same region for the same number).
 //   kMipmap:    hierarchical warping (the paper's mip-map method; McCool and Harwood 1997): the grid is halved
 //               along its longer side, level by level, and each coordinate is rescaled into the chosen half
-//               in proportion to the halves' importance. The region sums come from a summed-area table.
+//               in proportion to the halves' importance. Finish tabulates every node's split, as a complete
+//               binary tree in one array (the children of node i are 2i + 1 and 2i + 2), so a draw reads one
+//               number per level.
 // Both warps have the same pdf; each has an exact Invert where the pdf is positive.
 #pragma once
 
@@ -87,7 +89,9 @@ class ImportanceMap {
     bool IsCell() const { return r1 - r0 == 1 && c1 - c0 == 1; }
     void Keep(const Split& s, bool second);  // narrows to one half
   };
-  Split SplitOf(const Node& n) const;
+  Split SplitOf(const Node& n) const;                 // from the summed-area table
+  Split TabulatedSplit(const Node& n, size_t index) const;  // from splits_
+  void TabulateSplits(const Node& n, size_t index);
   Point2 SampleInversionSquare(Point2 u, uint32_t& region) const;
   Point2 SampleMipmapSquare(Point2 u, uint32_t& region) const;
   Point2 InvertInversionSquare(uint32_t region, Point2 local) const;
@@ -99,6 +103,7 @@ class ImportanceMap {
   std::vector<float> probability_;   // P_k after the floor
   std::vector<double> cdf_;          // inclusive prefix sums of probability_, back() == 1
   std::vector<double> summedArea_;   // (rows + 1) x (cols + 1) table of probability_
+  std::vector<double> splits_;       // mip-map nodes' first-half shares, heap order; empty unless powers of two
 };
 
 }  // namespace pb

@@ -45,6 +45,7 @@ LightSampler::LightSampler(const Scene& scene, const std::vector<Light>& lights,
   for (uint32_t l = 0; l < lights.size(); ++l) (lights[l].IsArea() ? areas_ : others_).push_back(l);
   for (uint32_t l : areas_) {
     const Light& light = lights[l];
+    for (uint32_t t : light.triangles) areaOfTriangle_.emplace(t, uint32_t(shapes_.size()));
     LightShape shape;
     Vector3 weighted{0, 0, 0};
     for (uint32_t t : light.triangles) {
@@ -124,14 +125,20 @@ bool LightSampler::MayReach(const LightShape& shape, Point3 p, Normal3 n) {
   return distance * std::cos(std::max(0.0f, psi - shape.spread)) + shape.radius > 0;
 }
 
+double LightSampler::Guess(size_t i, Point3 p, Normal3 n) const {
+  const Light& light = lights_[areas_[i]];
+  if (!CanReach(shapes_[i], light, p, n)) return -1;
+  return shapes_[i].power / std::max(double(LengthSquared(shapes_[i].centroid - p)), light.area);
+}
+
 std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
   std::vector<double> guess(areas_.size(), 0.0);
   size_t reachable = 0;
   for (size_t i = 0; i < areas_.size(); ++i) {
-    const Light& light = lights_[areas_[i]];
-    if (!CanReach(shapes_[i], light, p, n)) continue;
+    const double g = Guess(i, p, n);
+    if (g < 0) continue;
     ++reachable;
-    guess[i] = shapes_[i].power / std::max(double(LengthSquared(shapes_[i].centroid - p)), light.area);
+    guess[i] = g;
   }
   if (reachable == 0) return {};
   const double total = std::accumulate(guess.begin(), guess.end(), 0.0);
@@ -150,18 +157,21 @@ std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
 LightSampler::Arrival LightSampler::SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const {
   const Light& light = lights_[areas_[area]];
   auto [entry, first] = cache.lights.try_emplace(uint32_t(area));
-  if (first) entry->second = SubtendedAt(area, p, cache.triangles);
+  if (first) {
+    Subtended seen;
+    if (SubtendedAt(area, p, cache.triangles, seen)) entry->second = std::move(seen);
+  }
   return entry->second ? SampleBySolidAngle(light, *entry->second, p, n, u) : SampleByArea(light, p, n, u);
 }
 
-std::optional<LightSampler::Subtended> LightSampler::SubtendedAt(size_t area, Point3 p, size_t triangles) const {
+bool LightSampler::SubtendedAt(size_t area, Point3 p, size_t triangles, Subtended& seen) const {
   const Light& light = lights_[areas_[area]];
   const LightShape& shape = shapes_[area];
-  if (light.triangles.size() > triangles) return std::nullopt;
+  if (light.triangles.size() > triangles) return false;
   // The sphere that holds the light subtends 2 pi (1 - cos) with sin = r / d, at least the light's solid angle.
   const double d2 = LengthSquared(p - shape.centroid), r2 = double(shape.radius) * shape.radius;
-  if (d2 > r2 && 2 * kPi * (1 - std::sqrt(1 - r2 / d2)) < solidAngleFrom_) return std::nullopt;
-  Subtended seen;
+  if (d2 > r2 && 2 * kPi * (1 - std::sqrt(1 - r2 / d2)) < solidAngleFrom_) return false;
+  seen.parts.clear(), seen.triangles.clear(), seen.cdf.clear(), seen.total = 0;
   for (uint32_t t : light.triangles) {
     if (!(Dot(p - scene_.Corner(t, 0), scene_.FrontNormal(t)) > 0)) continue;
     const auto part = SphericalTriangle::From(p, scene_.Corner(t, 0), scene_.Corner(t, 1), scene_.Corner(t, 2));
@@ -169,10 +179,10 @@ std::optional<LightSampler::Subtended> LightSampler::SubtendedAt(size_t area, Po
     seen.parts.push_back(*part), seen.triangles.push_back(t);
     seen.cdf.push_back(seen.total += part->SolidAngle());
   }
-  if (!(seen.total >= solidAngleFrom_)) return std::nullopt;
+  if (!(seen.total >= solidAngleFrom_)) return false;
   for (double& c : seen.cdf) c /= seen.total;
   seen.cdf.back() = 1;
-  return seen;
+  return true;
 }
 
 // Ke V cos(theta_x) Omega: a direction uniform over the light's solid angle at p (the triangle in proportion to
@@ -185,7 +195,7 @@ LightSampler::Arrival LightSampler::SampleBySolidAngle(const Light& light, const
   const Normal3 front = scene_.FrontNormal(triangle);
   const float along = Dot(scene_.Corner(triangle, 0) - p, front) / Dot(w, front);
   if (!(along > 0) || !std::isfinite(along) || !(Dot(w, n) > 0)) return {};
-  return {Unoccluded(light, p, n, p + w * along) * float(seen.total), w};
+  return {Unoccluded(light, p, n, p + w * along) * float(seen.total), w, float(1 / seen.total)};
 }
 
 // Ke V cos cos / d^2 times the light's area, for the point of `light` that u picks (uniform over its area).
@@ -200,7 +210,8 @@ LightSampler::Arrival LightSampler::SampleByArea(const Light& light, Point3 p, N
   if (!(d2 > 0)) return {};
   const float cosY = -Dot(toLight, scene_.FrontNormal(triangle)) / std::sqrt(d2);
   if (cosY <= 0) return {};
-  return {Unoccluded(light, p, n, y) * float(double(cosY) / d2 * light.area), toLight * (1 / std::sqrt(d2))};
+  return {Unoccluded(light, p, n, y) * float(double(cosY) / d2 * light.area), toLight * (1 / std::sqrt(d2)),
+          float(d2 / (double(cosY) * light.area))};
 }
 
 Rgb LightSampler::Unoccluded(const Light& light, Point3 p, Normal3 n, Point3 y) const {

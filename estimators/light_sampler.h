@@ -154,6 +154,35 @@ class LightSampler {
   // after a specular event sees.
   Rgb SkyRadiance(Vector3 w) const;
 
+  // The solid angle that a light's triangles subtend at p, each triangle whose front faces p, with the CDF that
+  // picks one in proportion to its part.
+  struct Subtended {
+    std::vector<SphericalTriangle> parts;
+    std::vector<uint32_t> triangles;  // Scene::triangles indices
+    std::vector<double> cdf;
+    double total = 0;  // [sr]
+  };
+
+  // For a path tracer's next-event estimation with multiple importance sampling (Veach and Guibas 1995;
+  // estimators/light_sampler_one.cpp): one sample of the area lights at (p, n), drawn as Irradiance draws one
+  // (the light by the same probabilities, then a point by area or a direction by solid angle), with the pdf of its
+  // direction; and the pdf with which such a sample would draw the direction from p toward a point y of a light's
+  // triangle. Working memory is the caller's, so that nothing is allocated per call.
+  struct OneSampleScratch {
+    Subtended seen;
+    std::vector<double> guesses;  // per area light, without a light tree
+  };
+  struct AreaSample {
+    Rgb irradiance;  // Ke V cos(theta_x) / pdf [W/m^2]: 0 when the ray is blocked or no light can reach p
+    Vector3 from;    // unit, toward the light
+    float pdf = 0;   // of `from` [1/sr]
+  };
+  AreaSample SampleAreaLights(Point3 p, Normal3 n, Rng& rng, OneSampleScratch& scratch) const;
+  // [1/sr]; 0 where `triangle` is not an area light's or cannot be drawn from p.
+  float AreaLightPdf(Point3 p, Normal3 n, uint32_t triangle, Point3 y, OneSampleScratch& scratch) const;
+  // One sample of the other lights' irradiance [W/m^2] (point, spot and sun exactly, the sky by one ray).
+  Rgb OtherIrradiance(Point3 p, Normal3 n, Rng& rng) const;
+
  private:
   struct LightShape {
     Point3 centroid;
@@ -169,26 +198,21 @@ class LightSampler {
   std::vector<double> SelectionCdf(Point3 p, Normal3 n) const;
   bool CanReach(const LightShape& light, const Light& area, Point3 p, Normal3 n) const;
   static bool MayReach(const LightShape& light, Point3 p, Normal3 n);
-  // The solid angle that a light's triangles subtend at p, each triangle whose front faces p, with the CDF that
-  // picks one in proportion to its part.
-  struct Subtended {
-    std::vector<SphericalTriangle> parts;
-    std::vector<uint32_t> triangles;  // Scene::triangles indices
-    std::vector<double> cdf;
-    double total = 0;  // [sr]
-  };
-  // None where the light is sampled by area at p: more than `triangles` triangles, or too small a solid angle.
-  std::optional<Subtended> SubtendedAt(size_t area, Point3 p, size_t triangles) const;
+  // Fills `seen`; false where the light is sampled by area at p: more than `triangles` triangles, or too small a
+  // solid angle.
+  bool SubtendedAt(size_t area, Point3 p, size_t triangles, Subtended& seen) const;
   // Area lights (indices into areas_) seen from p, each computed at most once per point, when a sample first picks
   // it.
   struct SubtendedCache {
     size_t triangles = kSolidAngleTriangles;  // the most a light sampled by solid angle may have
     std::unordered_map<uint32_t, std::optional<Subtended>> lights;  // by area light, once it is first picked
   };
-  // An irradiance sample [W/m^2] and the unit direction it arrives from.
+  // An irradiance sample [W/m^2], the unit direction it arrives from, and that direction's pdf [1/sr] once the
+  // light is chosen.
   struct Arrival {
     Rgb irradiance;
     Vector3 from;
+    float pdf = 0;
   };
   Arrival SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const;
   Arrival SampleByArea(const Light& light, Point3 p, Normal3 n, Point2 u) const;
@@ -201,6 +225,13 @@ class LightSampler {
   };
   // The light that u picks: from the tree, or else from `cdf` (SelectionCdf's).
   std::optional<Pick> PickLight(const std::vector<double>& cdf, Point3 p, Normal3 n, float u) const;
+  // The same choice and probabilities with nothing allocated (the guesses in the scratch).
+  std::optional<Pick> PickOne(Point3 p, Normal3 n, float u, OneSampleScratch& scratch) const;
+  double PmfOf(uint32_t area, Point3 p, Normal3 n, OneSampleScratch& scratch) const;
+  struct Selection;
+  Selection SelectionAt(Point3 p, Normal3 n, OneSampleScratch& scratch) const;
+  // SelectionCdf's unoccluded guess of a light's share at p, before normalising; < 0 where it cannot reach p.
+  double Guess(size_t area, Point3 p, Normal3 n) const;
   DirectSample AreaIrradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng, IncidentMoments* moments) const;
   LightBounds BoundsOf(const LightShape& shape, const Light& light) const;
   Rgb DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n, IncidentMoments* moments) const;
@@ -218,6 +249,7 @@ class LightSampler {
   std::vector<LightShape> shapes_;  // per area light, in the order of areas_
   std::vector<uint32_t> others_;    // the other lights
   std::optional<LightTree> tree_;   // over areas_, from kTreeLights of them
+  std::unordered_map<uint32_t, uint32_t> areaOfTriangle_;  // an area light's triangle -> its index in areas_
   double solidAngleFrom_;
 };
 

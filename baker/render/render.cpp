@@ -288,8 +288,9 @@ void PrintRenderSummary(const RenderReport& r, const Log& log) {
     s += fmt::format("  {:>5} spp {:.3f} s: mean L {:.5g} W/(m^2 sr), {} paths, {:.2f} M rays/s", spp, image.seconds,
                      Luminance(mean.ToRgb()), image.stats.paths, image.stats.rays / std::max(1e-9, image.seconds) * 1e-6);
     if (image.stats.importanceMaps)
-      s += fmt::format(", {} directions drawn with importance maps at {:.2f} us each ({:.0f}% of path time; {} from the cosine "
-                       "lobe, where no cached map faced the hit)", image.stats.importanceMaps,
+      s += fmt::format(", {} importance maps found (for the next direction and the light samples' weights) at {:.2f} us "
+                       "each ({:.0f}% of path time; {} where none faced the hit, the cosine lobe instead)",
+                       image.stats.importanceMaps,
                        1e6 * image.stats.importanceSeconds / double(image.stats.importanceMaps),
                        100.0 * image.stats.importanceSeconds / std::max(1e-9, threadSeconds), image.stats.cosineFallbacks);
     s += "\n";
