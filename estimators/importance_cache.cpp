@@ -127,14 +127,15 @@ void ImportanceCache::Bin(const std::vector<MapPhoton>& photons, const MapSettin
     uint32_t* link = &firstGroup_[cell];
     while (*link != UINT32_MAX && Dot(groups_[*link].normal, photon.normal) < kSameSurfaceCosine)
       link = &groups_[*link].next;
-    if (*link == UINT32_MAX) {  // the first photon of its cell facing its way
-      *link = uint32_t(groups_.size());
+    uint32_t group = *link;
+    if (group == UINT32_MAX) {  // the first photon of its cell facing its way (link is read before groups_ grows)
+      group = *link = uint32_t(groups_.size());
       groups_.push_back({photon.normal});
       frames.push_back(Frame::FromNormal(photon.normal));
       maps_.emplace_back(settings.rows, settings.cols, settings.domain);
     }
-    ++groups_[*link].photons;
-    maps_[*link].Add(frames[*link].ToLocal(photon.wi), Luminance(photon.flux));  // ignored unless in the hemisphere
+    ++groups_[group].photons;
+    maps_[group].Add(frames[group].ToLocal(photon.wi), Luminance(photon.flux));  // ignored unless in the hemisphere
   }
   const double n = std::max(settings.neighbours, 1u);
   for (size_t g = 0; g < maps_.size(); ++g)

@@ -75,6 +75,27 @@ TEST(ImportanceCache, NoGroupFacingTheHitsWayGivesNoMap) {
   EXPECT_GT(wall->Pdf({0, 0, 1}), wall->Pdf({1, 0, 0.01f})) << "the wall's light along its normal";
 }
 
+TEST(ImportanceCache, EveryCellKeepsAGroupForEachWayItsPhotonsFace) {
+  // At 20,000 points a floor photon, then a wall photon: each wall group joins its cell's chain after the floor's,
+  // while the groups' storage grows past what the allocator maps anew (a link into it, once read after the growth,
+  // read freed memory).
+  std::vector<MapPhoton> photons;
+  for (int i = 0; i < 20000; ++i) {
+    const Point3 p{float(i % 200), 0, float(i / 200)};
+    photons.push_back({p, {0, 1, 0}, {1, 1, 1}, {0, 1, 0}});
+    photons.push_back({p, {1, 0, 0}, {1, 1, 1}, {1, 0, 0}});
+  }
+  const ImportanceCache cache(photons, {2, 4, 8, 0.2f});
+  std::map<uint64_t, int> cells;
+  for (const MapPhoton& p : photons) ++cells[cache.CellOf(p.position)];
+  EXPECT_EQ(cache.Size(), 2 * cells.size());
+  for (const MapPhoton& p : photons) {
+    ASSERT_NE(cache.At(p.position, {0, 1, 0}), nullptr);
+    ASSERT_NE(cache.At(p.position, {1, 0, 0}), nullptr);
+    ASSERT_NE(cache.At(p.position, {0, 1, 0}), cache.At(p.position, {1, 0, 0}));
+  }
+}
+
 TEST(ImportanceCache, AGroupOfFewPhotonsIsNearlyTheCosineLobe) {
   // One photon, straight down the normal, where N = 200: floor 1 - 1/200.
   const ImportanceCache cache({{{0, 0, 0}, {0, 0, 1}, {1, 1, 1}, {0, 0, 1}}}, {200, 4, 8, 0.3f});
