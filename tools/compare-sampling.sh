@@ -2,7 +2,8 @@
 # Photon importance sampling against BRDF sampling on a scene (default: the box, both lights), as issue 5 asks:
 # relative RMSE of luminance against a converged BRDF reference, at equal samples per pixel and at equal time.
 # Usage: tools/compare-sampling.sh [SCENE.obj] [OUT_DIR]   (after tools/build.sh)
-# Environment: SIZE (64x64), REFERENCE_SPP (8192), SWEEP (1,2,4,8,16,32,64,128), PHOTONS (1000000).
+# Environment: SIZE (64x64), REFERENCE_SPP (8192), SWEEP (1,2,4,8,16,32,64,128), PHOTONS (250000, render's
+# default), REFERENCE (an existing reference EXR of the same scene and size, instead of rendering one).
 # Writes OUT_DIR/table.md: per spp, seconds, relative RMSE and mean absolute error (MAE) of each sampler; then one
 # equal-time row: BRDF sampling rendered for as long as photon sampling took at the largest count.
 set -euo pipefail
@@ -12,10 +13,14 @@ out=${2:-out/compare}
 size=${SIZE:-64x64}
 reference_spp=${REFERENCE_SPP:-8192}
 sweep=${SWEEP:-1,2,4,8,16,32,64,128}
-photons=${PHOTONS:-1000000}
+photons=${PHOTONS:-250000}
 mkdir -p "$out"
 
-build/render "$scene" -o "$out/reference.exr" --size "$size" --spp "$reference_spp" --seed 7 -q
+if [ -n "${REFERENCE:-}" ]; then
+  cp "$REFERENCE" "$out/reference.exr"
+else
+  build/render "$scene" -o "$out/reference.exr" --size "$size" --spp "$reference_spp" --seed 7 -q
+fi
 for sampling in brdf photons; do
   build/render "$scene" -o "$out/$sampling.exr" --size "$size" --spp-sweep "$sweep" --sampling "$sampling" \
     --photons "$photons" --report "$out/$sampling.json" -q

@@ -59,12 +59,12 @@ inline std::optional<MapDomain> ParseDomain(std::string_view s) { return ParseNa
 
 struct PathSettings {
   DirectionSampling sampling = DirectionSampling::kBrdf;
-  uint32_t neighbours = 200;      // N nearest photons per importance map; >= 1, typical 20-800
-  // Defaults measured on the box (docs/render.md, "Photon-driven path tracing"): with light sampling and cached maps,
-  // 200 photons, 4 x 8 regions and a 0.3 floor gave the lowest mean absolute error at equal spp of the settings
-  // tried (50-800 photons, floors 0.1 and 0.3, every 16th to 256th photon a site: every 128th as well as every
-  // 16th, at an eighth of the cache's time); finer maps are too sparse (rare
-  // floor-weighted samples become fireflies).
+  // N: photons per importance map (a cached map's cell holds about N, an uncached map takes the N nearest); >= 1.
+  // Defaults measured on the box and the empty office (docs/render.md, "Settings"): with light sampling, MIS and
+  // maps cached on the grid, N = 800, 4 x 8 regions of equal projected solid angle and a 0.3 floor (from 250,000
+  // photons) did as well at equal spp as N = 1,600 or a million photons, and better than N of 200 or 400;
+  // finer maps are too sparse (rare floor-weighted samples become fireflies).
+  uint32_t neighbours = 800;
   int thetaRegions = 4;           // importance map rows (bands from the normal, each the same measure)
   int phiRegions = 8;             // importance map columns (azimuth)
   float floorFraction = 0.3f;     // share of the total importance spread over all regions; [0, 1]

@@ -26,7 +26,7 @@ struct RenderOptions {
   uint32_t spp = 16;              // samples per pixel, >= 1
   std::vector<uint32_t> sppSweep; // when set, one image per count (and a strip) instead of one at `spp`
   PathSettings path;
-  uint64_t photons = 1'000'000;   // photons for the photon map (--sampling photons only)
+  uint64_t photons = 250'000;     // photons for the importance maps (--sampling photons only)
   uint64_t seed = 1;
   unsigned threads = 0;
   float scale = 1.0f;             // metres per scene unit

@@ -100,8 +100,9 @@ TEST(PathTracer, BothSamplersMatchTheFurnaceClosedForm) {
     PathSettings s;
     s.sampling = sampling;
     s.mapCache = cached;
-    // Photon sampling here is skewed (50 photons leave most regions to the floor, whose directions then carry
-    // large weights), so each 4 x 4 block gets 8192 samples before its mean is close to normal.
+    s.neighbours = cached ? s.neighbours : 200;  // a map of the 200 nearest at every hit, at a quarter of the cost
+    // Photon sampling here is skewed (maps of few photons leave most regions to the floor, whose directions then
+    // carry large weights), so each 4 x 4 block gets 8192 samples before its mean is close to normal.
     const RenderedImage image = f.Render(s, &photons, kInsideCube, 8, 512, 5);
     const BlockStats b = Blocks(image, 4);
     double chi2 = 0;
@@ -136,6 +137,7 @@ TEST(PathTracer, TheFloorKeepsDirectionsWithoutPhotonsReachable) {
   guided.sampling = DirectionSampling::kPhotons;
   brdf.lightSampling = guided.lightSampling = false;  // the paper's pure form, where the map alone finds the lights
   guided.mapCache = false;  // the cache raises the floor of maps from few photons
+  guided.neighbours = 200;
   const BlockStats reference = Blocks(f.Render(brdf, nullptr, down, 16, 256, 3), 16);  // one block: the image mean
   guided.floorFraction = 0;
   const BlockStats noFloor = Blocks(f.Render(guided, &firstOnly, down, 16, 64, 4), 16);
