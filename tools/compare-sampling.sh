@@ -4,8 +4,9 @@
 # Usage: tools/compare-sampling.sh [SCENE.obj] [OUT_DIR]   (after tools/build.sh)
 # Environment: SIZE (64x64), REFERENCE_SPP (8192), SWEEP (1,2,4,8,16,32,64,128), PHOTONS (250000, render's
 # default), REFERENCE (an existing reference EXR of the same scene and size, instead of rendering one).
-# Writes OUT_DIR/table.md: per spp, seconds, relative RMSE and mean absolute error (MAE) of each sampler; then one
-# equal-time row: BRDF sampling rendered for as long as photon sampling took at the largest count.
+# Writes OUT_DIR/table.md: per spp, seconds, relative RMSE, RMSE away from edges (image_error's smooth pixels) and
+# mean absolute error (MAE) of each sampler; then one equal-time row: BRDF sampling rendered for as long as photon
+# sampling took at the largest count.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=${1:-data/box/box.obj}
@@ -38,12 +39,15 @@ for sampling in ("brdf", "photons"):
                             capture_output=True, text=True).stdout.split("\n")
     for spp, image, line in zip(sweep, report["images"], errors):
         fields = line.split()
-        rows.setdefault(spp, {})[sampling] = (image["seconds"] + setup, float(fields[1]), float(fields[3]))
-lines = ["| spp | brdf s | brdf RMSE | brdf MAE | photons s (incl. photon map) | photons RMSE | photons MAE |",
-         "|---|---|---|---|---|---|---|"]
+        rows.setdefault(spp, {})[sampling] = (image["seconds"] + setup, float(fields[1]), float(fields[5]),
+                                              float(fields[3]))
+lines = ["| spp | brdf s | brdf RMSE | away from edges | brdf MAE | photons s (incl. photons, cache) | photons RMSE "
+         "| away from edges | photons MAE |",
+         "|---|---|---|---|---|---|---|---|---|"]
+def cells(r):
+    return f"{r[0]:.3f} | {r[1]:.4f} | {r[2]:.4f} | {r[3]:.4f}"
 for spp in sweep:
-    b, p = rows[spp]["brdf"], rows[spp]["photons"]
-    lines.append(f"| {spp} | {b[0]:.3f} | {b[1]:.4f} | {b[2]:.4f} | {p[0]:.3f} | {p[1]:.4f} | {p[2]:.4f} |")
+    lines.append(f"| {spp} | {cells(rows[spp]['brdf'])} | {cells(rows[spp]['photons'])} |")
 # Equal time: BRDF with as many samples as fit in the time photon sampling took at the largest count.
 last = sweep[-1]
 matched = max(1, round(last * rows[last]["photons"][0] / rows[last]["brdf"][0]))
@@ -53,9 +57,11 @@ subprocess.run(["build/render", sys.argv[3], "-o", f"{out}/brdf_equal_time.exr",
 seconds = json.load(open(report))["images"][0]["seconds"]
 fields = subprocess.run(["build/image_error", f"{out}/reference.exr", f"{out}/brdf_equal_time.exr"], check=True,
                         capture_output=True, text=True).stdout.split()
-lines.append(f"| equal time: brdf {matched} spp | {seconds:.3f} | {float(fields[1]):.4f} | {float(fields[3]):.4f} "
-             f"| photons {last} spp: {rows[last]['photons'][0]:.3f} | {rows[last]['photons'][1]:.4f} "
-             f"| {rows[last]['photons'][2]:.4f} |")
+equal = (seconds, float(fields[1]), float(fields[5]), float(fields[3]))
+p = rows[last]["photons"]
+lines.append(f"| equal time: brdf {matched} spp | {cells(equal)} | photons {last} spp: {cells(p)} |")
+lines.append(f"\nEqual-time ratio photons / BRDF: RMSE {p[1] / equal[1]:.2f}, away from edges {p[2] / equal[2]:.2f}, "
+             f"MAE {p[3] / equal[3]:.2f}.")
 open(f"{out}/table.md", "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))
 PY
