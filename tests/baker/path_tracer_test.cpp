@@ -195,17 +195,17 @@ TEST(PathTracer, DegenerateImportanceMapsStayFinite) {
   maps.emplace_back(500, MapPhoton{{0.3f, 0.2f, 0.3f}, {0, 1, 0}, {1, 1, 1}, {0, 1, 0}});  // one region, one point
   for (float floor : {0.0f, 0.1f})
     for (bool cached : {false, true})
-    for (const std::vector<MapPhoton>& map : maps) {
-      PathSettings s;
-      s.sampling = DirectionSampling::kPhotons;
-      s.floorFraction = floor;
-      s.mapCache = cached;
-      const RenderedImage image = f.Render(s, &map, camera, 8, 4, 6);
-      for (const Rgb& p : image.mean.pixels) {
-        ASSERT_TRUE(std::isfinite(p.r) && std::isfinite(p.g) && std::isfinite(p.b));
-        ASSERT_GE(std::min({p.r, p.g, p.b}), 0.0f);
+      for (const std::vector<MapPhoton>& map : maps) {
+        PathSettings s;
+        s.sampling = DirectionSampling::kPhotons;
+        s.floorFraction = floor;
+        s.mapCache = cached;
+        const RenderedImage image = f.Render(s, &map, camera, 8, 4, 6);
+        for (const Rgb& p : image.mean.pixels) {
+          ASSERT_TRUE(std::isfinite(p.r) && std::isfinite(p.g) && std::isfinite(p.b));
+          ASSERT_GE(std::min({p.r, p.g, p.b}), 0.0f);
+        }
       }
-    }
 }
 
 TEST(PathTracer, ImagesDoNotDependOnTheThreadCount) {
