@@ -32,10 +32,11 @@ Bounds BoundsOf(const std::vector<MapPhoton>& photons) {
 }
 
 uint64_t KeyOf(Point3 p, Point3 origin, float cell) {
-  const auto index = [&](float x, float o) -> int64_t { return int64_t(std::floor((x - o) / cell)); };
-  const int64_t i = index(p.x, origin.x), j = index(p.y, origin.y), k = index(p.z, origin.z);
-  constexpr int64_t kLimit = int64_t(1) << kCellBits;
-  if (i < 0 || j < 0 || k < 0 || i >= kLimit || j >= kLimit || k >= kLimit) return ImportanceCache::kOutside;
+  // Compared in floating point before any conversion, so that a point far outside (or NaN) is never cast.
+  const auto index = [&](float x, float o) { return std::floor((x - o) / cell); };
+  const float i = index(p.x, origin.x), j = index(p.y, origin.y), k = index(p.z, origin.z);
+  const auto inside = [](float c) { return c >= 0 && c < kCellsPerAxis; };
+  if (!inside(i) || !inside(j) || !inside(k)) return ImportanceCache::kOutside;
   return uint64_t(i) | uint64_t(j) << kCellBits | uint64_t(k) << (2 * kCellBits);
 }
 

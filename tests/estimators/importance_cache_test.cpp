@@ -70,6 +70,8 @@ TEST(ImportanceCache, NoGroupFacingTheHitsWayGivesNoMap) {
   EXPECT_EQ(cache.At({0.5f, 0, 0.5f}, {0, -1, 0}), nullptr) << "the floor's underside";
   EXPECT_EQ(cache.At({0.5f, 3, 0.5f}, {0, 1, 0}), nullptr) << "beyond the photons' bounds";
   EXPECT_EQ(cache.At({-0.5f, 0, 0.5f}, {0, 1, 0}), nullptr) << "below the photons' lowest corner";
+  EXPECT_EQ(cache.At({1e30f, 0, 0.5f}, {0, 1, 0}), nullptr) << "far beyond: no cell index overflows";
+  EXPECT_EQ(cache.At({NAN, 0, 0.5f}, {0, 1, 0}), nullptr);
   const ImportanceMap* wall = cache.At({0, 0.5f, 0.5f}, {1, 0, 0});
   ASSERT_NE(wall, nullptr);
   EXPECT_GT(wall->Pdf({0, 0, 1}), wall->Pdf({1, 0, 0.01f})) << "the wall's light along its normal";
