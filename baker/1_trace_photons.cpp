@@ -329,4 +329,14 @@ bool ExtendPhotons(PhotonStore& store, const PreparedScene& scene, const TraceSe
   return ExtendPhotons(store, scene.scene, scene.lights, *scene.rays, scene.plan, settings, log);
 }
 
+std::vector<MapPhoton> MapPhotonsOf(const Scene& scene, const PhotonStore& hits) {
+  std::vector<MapPhoton> photons;
+  photons.reserve(hits.stats.hits);
+  hits.ForEach([&](const PhotonHit& h, Rgb flux) {
+    const Normal3 front = scene.FrontNormal(h.Triangle());
+    photons.push_back({scene.PointAt(h.Triangle(), h.b1, h.b2), h.Wi(), flux, h.OnFront() ? front : -front});
+  });
+  return photons;
+}
+
 }  // namespace pb

@@ -26,6 +26,7 @@
 #include "baker/options.h"
 #include "baker/photon_store.h"
 #include "baker/runtime/progress.h"
+#include "estimators/photon_map.h"
 #include "mesh/color.h"
 #include "mesh/geometry.h"
 #include "mesh/lights.h"
@@ -93,5 +94,9 @@ bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<Lig
 // The same for a prepared scene: its lights, ray scene and plan.
 PhotonStore TracePhotons(const PreparedScene& scene, const TraceSettings& settings, const Log& log);
 bool ExtendPhotons(PhotonStore& store, const PreparedScene& scene, const TraceSettings& settings, const Log& log);
+
+// Every stored hit as a photon map holds it (estimators/photon_map.h): its world position, incoming direction,
+// flux and the normal of the side it arrived on.
+std::vector<MapPhoton> MapPhotonsOf(const Scene& scene, const PhotonStore& hits);
 
 }  // namespace pb

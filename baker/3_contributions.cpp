@@ -126,8 +126,9 @@ DirectIrradiance::DirectIrradiance(const PreparedScene& scene, const DirectSetti
     : PointSampledIrradiance(scene, direct.samples, seed), sampler_(scene.scene, scene.lights, *scene.rays),
       noise_(direct.noise) {}
 
-ReferenceIrradiance::ReferenceIrradiance(const PreparedScene& scene, uint32_t paths, uint64_t seed)
+ReferenceIrradiance::ReferenceIrradiance(const PreparedScene& scene, uint32_t paths, uint64_t seed,
+                                         const ImportanceCache* guide)
     : PointSampledIrradiance(scene, paths, seed), lights_(scene.scene, scene.lights, *scene.rays),
-      gatherer_(scene.scene, *scene.rays, lights_) {}
+      gatherer_(scene.scene, *scene.rays, lights_, IrradianceGatherer::kMaxDepth, guide) {}
 
 }  // namespace pb

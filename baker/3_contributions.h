@@ -131,10 +131,11 @@ class DirectIrradiance final : public PointSampledIrradiance {
   double noise_;
 };
 
-// All of H at a point by `paths` paths gathered there (estimators/irradiance_gather.h).
+// All of H at a point by `paths` paths gathered there (estimators/irradiance_gather.h), their first directions
+// drawn from `guide`'s maps when given (it must outlive this).
 class ReferenceIrradiance final : public PointSampledIrradiance {
  public:
-  ReferenceIrradiance(const PreparedScene& scene, uint32_t paths, uint64_t seed);
+  ReferenceIrradiance(const PreparedScene& scene, uint32_t paths, uint64_t seed, const ImportanceCache* guide = nullptr);
   std::string_view Name() const override { return "reference"; }
 
  private:

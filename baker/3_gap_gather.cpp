@@ -15,8 +15,9 @@ constexpr float kParallelCosine = 0.5f;                       // within 60 degre
 }  // namespace
 
 GapGather::GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const LightSampler& lights,
-                     const GapSettings& settings, uint64_t seed)
-    : scene_(scene), photons_(photons), settings_(settings), seed_(seed), gatherer_(scene.scene, *scene.rays, lights) {}
+                     const GapSettings& settings, uint64_t seed, const ImportanceCache* guide)
+    : scene_(scene), photons_(photons), settings_(settings), seed_(seed),
+      gatherer_(scene.scene, *scene.rays, lights, IrradianceGatherer::kMaxDepth, guide) {}
 
 bool GapGather::SmallerThanKernel(uint32_t s) const {
   const double h = photons_.Bandwidth(s);

@@ -39,9 +39,10 @@ class PhotonIrradiance;
 class GapGather final : public ScatteredLightField {
  public:
   // All must outlive the gather.
-  // `lights` samples the direct light at each diffuse bounce (the field's own, DirectIrradiance's).
+  // `lights` samples the direct light at each diffuse bounce (the field's own, DirectIrradiance's); `guide`, when
+  // given, draws the paths' first directions.
   GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const LightSampler& lights,
-            const GapSettings& settings, uint64_t seed);
+            const GapSettings& settings, uint64_t seed, const ImportanceCache* guide = nullptr);
 
   // Whether p, whose rays start at `start` (RayStart), lies in a gap, on a surface smaller than its kernel, or
   // (with `edges`) on a planar surface's boundary.

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "baker/1_trace_photons.h"
+
 namespace pb {
 
 IrradianceField::IrradianceField(const PreparedScene& scene, std::unique_ptr<PhotonIrradiance> photons)
@@ -18,6 +20,11 @@ void IrradianceField::Add(std::unique_ptr<IrradianceContribution> contribution) 
 }
 
 void IrradianceField::GatherGaps(std::unique_ptr<GapGather> gaps) { gaps_ = std::move(gaps); }
+
+const ImportanceCache* IrradianceField::Guide(std::unique_ptr<ImportanceCache> guide) {
+  guide_ = std::move(guide);
+  return guide_.get();
+}
 
 std::optional<NoisyIrradiance> IrradianceField::GapTerm(const SurfacePoint& p) const {
   if (!gaps_) return std::nullopt;
@@ -70,6 +77,20 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   return light;
 }
 
+namespace {
+
+constexpr uint32_t kGuideNeighbours = 800;  // photons per map, render's default (docs/render.md, "Settings")
+
+// The guide's importance maps: `photons` traced from a stream family of their own, their first hits left out (the
+// gathered paths' first directions look for light that has scattered), cached as render caches them.
+std::unique_ptr<ImportanceCache> GuideMaps(const PreparedScene& scene, uint64_t photons, uint64_t seed) {
+  const TraceSettings trace{photons, SplitMix64(seed ^ 0x67756964652d6d61ull), kDefaultMaxBounces, false};
+  return std::make_unique<ImportanceCache>(MapPhotonsOf(scene.scene, TracePhotons(scene, trace, Log(true))),
+                                           MapSettings{kGuideNeighbours, 4, 8, 0.3f});
+}
+
+}  // namespace
+
 IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins, const FieldSettings& settings,
                                      StageClock& clock, const Log* log) {
   const EstimatorSettings& estimator = settings.estimator;
@@ -81,14 +102,19 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
   IrradianceField field = clock.Time("estimators", [&] {
     return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, estimator, std::move(bandwidths), log));
   });
+  const bool gathers = settings.referencePaths > 0 || (settings.direct.mode == DirectLight::kSampled && settings.gaps.paths > 0);
+  const ImportanceCache* guide =
+      gathers && settings.guidePhotons > 0
+          ? field.Guide(clock.Time("guide maps", [&] { return GuideMaps(scene, settings.guidePhotons, settings.seed); }))
+          : nullptr;
   if (settings.referencePaths > 0)
-    field.Add(std::make_unique<ReferenceIrradiance>(scene, settings.referencePaths, settings.seed));
+    field.Add(std::make_unique<ReferenceIrradiance>(scene, settings.referencePaths, settings.seed, guide));
   else if (settings.direct.mode == DirectLight::kSampled) {
     auto direct = clock.Time("lights", [&] { return std::make_unique<DirectIrradiance>(scene, settings.direct, settings.seed); });
     const LightSampler& lights = direct->Sampler();  // owned by the field from here on
     field.Add(std::move(direct));
     if (settings.gaps.paths > 0)
-      field.GatherGaps(std::make_unique<GapGather>(scene, field.Photons(), lights, settings.gaps, settings.seed));
+      field.GatherGaps(std::make_unique<GapGather>(scene, field.Photons(), lights, settings.gaps, settings.seed, guide));
   }
   return field;
 }

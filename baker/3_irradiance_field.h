@@ -58,6 +58,9 @@ class IrradianceField {
   void Add(std::unique_ptr<IrradianceContribution> contribution);
   // At points in narrow gaps, gathers the light the photons would have estimated (baker/3_gap_gather.h).
   void GatherGaps(std::unique_ptr<GapGather> gaps);
+  // The importance maps that guide the gathered paths' first directions (--guide-photons), kept for the field's
+  // life; null when none.
+  const ImportanceCache* Guide(std::unique_ptr<ImportanceCache> guide);
 
   Rgb Irradiance(const SurfacePoint& p) const;
   SurfaceLight Light(const SurfacePoint& p) const;
@@ -84,6 +87,7 @@ class IrradianceField {
   PhotonIrradiance* photons_;
   std::vector<std::unique_ptr<IrradianceContribution>> contributions_;  // photons first
   std::unique_ptr<GapGather> gaps_;                                     // or null
+  std::unique_ptr<ImportanceCache> guide_;                              // or null
 };
 
 // What the field is made of: the photons' estimator, and the terms computed at the points.
@@ -100,6 +104,9 @@ struct FieldSettings {
   uint32_t referencePaths = 0;      // --reference SPP: ReferenceIrradiance instead of direct light (0: none)
   uint64_t seed = 1;                // of the point streams
   GapSettings gaps;                 // with --direct sampled: the gathering in narrow gaps (paths 0: none)
+  // --guide-photons: photons traced (apart from the bake's, scattered light only) for the importance maps that
+  // guide the first direction of --reference's and the gap gather's paths; 0: cosine directions.
+  uint64_t guidePhotons = 0;
 };
 
 // The field of the photons in `bins`: bandwidths ("bandwidth") and estimators ("estimators") timed on `clock`,

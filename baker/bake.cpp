@@ -185,7 +185,8 @@ std::vector<bool> EstimatedSurfaces(const BakeOptions& o, const PreparedScene& s
 }
 
 FieldSettings FieldSettingsOf(const BakeOptions& o, const PhotonRounds& rounds) {
-  return {o.estimator, o.autoBandwidth, rounds.HeldBandwidths(), rounds.Direct(), o.referencePaths, o.seed, o.gaps};
+  return {o.estimator,      o.autoBandwidth, rounds.HeldBandwidths(), rounds.Direct(), o.referencePaths,
+          o.seed,           o.gaps,          o.guidePhotons};
 }
 
 // Rank 0 takes every process's vertices (baker/distribution.h).

@@ -76,6 +76,7 @@ void ValidatePhotons(const BakeOptions& o) {
   RequireThreads(o.threads);
   RequireOption(o.maxBounces <= kDefaultMaxBounces, "--max-bounces", fmt::format("must lie in [0, {}]", kDefaultMaxBounces));
   RequireOption(o.referencePaths <= 10'000'000, "--reference", "must lie in [0, 10000000] paths per point");
+  RequireOption(o.guidePhotons <= 1'000'000'000, "--guide-photons", "must lie in [0, 1000000000]");
   RequireOption(o.referencePaths == 0 || (o.resumePath.empty() && o.savePhotonsPath.empty() && !o.targetNoise),
                 "--reference", "traces no photons, so it cannot be combined with --resume, --save-photons or --target-noise");
 }

@@ -107,6 +107,9 @@ struct BakeOptions {
   // --reference: instead of tracing photons, gather this many paths at every point (a path tracer's vertex bake,
   // unbiased: estimators/irradiance_gather.h); 0 = off; range [0, 1e7], typical 1024-16384.
   uint32_t referencePaths = 0;
+  // --guide-photons: photons for importance maps that guide the first direction of --reference's and the gap
+  // gather's paths (estimators/irradiance_gather.h); 0 = off; range [0, 1e9], typical 250000.
+  uint64_t guidePhotons = 0;
   bool quiet = false;             // no progress or summary on stderr.
   // --no-cover: do not find the parts of surfaces that other geometry covers (estimators/surface_cover.h); they
   // are found on a lattice of spacing h / 2 (the default h's with --h auto).

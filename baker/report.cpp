@@ -25,7 +25,7 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
           {"lights", o.lightsPath}, {"luminous_efficacy_lm_per_W", o.luminousEfficacy},
           {"max_bounces", o.maxBounces}, {"direct", DirectLightName(o.direct.mode)},
           {"direct_samples", o.direct.samples}, {"direct_noise", o.direct.noise},
-          {"gap_paths", o.gaps.paths}, {"gap_small_area_h2", o.gaps.smallArea}, {"gap_edges", o.gaps.edges}, {"reference_paths", o.referencePaths},
+          {"gap_paths", o.gaps.paths}, {"gap_small_area_h2", o.gaps.smallArea}, {"gap_edges", o.gaps.edges}, {"reference_paths", o.referencePaths}, {"guide_photons", o.guidePhotons},
           {"effects", o.effectsText}, {"refine", o.refine.adaptive}, {"tolerance", o.refine.tolerance},
           {"max_vertices", o.refine.maxVertices}, {"subdivide", o.refine.subdivide}, {"resume", o.resumePath},
           {"save_photons", o.savePhotonsPath},

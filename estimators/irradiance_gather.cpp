@@ -10,8 +10,8 @@
 namespace pb {
 
 IrradianceGatherer::IrradianceGatherer(const Scene& scene, const RayScene& rays, const LightSampler& lights,
-                                       uint32_t maxDepth)
-    : scene_(scene), rays_(rays), lights_(lights), maxDepth_(maxDepth) {}
+                                       uint32_t maxDepth, const ImportanceCache* guide)
+    : scene_(scene), rays_(rays), lights_(lights), maxDepth_(maxDepth), guide_(guide) {}
 
 Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, const ScatteredLightField* field) const {
   Rgb radiance, throughput{1, 1, 1};
@@ -44,19 +44,28 @@ Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, co
   return radiance;
 }
 
+std::pair<Vector3, float> IrradianceGatherer::FirstDirection(const ImportanceMap* map, Point2 u) {
+  if (map == nullptr) return {SampleCosineHemisphere(u).direction, float(kPi)};
+  const ImportanceSample s = map->Sample(u, ImportanceWarp::kMipmap);
+  return {s.direction, s.direction.z / s.pdf};
+}
+
 DirectSample IrradianceGatherer::Gather(Point3 p, Normal3 n, uint32_t paths, Rng& rng, bool direct,
                                         const ScatteredLightField* field, IncidentMoments* moments) const {
   if (paths == 0) return {};
   const Frame frame = Frame::FromNormal(n);
   const Point3 origin = rays_.SpawnPoint(p, n);
+  const ImportanceMap* map = guide_ ? guide_->At(p, n) : nullptr;
   SampleMean mean;
   IncidentMoments sum;  // of the paths, each at weight 1
   for (uint32_t k = 0; k < paths; ++k) {
     IncidentMoments path;
     IncidentMoments* const each = moments != nullptr ? &path : nullptr;
     const Rgb e = direct ? lights_.Irradiance(p, n, 1, rng, each).irradiance : Rgb{};
-    const Vector3 w = frame.ToWorld(SampleCosineHemisphere(rng.Uniform2()).direction);
-    const Rgb scattered = ScatteredRadiance(origin, w, rng, field) * float(kPi);
+    const Point2 u = rng.Uniform2();
+    const auto [local, factor] = FirstDirection(map, u);  // factor: cos / pdf
+    const Vector3 w = frame.ToWorld(local);
+    const Rgb scattered = ScatteredRadiance(origin, w, rng, field) * factor;
     if (each == nullptr) {
       mean.Add(e + scattered);
       continue;

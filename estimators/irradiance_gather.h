@@ -16,12 +16,19 @@
 // a surface the field can speak for: one level of final gathering (Jensen 1996, "Global illumination using
 // photon maps", section 3: the photon map read only where the gathered ray has gone far).
 //
+// Guided (bake --guide-photons; Jensen 1995, as render's photon sampling, estimators/importance_cache.h): the first
+// direction w is drawn from the importance map of the cache's cell at x, where one faces x's way, and weighted
+// L_s cos / pdf instead of pi L_s; elsewhere, and without a cache, from the cosine lobe. The same numbers are
+// drawn either way, so an unguided gather is what it was bit for bit.
+//
 // The relative noise is the S paths' standard error over their mean. Deterministic for a given Rng stream.
 #pragma once
 
 #include <cstdint>
 #include <optional>
+#include <utility>
 
+#include "estimators/importance_cache.h"
 #include "estimators/light_sampler.h"
 #include "estimators/rng.h"
 #include "mesh/ray_scene.h"
@@ -41,7 +48,10 @@ class ScatteredLightField {
 class IrradianceGatherer {
  public:
   // All must outlive the gatherer.
-  IrradianceGatherer(const Scene& scene, const RayScene& rays, const LightSampler& lights, uint32_t maxDepth = 1000);
+  // `guide`, when given, draws the first directions (and must outlive the gatherer too).
+  static constexpr uint32_t kMaxDepth = 1000;  // surfaces a path meets at most: a safety cap
+  IrradianceGatherer(const Scene& scene, const RayScene& rays, const LightSampler& lights,
+                     uint32_t maxDepth = kMaxDepth, const ImportanceCache* guide = nullptr);
 
   // E at point p (local coordinates [m]) on the side of unit normal n, from `paths` paths. With `moments`, the
   // paths' moments (estimators/incident_moments.h: each path's first direction, and its light sample's) are added
@@ -68,6 +78,8 @@ class IrradianceGatherer {
   // The mean over `paths` paths of E_d (one light sample, when `direct`) + pi L_s.
   DirectSample Gather(Point3 p, Normal3 n, uint32_t paths, Rng& rng, bool direct, const ScatteredLightField* field,
                       IncidentMoments* moments) const;
+  // A first direction (local, about the normal) for u, and its cos / pdf [sr]: from the map, or the cosine lobe.
+  static std::pair<Vector3, float> FirstDirection(const ImportanceMap* map, Point2 u);
   // L_s along the ray from p (already offset) in direction d: radiance that scattered at least once [W/(m^2 sr)];
   // with a field, ended at the first diffuse hit where it can be read.
   Rgb ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, const ScatteredLightField* field = nullptr) const;
@@ -76,6 +88,7 @@ class IrradianceGatherer {
   const RayScene& rays_;
   const LightSampler& lights_;
   uint32_t maxDepth_;
+  const ImportanceCache* guide_;
 };
 
 }  // namespace pb

@@ -60,6 +60,7 @@ struct Config {
   pb::DirectSettings direct{pb::DirectLight::kPhotons};  // --direct, --direct-samples (the closed form: photons)
   uint32_t referencePaths = 0;  // > 0: a path tracer's vertex bake (--reference) instead of photons
   pb::GapSettings gaps;         // --gap-paths, with --direct sampled
+  uint64_t guidePhotons = 0;    // --guide-photons: the gathered paths' first directions guided
   // The curve this run belongs to: the method on the box, the estimator on the closed form.
   std::string Group(Bench bench) const {
     if (referencePaths > 0) return "path tracer";
@@ -67,7 +68,8 @@ struct Config {
     return direct.mode == pb::DirectLight::kSampled ? "sampled" : "photons";
   }
   std::string Label() const {
-    if (referencePaths > 0) return fmt::format("path tracer {} spp", referencePaths);
+    const std::string guided = guidePhotons > 0 ? fmt::format(" guided {}", guidePhotons) : std::string();
+    if (referencePaths > 0) return fmt::format("path tracer {} spp{}", referencePaths, guided);
     std::string s = direct.mode != pb::DirectLight::kSampled ? ""
                     : direct.noise > 0 ? fmt::format("sampled noise {} (<= {}) ", direct.noise, direct.samples)
                                        : fmt::format("sampled x{} ", direct.samples);
@@ -82,7 +84,7 @@ struct Config {
     if (direct.mode == pb::DirectLight::kSampled && gaps.smallArea > 0) s += fmt::format(" small<{}h2", gaps.smallArea);
     if (direct.mode == pb::DirectLight::kSampled && gaps.edges) s += " edges";
     if (targetNoise) s += fmt::format(" target {}", *targetNoise);
-    return s;
+    return s + guided;
   }
 };
 
@@ -157,6 +159,7 @@ pb::BakeOptions OptionsOf(const std::string& scene, const Config& c, uint64_t se
   o.direct = c.direct;
   o.referencePaths = c.referencePaths;
   o.gaps = c.gaps;
+  o.guidePhotons = c.guidePhotons;
   o.estimator = c.estimator;
   o.autoBandwidth = c.autoBandwidth;
   o.photons = c.photons;
@@ -650,6 +653,11 @@ int main(int argc, char** argv) {
   app.add_flag("--gap-edges", one.gaps.edges, "with --photons: every point on a flat surface's boundary is gathered");
   app.add_option("--gap-small-area", one.gaps.smallArea, "with --photons: surfaces below this many h^2 are gathered")
       ->capture_default_str();
+  app.add_option("--reference", one.referencePaths,
+                 "box, office: measure only the path tracer's vertex bake (bake --reference) with this many paths");
+  app.add_option("--guide-photons", one.guidePhotons,
+                 "with --photons or --reference: the gathered paths' first directions from importance maps of this "
+                 "many photons (bake --guide-photons)");
   const auto validate = [&] {  // with bake's ranges (baker/option_ranges.h)
     pb::RequireThreads(threads);
     if (!quality.empty())
@@ -657,6 +665,7 @@ int main(int argc, char** argv) {
                              .gapPaths = app.count("--gap-paths") > 0}, one);
     pb::RequireOption(truthPaths >= 1 && truthPaths <= 10'000'000, "--truth-paths",
                       "must lie in [1, 10000000] paths per point");
+    if (one.referencePaths > 0 && one.photons == 0) one.photons = 1;  // a reference traces none; the count is unused
     if (one.photons > 0) OptionsOf(sceneName, one, 1, threads).Validate();
   };
   return pb::tools::RunTool(app, argc, argv, validate, [&] {

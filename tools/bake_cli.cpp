@@ -158,6 +158,11 @@ void DefineDirectOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("--reference", o.referencePaths,
                  "trace no photons: gather this many paths at every vertex and texel instead, an unbiased path-traced "
                  "vertex bake to measure against (docs/bake.md, 'A reference'); range 1-1e7, typical 1024-16384");
+  app.add_option("--guide-photons", o.guidePhotons,
+                 "draw the first direction of --reference's and the gap gather's paths from importance maps of this "
+                 "many photons (render's photon sampling) instead of the cosine lobe; 0 = off; range 0-1e9, typical "
+                 "250000 (docs/bake.md, 'Guided paths')")
+      ->capture_default_str();
 }
 
 void DefineMeshOptions(CLI::App& app, pb::BakeOptions& o) {

@@ -157,16 +157,6 @@ void WriteRenderReport(OutputFiles& outputs, const std::string& path, const Rend
 
 }  // namespace
 
-std::vector<MapPhoton> MapPhotonsOf(const Scene& scene, const PhotonStore& hits) {
-  std::vector<MapPhoton> photons;
-  photons.reserve(hits.stats.hits);
-  hits.ForEach([&](const PhotonHit& h, Rgb flux) {
-    const Normal3 front = scene.FrontNormal(h.Triangle());
-    photons.push_back({scene.PointAt(h.Triangle(), h.b1, h.b2), h.Wi(), flux, h.OnFront() ? front : -front});
-  });
-  return photons;
-}
-
 RenderedImage RenderImage(const PathTracer& tracer, const PathSettings& settings, const PinholeCamera& camera,
                           int width, int height, uint32_t spp, uint64_t seed, const Log& log) {
   RenderedImage result{Image(width, height), std::vector<float>(size_t(width) * size_t(height)), {}, 0};

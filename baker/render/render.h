@@ -59,9 +59,6 @@ struct RenderReport {
   float exposure = 1;
 };
 
-// Every stored hit as the photon map holds it: its world position, incoming direction, flux and normal.
-std::vector<MapPhoton> MapPhotonsOf(const Scene& scene, const PhotonStore& hits);
-
 // Renders `spp` samples per pixel with `tracer`; pixel i draws from Rng(SplitMix64(seed ^ c), i), a family of
 // streams apart from the photons' Rng(seed, i).
 RenderedImage RenderImage(const PathTracer& tracer, const PathSettings& settings, const PinholeCamera& camera,

@@ -28,7 +28,7 @@ namespace pb {
 namespace {
 
 BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned threads = 0, float smallArea = 0,
-                   double gapNoise = 0, bool edges = false, uint64_t photons = 1'000'000) {
+                   double gapNoise = 0, bool edges = false, uint64_t photons = 1'000'000, uint64_t guidePhotons = 0) {
   static const std::string scene = test::WriteGapScene(test::TempDirectory("gap-gather"));
   BakeOptions o;
   o.scenePath = scene;
@@ -39,6 +39,7 @@ BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned thre
   o.gaps.noise = gapNoise;
   o.gaps.edges = edges;
   o.referencePaths = referencePaths;
+  o.guidePhotons = guidePhotons;
   o.threads = threads;
   return BakeMesh(o, Log(true));
 }
@@ -80,20 +81,6 @@ int Disagreements(const BakedMesh& bake, const BakedMesh& reference) {
   return disagree;
 }
 
-TEST(GapGather, TheFloorUnderAFloatingSlabMatchesThePathTracer) {
-  const BakeResult gathered = BakeGap(1024), kernel = BakeGap(0), reference = BakeGap(0, 8192);
-  ASSERT_EQ(gathered.mesh.mesh.VertexCount(), reference.mesh.mesh.VertexCount());
-  ASSERT_FALSE(gathered.mesh.irradianceNoise.empty());
-  ASSERT_FALSE(reference.mesh.irradianceNoise.empty());
-  int under = 0;
-  for (size_t v = 0; v < gathered.mesh.mesh.VertexCount(); ++v) under += UnderSlab(gathered.mesh, v);
-  ASSERT_EQ(under, 81) << "9 x 9 floor vertices, 5 cm apart";
-  const int withGather = Disagreements(gathered.mesh, reference.mesh), without = Disagreements(kernel.mesh, reference.mesh);
-  std::printf("vertices under the slab off the path tracer: %d gathered, %d from the kernel alone\n", withGather, without);
-  EXPECT_EQ(withGather, 0);
-  EXPECT_GE(without, 16) << "the kernel carries the rim's light onto the first ring inside: the test can fail";
-}
-
 // The RMS of the predicted relative noise (the gather's alone: no direct light reaches them) over the vertices
 // under the slab that `lit` reads at least 5% of the brightest of them: deeper in, H falls to 10^-4 of the rim's,
 // where a relative error says little (256 paths find no light there and report none).
@@ -107,6 +94,26 @@ double RmsNoiseUnderSlab(const BakedMesh& b, const BakedMesh& lit) {
       sum += b.irradianceNoise[v] * b.irradianceNoise[v], ++n;
   return std::sqrt(sum / n);
 }
+
+TEST(GapGather, TheFloorUnderAFloatingSlabMatchesThePathTracer) {
+  const BakeResult gathered = BakeGap(1024), kernel = BakeGap(0), reference = BakeGap(0, 8192);
+  // The same with the gathered paths' first directions guided (--guide-photons).
+  const BakeResult guided = BakeGap(1024, 0, 0, 0, 0, false, 1'000'000, 250'000);
+  EXPECT_EQ(Disagreements(guided.mesh, reference.mesh), 0);
+  std::printf("RMS predicted noise under the slab: %.4f gathered, %.4f guided\n",
+              RmsNoiseUnderSlab(gathered.mesh, reference.mesh), RmsNoiseUnderSlab(guided.mesh, reference.mesh));
+  ASSERT_EQ(gathered.mesh.mesh.VertexCount(), reference.mesh.mesh.VertexCount());
+  ASSERT_FALSE(gathered.mesh.irradianceNoise.empty());
+  ASSERT_FALSE(reference.mesh.irradianceNoise.empty());
+  int under = 0;
+  for (size_t v = 0; v < gathered.mesh.mesh.VertexCount(); ++v) under += UnderSlab(gathered.mesh, v);
+  ASSERT_EQ(under, 81) << "9 x 9 floor vertices, 5 cm apart";
+  const int withGather = Disagreements(gathered.mesh, reference.mesh), without = Disagreements(kernel.mesh, reference.mesh);
+  std::printf("vertices under the slab off the path tracer: %d gathered, %d from the kernel alone\n", withGather, without);
+  EXPECT_EQ(withGather, 0);
+  EXPECT_GE(without, 16) << "the kernel carries the rim's light onto the first ring inside: the test can fail";
+}
+
 
 TEST(GapGather, ANoiseTargetChoosesEachPointsPaths) {
   constexpr double kTarget = 0.03;
