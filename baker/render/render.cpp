@@ -262,7 +262,7 @@ void PrintRenderSummary(const RenderReport& r, const Log& log) {
   std::string s = fmt::format("\nrender summary: {} ({}x{}, {} threads)\n", o.scenePath, o.width, o.height, r.threads);
   s += fmt::format("  sampling  {}{}", SamplingName(o.path.sampling), o.path.lightSampling ? " with light sampling" : "");
   if (o.path.sampling == DirectionSampling::kPhotons)
-    s += fmt::format(": {} photons stored, {} nearest, {}x{} {} regions, floor {}, warp {}, {}", r.photonsStored,
+    s += fmt::format(": {} photons stored, N = {}, {}x{} {} regions, floor {}, warp {}, {}", r.photonsStored,
                      o.path.neighbours, o.path.thetaRegions, o.path.phiRegions, DomainName(o.path.domain),
                      o.path.floorFraction,
                      WarpName(o.path.warp),
