@@ -77,6 +77,9 @@ void ValidatePhotons(const BakeOptions& o) {
   RequireOption(o.maxBounces <= kDefaultMaxBounces, "--max-bounces", fmt::format("must lie in [0, {}]", kDefaultMaxBounces));
   RequireOption(o.referencePaths <= 10'000'000, "--reference", "must lie in [0, 10000000] paths per point");
   RequireOption(o.guidePhotons <= 1'000'000'000, "--guide-photons", "must lie in [0, 1000000000]");
+  RequireOption(o.guidePhotons == 0 || o.referencePaths > 0 || (o.direct.mode == DirectLight::kSampled && o.gaps.paths > 0),
+                "--guide-photons", "guides the paths of --reference or of the gap gather (--direct sampled, --gap-paths "
+                "above 0), and this bake gathers none");
   RequireOption(o.referencePaths == 0 || (o.resumePath.empty() && o.savePhotonsPath.empty() && !o.targetNoise),
                 "--reference", "traces no photons, so it cannot be combined with --resume, --save-photons or --target-noise");
 }

@@ -93,7 +93,7 @@ TEST(BakeCli, OutOfRangeOptionsAreRefusedBeforeAnyWork) {
            {"--k 1", "--k"}, {"--photons 0", "--photons"}, {"--photons -1", "--photons"},
            {"--threads 4294967295", "--threads"}, {"--scale 0", "--scale"}, {"--scale 1e-38", "--scale"},
            {"--scale 1e11", "--scale"}, {"--max-bounces 10001", "--max-bounces"},
-           {"--guide-photons 2000000000", "--guide-photons"}, {"--exposure 0", "--exposure"},
+           {"--guide-photons 2000000000", "--guide-photons"}, {"--guide-photons 1000 --gap-paths 0", "--guide-photons"}, {"--exposure 0", "--exposure"},
            {"--exposure inf", "--exposure"}, {"--texel 0", "--texel"}, {"--tolerance 1", "--tolerance"},
            {"--subdivide 9", "--subdivide"}, {"--max-vertices 2", "--max-vertices"},
            {"--target-noise 0", "--target-noise"}, {"--target-noise 0.1 --max-photons 10", "--max-photons"},
