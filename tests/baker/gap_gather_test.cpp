@@ -13,7 +13,7 @@
 //    pilot's misjudgement), where a fixed 256 paths leave it several times higher;
 //  - with --gap-edges, the floor's vertices along the walls (a concave corner, where the kernel reads high) are
 //    gathered too and agree with the path tracer in the mean;
-//  - the gathered bake is the same, bit for bit, on one thread and on two.
+//  - the gathered bake is the same, bit for bit, on one thread and on two, guided or not.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -219,6 +219,11 @@ TEST(GapGather, TheSameOnAnyThreadCount) {
     for (size_t v = 0; v < one.mesh.irradiance.size(); ++v)
       ASSERT_EQ(one.mesh.irradiance[v], two.mesh.irradiance[v]) << v << ", noise target " << noise;
   }
+  // Guided (--guide-photons): the maps and the paths alike.
+  const BakeResult one = BakeGap(256, 0, 1, 0, 0, true, 1'000'000, 100'000);
+  const BakeResult two = BakeGap(256, 0, 2, 0, 0, true, 1'000'000, 100'000);
+  for (size_t v = 0; v < one.mesh.irradiance.size(); ++v)
+    ASSERT_EQ(one.mesh.irradiance[v], two.mesh.irradiance[v]) << v << ", guided";
 }
 
 }  // namespace
