@@ -33,6 +33,23 @@ bool Descend(float& u, double q) {
 
 }  // namespace
 
+// A (rows + 1) x (cols + 1) summed-area table of a row-major grid: the sum over any rectangle in O(1).
+struct ImportanceMap::SummedArea {
+  int cols;
+  std::vector<double> table;
+  SummedArea(const std::vector<float>& values, int rows, int columns)
+      : cols(columns), table(size_t(rows + 1) * size_t(columns + 1), 0.0) {
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c)
+        At(r + 1, c + 1) = values[size_t(r * cols + c)] + At(r, c + 1) + At(r + 1, c) - At(r, c);
+  }
+  double& At(int r, int c) { return table[size_t(r) * size_t(cols + 1) + size_t(c)]; }
+  double At(int r, int c) const { return table[size_t(r) * size_t(cols + 1) + size_t(c)]; }
+  double Sum(int r0, int r1, int c0, int c1) const {  // rows [r0, r1), cols [c0, c1)
+    return At(r1, c1) - At(r0, c1) - At(r1, c0) + At(r0, c0);
+  }
+};
+
 ImportanceMap::ImportanceMap(int rows, int cols, MapDomain domain)
     : rows_(rows), cols_(cols), domain_(domain), importance_(size_t(rows) * size_t(cols), 0.0) {
   PB_CHECK_GE(rows, 1);  // an importance map has at least one region
@@ -94,37 +111,34 @@ void ImportanceMap::Finish(float floorFraction) {
   }
   for (double& c : cdf_) c /= running;  // exactly 1 at the end despite float rounding of the probabilities
   for (float& p : probability_) p = float(p / running);
-  summedArea_.assign(size_t(rows_ + 1) * size_t(cols_ + 1), 0.0);
-  const auto at = [&](int r, int c) -> double& { return summedArea_[size_t(r) * size_t(cols_ + 1) + size_t(c)]; };
-  for (int r = 0; r < rows_; ++r)
-    for (int c = 0; c < cols_; ++c)
-      at(r + 1, c + 1) = probability_[size_t(r * cols_ + c)] + at(r, c + 1) + at(r + 1, c) - at(r, c);
   splits_.clear();
-  if (IsPowerOfTwo(rows_) && IsPowerOfTwo(cols_)) {
+  if (IsPowerOfTwo(rows_) && IsPowerOfTwo(cols_)) {  // the mip-map warp's table; inversion reads cdf_ alone
     splits_.resize(size_t(Regions() - 1));
-    TabulateSplits({0, rows_, 0, cols_}, 0);
+    TabulateSplits({0, rows_, 0, cols_}, 0, SummedArea(probability_, rows_, cols_));
   }
 }
 
-void ImportanceMap::TabulateSplits(const Node& n, size_t index) {
+ImportanceMap::Split ImportanceMap::Halving(const Node& n) {
+  const bool rows = n.r1 - n.r0 >= n.c1 - n.c0;  // halve the longer side
+  return {rows, rows ? (n.r0 + n.r1) / 2 : (n.c0 + n.c1) / 2, 0.0};
+}
+
+void ImportanceMap::TabulateSplits(const Node& n, size_t index, const SummedArea& sums) {
   if (n.IsCell()) return;
-  const Split s = SplitOf(n);
-  splits_[index] = s.first;
+  const Split s = Halving(n);
+  const double first = s.rows ? sums.Sum(n.r0, s.mid, n.c0, n.c1) : sums.Sum(n.r0, n.r1, n.c0, s.mid);
+  splits_[index] = first / sums.Sum(n.r0, n.r1, n.c0, n.c1);
   for (const bool second : {false, true}) {
     Node child = n;
     child.Keep(s, second);
-    TabulateSplits(child, 2 * index + 1 + size_t(second));
+    TabulateSplits(child, 2 * index + 1 + size_t(second), sums);
   }
 }
 
 ImportanceMap::Split ImportanceMap::TabulatedSplit(const Node& n, size_t index) const {
-  const bool rows = n.r1 - n.r0 >= n.c1 - n.c0;
-  return {rows, rows ? (n.r0 + n.r1) / 2 : (n.c0 + n.c1) / 2, splits_[index]};
-}
-
-double ImportanceMap::RectangleSum(int r0, int r1, int c0, int c1) const {
-  const auto at = [&](int r, int c) { return summedArea_[size_t(r) * size_t(cols_ + 1) + size_t(c)]; };
-  return at(r1, c1) - at(r0, c1) - at(r1, c0) + at(r0, c0);
+  Split s = Halving(n);
+  s.first = splits_[index];
+  return s;
 }
 
 Point2 ImportanceMap::SampleInversionSquare(Point2 u, uint32_t& region) const {
@@ -134,13 +148,6 @@ Point2 ImportanceMap::SampleInversionSquare(Point2 u, uint32_t& region) const {
   const float a = width > 0 ? Unit((u.u - start) / width) : 0.5f;
   const int row = int(region) / cols_, col = int(region) % cols_;
   return {(float(row) + Inside(a)) / float(rows_), (float(col) + Inside(u.v)) / float(cols_)};
-}
-
-ImportanceMap::Split ImportanceMap::SplitOf(const Node& n) const {
-  const bool rows = n.r1 - n.r0 >= n.c1 - n.c0;  // halve the longer side
-  const int mid = rows ? (n.r0 + n.r1) / 2 : (n.c0 + n.c1) / 2;
-  const double first = rows ? RectangleSum(n.r0, mid, n.c0, n.c1) : RectangleSum(n.r0, n.r1, n.c0, mid);
-  return {rows, mid, first / RectangleSum(n.r0, n.r1, n.c0, n.c1)};
 }
 
 void ImportanceMap::Node::Keep(const Split& s, bool second) {

@@ -77,7 +77,6 @@ class ImportanceMap {
   Point2 ToSquare(Vector3 localDirection) const;  // (s, t)
   Vector3 FromSquare(Point2 st) const;
   float PdfIn(uint32_t region, float cosTheta) const;  // [1/sr]
-  double RectangleSum(int r0, int r1, int c0, int c1) const;  // rows [r0, r1), cols [c0, c1)
   // Hierarchical warping: a node of the grid, halved along its longer side into two children.
   struct Split {
     bool rows;     // the rows are halved (else the columns)
@@ -89,9 +88,10 @@ class ImportanceMap {
     bool IsCell() const { return r1 - r0 == 1 && c1 - c0 == 1; }
     void Keep(const Split& s, bool second);  // narrows to one half
   };
-  Split SplitOf(const Node& n) const;                 // from the summed-area table
+  static Split Halving(const Node& n);                       // which side, and where; `first` unset
   Split TabulatedSplit(const Node& n, size_t index) const;  // from splits_
-  void TabulateSplits(const Node& n, size_t index);
+  struct SummedArea;
+  void TabulateSplits(const Node& n, size_t index, const SummedArea& sums);
   Point2 SampleInversionSquare(Point2 u, uint32_t& region) const;
   Point2 SampleMipmapSquare(Point2 u, uint32_t& region) const;
   Point2 InvertInversionSquare(uint32_t region, Point2 local) const;
@@ -102,7 +102,6 @@ class ImportanceMap {
   std::vector<double> importance_;   // accumulated, row-major
   std::vector<float> probability_;   // P_k after the floor
   std::vector<double> cdf_;          // inclusive prefix sums of probability_, back() == 1
-  std::vector<double> summedArea_;   // (rows + 1) x (cols + 1) table of probability_
   std::vector<double> splits_;       // mip-map nodes' first-half shares, heap order; empty unless powers of two
 };
 

@@ -11,7 +11,6 @@
 namespace pb {
 namespace {
 
-constexpr double kUniformShare = 0.1;  // of the light choice spread evenly over the lights that can reach x
 
 // Adds sample e, arriving from w at `cosine` to the normal, to `cell` of `mean`; with `moments`, its moment vector
 // too, and its moments at weight 1 / samples.
@@ -146,7 +145,7 @@ std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
   double sum = 0;
   for (size_t i = 0; i < areas_.size(); ++i) {
     const bool can = guess[i] > 0;
-    sum += can ? (1 - kUniformShare) * guess[i] / total + kUniformShare / double(reachable) : 0.0;
+    sum += can ? Share(guess[i], total, reachable) : 0.0;
     cdf[i] = sum;
   }
   for (double& c : cdf) c /= sum;

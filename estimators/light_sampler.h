@@ -232,6 +232,12 @@ class LightSampler {
   Selection SelectionAt(Point3 p, Normal3 n, OneSampleScratch& scratch) const;
   // SelectionCdf's unoccluded guess of a light's share at p, before normalising; < 0 where it cannot reach p.
   double Guess(size_t area, Point3 p, Normal3 n) const;
+  // A light's probability before normalising, from its guess g > 0, the guesses' total and the lights that can
+  // reach the point: 1 - kUniformShare of the choice by the guess, kUniformShare evenly.
+  static constexpr double kUniformShare = 0.1;
+  static double Share(double g, double total, size_t reachable) {
+    return (1 - kUniformShare) * g / total + kUniformShare / double(reachable);
+  }
   DirectSample AreaIrradiance(Point3 p, Normal3 n, uint32_t samples, Rng& rng, IncidentMoments* moments) const;
   LightBounds BoundsOf(const LightShape& shape, const Light& light) const;
   Rgb DeltaIrradiance(const AnalyticLight& light, Point3 p, Normal3 n, IncidentMoments* moments) const;

@@ -12,10 +12,6 @@
 #include "estimators/warps.h"
 
 namespace pb {
-namespace {
-constexpr double kUniformShare = 0.1;  // as SelectionCdf's
-}  // namespace
-
 // The lights' guesses at a point (in the scratch, < 0 where a light cannot reach it), their sum and counts.
 struct LightSampler::Selection {
   const std::vector<double>& guess;
@@ -25,7 +21,7 @@ struct LightSampler::Selection {
   double Pmf(size_t i) const {
     if (!(guess[i] > 0) || !(total > 0)) return 0;
     const double norm = (1 - kUniformShare) + kUniformShare * double(positive) / double(reachable);
-    return ((1 - kUniformShare) * guess[i] / total + kUniformShare / double(reachable)) / norm;
+    return Share(guess[i], total, reachable) / norm;
   }
 };
 

@@ -86,14 +86,13 @@ Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& s
   Rgb radiance, throughput{1, 1, 1};
   bool countEmission = true;  // from the camera, after a specular event, or without light sampling
   const bool sampled = settings_.lightSampling;
-  // After a diffuse hit with light sampling: where the path left, and the pdf of its direction there, for the
-  // weight of the emission it meets next.
+  // After a diffuse hit with light sampling: where the path left, and the pdf of its direction there (> 0), for
+  // the weight of the emission it meets next; pdf 0 otherwise.
   struct Left {
     Point3 point;
     Normal3 side;
-    float pdf;
-  };
-  std::optional<Left> left;
+    float pdf = 0;
+  } left;
   for (uint32_t depth = 0; depth < settings_.maxDepth; ++depth) {
     ++stats.rays;
     const auto hit = rays_.Intersect(origin, direction);
@@ -106,12 +105,12 @@ Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& s
     if (at.onFront && material.IsEmissive()) {
       if (countEmission) {
         radiance += throughput * material.emission;
-      } else if (left) {  // found by the direction as well as by the shadow ray at the last hit
-        const float light = lights_->AreaLightPdf(left->point, left->side, hit->triangle, at.point, scratch.light);
-        radiance += throughput * material.emission * PowerHeuristic(left->pdf, light);
+      } else if (left.pdf > 0) {  // found by the direction as well as by the shadow ray at the last hit
+        const float light = lights_->AreaLightPdf(left.point, left.side, hit->triangle, at.point, scratch.light);
+        radiance += throughput * material.emission * PowerHeuristic(left.pdf, light);
       }
     }
-    left.reset();
+    left.pdf = 0;
     const bool lobed = (material.kind == MaterialClass::kDiffuse || material.kind == MaterialClass::kMirror) &&
                        !at.albedo.IsBlack();
     const float uEvent = rng.Uniform();
@@ -126,7 +125,7 @@ Rgb PathTracer::Trace(Point3 origin, Vector3 direction, Rng& rng, PathScratch& s
       throughput = throughput * d.weight / survival;
       direction = d.wi;
       countEmission = !sampled;
-      if (sampled) left = Left{at.point, at.side, d.pdf};
+      if (sampled) left = {at.point, at.side, d.pdf};
     } else {
       if (sampled && lobed) radiance += throughput * NextEvent(at, nullptr, rng, scratch, stats);
       const ScatterSample s =
