@@ -25,9 +25,48 @@ void RequireSize(const std::string& path, int64_t width, int64_t height, uint64_
                                           width, height, maxPixels));
 }
 
+// How many bytes OpenEXR 3.1 reads for an attribute of `type` whose value starts at `value` and declares
+// `size` bytes: it reads a known type by its own layout, not by the declared size, so a header whose sizes lie
+// would have it read later attributes from other bytes than the ones walked here. 0 for a value it would misread.
+size_t ExrValueBytes(const std::string& bytes, const std::string& type, size_t value, uint32_t size) {
+  static const std::pair<const char*, uint32_t> kFixed[] = {
+      {"box2i", 16}, {"box2f", 16}, {"compression", 1}, {"lineOrder", 1}, {"envmap", 1}, {"deepImageState", 1},
+      {"float", 4}, {"int", 4}, {"double", 8}, {"rational", 8}, {"timecode", 8}, {"keycode", 28},
+      {"chromaticities", 32}, {"tiledesc", 9}, {"v2i", 8}, {"v2f", 8}, {"v2d", 16}, {"v3i", 12}, {"v3f", 12},
+      {"v3d", 24}, {"m33f", 36}, {"m33d", 72}, {"m44f", 64}, {"m44d", 128}};
+  for (const auto& [name, fixed] : kFixed)
+    if (type == name) return fixed == size ? size : 0;
+  const auto uint32At = [&](size_t at) {
+    uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4);  // little-endian, as EXR and this machine are
+    return v;
+  };
+  const size_t end = value + size;  // within the file (checked by the caller)
+  if (type == "chlist") {  // channels (name, 16 bytes) up to an empty name, read whatever the size says
+    size_t at = value;
+    for (;;) {
+      const size_t nameEnd = bytes.find('\0', at);
+      if (nameEnd == std::string::npos || nameEnd >= end || nameEnd - at > 255) return 0;
+      if (nameEnd == at) return nameEnd + 1 == end ? size : 0;
+      at = nameEnd + 17;
+    }
+  }
+  if (type == "stringvector") {  // strings, each after its length, up to the declared size
+    for (size_t at = value; at < end; at += 4 + uint32At(at))
+      if (end - at < 4 || uint32At(at) > end - at - 4) return 0;
+    return size;
+  }
+  if (type == "preview") return size >= 8 && uint64_t(uint32At(value)) * uint32At(value + 4) * 4 == size - 8 ? size : 0;
+  if (type == "floatvector") return size % 4 == 0 ? size : 0;
+  if (type == "idmanifest") return size >= 8 ? size : 0;
+  return size;  // a string, or a type OpenEXR does not know (read as opaque bytes): the declared size
+}
+
 // The EXR header, walked before OpenEXR sees it (it allocates what an attribute's size field declares, so a
-// hostile header could ask for gigabytes): one part, not deep; every attribute's name and type end within 256
-// bytes and its value within the file; the data window within maxPixels.
+// hostile header could ask for gigabytes): one part, not deep; every attribute's name and type end within 31
+// bytes (255 with the long-names flag) and its value within the file, and the value is as long as OpenEXR will
+// read it (else it would read the next attribute from bytes not walked here: found by fuzz_sky_image); the data
+// window within maxPixels.
 void CheckExrHeader(const std::string& path, const std::string& bytes, uint64_t maxPixels) {
   const auto fail = [&](const std::string& why) { throw InputError(path, 0, "cannot read the sky image as EXR: " + why); };
   const auto int32At = [&](size_t at) {
@@ -37,17 +76,21 @@ void CheckExrHeader(const std::string& path, const std::string& bytes, uint64_t 
   };
   if (bytes.size() < 8) fail("the file ends in its header");
   if (int32At(4) & (0x800 | 0x1000)) fail("a deep or multi-part EXR is not read as a sky image");
+  const size_t maxName = (int32At(4) & 0x400) ? 255 : 31;
   bool window = false;
   for (size_t at = 8;;) {
     const size_t nameEnd = bytes.find('\0', at);
-    if (nameEnd == std::string::npos || nameEnd - at > 255) fail("an attribute's name does not end");
+    if (nameEnd == std::string::npos || nameEnd - at > maxName) fail("an attribute's name does not end");
     if (nameEnd == at) break;  // the empty name ends the header
     const size_t typeEnd = bytes.find('\0', nameEnd + 1);
-    if (typeEnd == std::string::npos || typeEnd - nameEnd > 256 || typeEnd + 5 > bytes.size()) fail("an attribute's type does not end");
+    if (typeEnd == std::string::npos || typeEnd - nameEnd - 1 > maxName || typeEnd + 5 > bytes.size()) fail("an attribute's type does not end");
     const int32_t size = int32At(typeEnd + 1);
     const size_t value = typeEnd + 5;
     if (size < 0 || uint64_t(size) > bytes.size() - value) fail("an attribute's value runs past the end of the file");
-    if (bytes.compare(at, nameEnd - at, "dataWindow") == 0 && size == 16) {
+    const std::string type = bytes.substr(nameEnd + 1, typeEnd - nameEnd - 1);
+    if (ExrValueBytes(bytes, type, value, uint32_t(size)) != uint32_t(size))
+      fail(fmt::format("the attribute '{}' of type {} declares {} bytes, not what its type reads", bytes.substr(at, nameEnd - at), type, size));
+    if (bytes.compare(at, nameEnd - at, "dataWindow") == 0 && type == "box2i") {
       const int64_t width = int64_t(int32At(value + 8)) - int32At(value) + 1, height = int64_t(int32At(value + 12)) - int32At(value + 4) + 1;
       RequireSize(path, width, height, maxPixels);
       window = true;
