@@ -62,11 +62,13 @@ Symmetric3 PhotonCovariance(std::span<const std::unique_ptr<DensityEstimator>> a
 
 PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins,
                                    const EstimatorSettings& settings, std::vector<float> bandwidths, const Log* log)
-    : settings_(settings), bandwidths_(std::move(bandwidths)), estimators_(bins.SurfaceCount()) {
+    : settings_(settings), bandwidths_(std::move(bandwidths)), bias_(bins.SurfaceCount()),
+      estimators_(bins.SurfaceCount()) {
   std::optional<Progress> progress;
   if (log != nullptr) progress.emplace(*log, "build estimators", bins.SurfaceCount());
   tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
     estimators_[s] = SurfaceEstimator(scene, s, Own(s), bins.Uv(s), bins.Flux(s), bins.BinningOf(s, 0), bins.BinningOf(s, 1));
+    bias_[s] = PredictedBias(settings_.kind, settings_.kernel, *scene.regions[s], bins.Uv(s), bins.Flux(s), bandwidths_[s]);
     if (progress) progress->Advance(1);
   });
 }

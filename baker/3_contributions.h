@@ -74,6 +74,9 @@ class PhotonIrradiance final : public IrradianceContribution {
     return estimators_[s]->Estimate(uv);
   }
   float Bandwidth(uint32_t s) const { return bandwidths_[s]; }
+  // The smoothing bias predicted for surface s's estimate of H's luminance: its RMS over the surface [W/m^2 of
+  // (u,v)] (estimators/bandwidth.h, PredictedBias).
+  double Bias(uint32_t s) const { return bias_[s]; }
   const std::vector<float>& Bandwidths() const { return bandwidths_; }
   // The relative noise of an estimate on surface s if its `hits` photons, of equal flux, were spread evenly
   // over its `area` [m^2] (estimators/density_estimator.h, UniformRelativeNoise).
@@ -84,6 +87,7 @@ class PhotonIrradiance final : public IrradianceContribution {
 
   EstimatorSettings settings_;
   std::vector<float> bandwidths_;
+  std::vector<double> bias_;
   std::vector<std::unique_ptr<DensityEstimator>> estimators_;
   // Once built: per surface, the estimators of F, F + D_x, F + D_y, F + D_z and the six axes'; else empty.
   std::vector<std::array<std::unique_ptr<DensityEstimator>, kMomentFluxes>> moments_;

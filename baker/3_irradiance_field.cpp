@@ -74,6 +74,7 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   light.photonVarianceShare = share;
   const double all = Luminance(total.irradiance);
   light.sampledShare = all > 0 ? std::clamp(1 - photonLight / all, 0.0, 1.0) : 0.0;
+  light.relativeBias = all > 0 && !gap ? photons_->Bias(p.surface) * p.areaRatio / all : 0.0;
   return light;
 }
 
@@ -146,7 +147,8 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
   baked.albedo.resize(n);
   baked.emitted.resize(n);
   if (withNoise)
-    baked.irradianceNoise.assign(n, 0.0), baked.photonVarianceShare.assign(n, 1.0), baked.sampledShare.assign(n, 0.0);
+    baked.irradianceNoise.assign(n, 0.0), baked.photonVarianceShare.assign(n, 1.0), baked.sampledShare.assign(n, 0.0),
+        baked.irradianceBias.assign(n, 0.0);
   ForEachVertex(mesh, log, "estimate irradiance", owns, [&](size_t v, const SurfacePoint& p) {
     const SurfaceLight light = withNoise ? field.LightWithNoise(p) : field.Light(p);
     baked.irradiance[v] = light.irradiance;
@@ -154,7 +156,7 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
     baked.emitted[v] = light.emitted;
     if (withNoise) {
       baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
-      baked.sampledShare[v] = light.sampledShare;
+      baked.sampledShare[v] = light.sampledShare, baked.irradianceBias[v] = light.relativeBias;
     }
   });
   baked.mesh = std::move(mesh);

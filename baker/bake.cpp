@@ -177,6 +177,7 @@ struct Lit {
   std::optional<IrradianceField> field;
   BakedMesh baked;
   double noise = 0;  // the bake's predicted noise (BakeNoise)
+  BakeError error;   // and its predicted error of H (PredictedError)
 };
 
 // --only's surfaces (every surface without it).
@@ -196,6 +197,7 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
   };
   gather(baked.irradiance), gather(baked.albedo), gather(baked.emitted);
   gather(baked.irradianceNoise), gather(baked.photonVarianceShare), gather(baked.sampledShare);
+  gather(baked.irradianceBias);
 }
 
 // Stage 3 from the round's photons at the vertices of `base`, with each vertex's noise and the bake's; with a
@@ -220,7 +222,8 @@ bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, 
   if (stopped) return false;
   lit.baked = std::move(baked);
   if (d != nullptr) clock.Time("estimate", [&] { GatherVertices(lit.baked, *d); });
-  if (d == nullptr || d->Root()) lit.noise = clock.Time("noise", [&] { return BakeNoise(lit.baked); });
+  if (d == nullptr || d->Root())
+    clock.Time("noise", [&] { lit.noise = BakeNoise(lit.baked), lit.error = PredictedError(lit.baked); });
   return true;
 }
 
@@ -263,9 +266,9 @@ std::vector<std::string> DarkBakeWarnings(const BakeOptions& o, const BakedMesh&
 
 // Warns when the bake's noise is visible, naming what would bring it under kVisibleNoise (RemedyForNoise): more
 // photons, and more shadow rays (or --reference paths) where the points' own noise is most of it. None when the
-// user chose a --target-noise.
+// user chose a --target-noise or --target-error.
 std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& lit, const PhotonRounds& rounds) {
-  if (lit.noise <= kVisibleNoise || o.targetNoise) return {};
+  if (lit.noise <= kVisibleNoise || o.Rounds()) return {};
   const bool reference = o.referencePaths > 0;
   const uint32_t samples = reference ? o.referencePaths : o.direct.mode == DirectLight::kSampled ? o.direct.samples : 0;
   const uint64_t emitted = rounds.Store().stats.emitted;
@@ -389,7 +392,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
     clock.Time("directions", [&] { EstimateDirections(field, lit.baked, log); });
 
   BakeReport report = DescribeBake({o, threads.Count(), scene, rounds.Store(), rounds.Bins(), field, lit.baked,
-                                    exposure, refine, maps, rounds.Report(), lit.noise, journal.stageSeconds, journal.warnings});
+                                    exposure, refine, maps, rounds.Report(), lit.noise, lit.error, journal.stageSeconds, journal.warnings});
   return {std::move(report), std::move(lit.baked), NamesOf(scene.scene, scene.surfaces)};
 }
 

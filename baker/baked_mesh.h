@@ -26,6 +26,10 @@ struct BakedMesh {
   // The points' own samples' share of each vertex's H (luminance), in [0, 1]: what the shadow rays (or gathered
   // paths) brought, of which the photons brought the rest. Filled with irradianceNoise.
   std::vector<double> sampledShare;
+  // The photons' predicted smoothing bias at each vertex, relative to H's luminance: its surface's RMS
+  // (estimators/bandwidth.h, PredictedBias) over the vertex's H; 0 where paths are gathered. Filled with
+  // irradianceNoise.
+  std::vector<double> irradianceBias;
   // With --sh: per vertex, the L1 SH of its incident radiance per colour (estimators/incident_moments.h); else empty.
   std::vector<ShL1> sh;
   std::vector<double> directionNoise;  // with --sh: the standard error of each vertex's L1 direction [rad]

@@ -80,8 +80,9 @@ void ValidatePhotons(const BakeOptions& o) {
   RequireOption(o.guidePhotons == 0 || o.referencePaths > 0 || (o.direct.mode == DirectLight::kSampled && o.gaps.paths > 0),
                 "--guide-photons", "guides the paths of --reference or of the gap gather (--direct sampled, --gap-paths "
                 "above 0), and this bake gathers none");
-  RequireOption(o.referencePaths == 0 || (o.resumePath.empty() && o.savePhotonsPath.empty() && !o.targetNoise),
-                "--reference", "traces no photons, so it cannot be combined with --resume, --save-photons or --target-noise");
+  RequireOption(o.referencePaths == 0 || (o.resumePath.empty() && o.savePhotonsPath.empty() && !o.Rounds()),
+                "--reference", "traces no photons, so it cannot be combined with --resume, --save-photons, --target-noise "
+                "or --target-error");
 }
 
 // Lengths far outside these lose the estimate to float precision (h^2 under- or overflows against the scene).
@@ -92,8 +93,12 @@ void ValidateEstimator(const EstimatorSettings& e) {
 
 void ValidateRounds(const BakeOptions& o) {
   RequireOption(!o.targetNoise || (*o.targetNoise > 0 && *o.targetNoise < 1), "--target-noise", "must lie in (0, 1)");
-  RequireOption(!o.targetNoise || o.maxPhotons >= o.photons, "--max-photons",
-                "must be at least --photons, the first round of --target-noise");
+  RequireOption(!o.targetError || (*o.targetError > 0 && *o.targetError < 1), "--target-error", "must lie in (0, 1)");
+  RequireOption(!o.targetError || !o.targetNoise, "--target-error", "and --target-noise are two targets: give one");
+  RequireOption(!o.targetError || o.estimator.kind != EstimatorKind::kNearest, "--target-error",
+                "needs the kernel or histogram estimator, whose smoothing bias the bake predicts (knn's radius is its own)");
+  RequireOption(!o.Rounds() || o.maxPhotons >= o.photons, "--max-photons",
+                "must be at least --photons, the first round of --target-noise or --target-error");
   RequireOption(o.maxPhotons <= kMostPhotons, "--max-photons", "must be at most 2^40");
   RequireOption(Within(o.maxSeconds, 1, 1e7), "--max-seconds", "must lie in [1, 1e7] seconds");
   RequireOption(o.maxRounds <= 1000, "--max-rounds", "must lie in [0, 1000]");
@@ -127,7 +132,7 @@ void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given) {
   o.direct.fixedSamples = o.direct.fixedSamples || given.shadowRays;
   if (o.estimator.kind == EstimatorKind::kNearest) return;
   if (!given.bandwidth) o.autoBandwidth = true;
-  if (!given.photons && !o.targetNoise && o.referencePaths == 0 && o.resumePath.empty())
+  if (!given.photons && !o.Rounds() && o.referencePaths == 0 && o.resumePath.empty())
     o.targetNoise = kDefaultTargetNoise;
 }
 
@@ -139,7 +144,7 @@ void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions&
   if (preset->gatherEdges) o.gaps.edges = true;
   if (preset->gatherEdges && !given.gapPaths) o.gaps.paths = preset->gapPaths;
   const bool rounds = o.referencePaths == 0 && o.estimator.kind != EstimatorKind::kNearest;
-  if (rounds && !o.targetNoise) o.targetNoise = preset->targetNoise;
+  if (rounds && !o.Rounds()) o.targetNoise = preset->targetNoise;
 }
 
 }  // namespace pb

@@ -132,6 +132,10 @@ struct BakeOptions {
   std::string resumePath;         // --resume: continue the photon store in this file (same scene, seed, options).
   std::string savePhotonsPath;    // --save-photons: write the photon store here; may equal resumePath.
   std::optional<float> targetNoise;  // --target-noise: trace in rounds until the noise is at most this; (0, 1).
+  // --target-error: trace in rounds until the predicted error of H (noise and smoothing bias, in the accuracy
+  // tool's measure; baker/photons/progressive.h, PredictedError) is at most this; (0, 1). Not with --target-noise.
+  std::optional<float> targetError;
+  bool Rounds() const { return targetNoise || targetError; }  // traced in rounds to a target
   uint64_t maxPhotons = 100'000'000;  // --max-photons: --target-noise's budget over all lights.
   // --max-seconds: --target-noise's time budget [s]: no round starts that is expected to end after this much of the
   // bake's wall time; range [1, 1e7]. The one setting whose outcome depends on the machine (the summary gives the

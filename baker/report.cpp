@@ -30,6 +30,7 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
           {"max_vertices", o.refine.maxVertices}, {"subdivide", o.refine.subdivide}, {"resume", o.resumePath},
           {"save_photons", o.savePhotonsPath},
           {"target_noise", o.targetNoise ? nlohmann::json(*o.targetNoise) : nlohmann::json()},
+          {"target_error", o.targetError ? nlohmann::json(*o.targetError) : nlohmann::json()},
           {"max_photons", o.maxPhotons}, {"max_seconds", o.maxSeconds}, {"max_rounds", o.maxRounds}};
 }
 
@@ -43,18 +44,20 @@ nlohmann::json ProgressiveJson(const ProgressiveReport& p) {
   nlohmann::json rounds = nlohmann::json::array();
   for (const RoundReport& r : p.rounds)
     rounds.push_back({{"requested", r.requested}, {"photons", r.photons}, {"shadow_rays", r.shadowRays},
-                      {"direct_noise", r.directNoise}, {"noise", r.noise}, {"seconds", r.seconds}});
+                      {"direct_noise", r.directNoise}, {"noise", r.noise}, {"error", r.error}, {"seconds", r.seconds}});
   return {{"resumed_from", p.resumedFrom}, {"resumed_photons", p.resumedPhotons}, {"saved_to", p.savedTo},
-          {"interrupted", p.interrupted}, {"estimate_stopped", p.estimateStopped}, {"target_noise", p.target ? nlohmann::json(*p.target) : nlohmann::json()},
+          {"interrupted", p.interrupted}, {"estimate_stopped", p.estimateStopped}, {"target_noise", p.target && !p.targetIsError ? nlohmann::json(*p.target) : nlohmann::json()},
+          {"target_error", p.target && p.targetIsError ? nlohmann::json(*p.target) : nlohmann::json()},
           {"target_met", p.TargetMet()}, {"stopped_by", p.stoppedBy}, {"rounds", rounds}};
 }
 
-// The rounds of --target-noise, how they ended, and the options that repeat the bake's bytes without rounds.
+// The rounds of --target-noise or --target-error, how they ended, and the options that repeat the bake's bytes
+// without rounds.
 std::string RoundLines(const ProgressiveReport& p) {
-  std::string s = fmt::format("  rounds    {} to target noise {:.4f}:", p.rounds.size(), *p.target);
+  std::string s = fmt::format("  rounds    {} to target {} {:.4f}:", p.rounds.size(), p.targetIsError ? "error" : "noise", *p.target);
   for (const RoundReport& r : p.rounds)
     s += fmt::format(" {} photons{} -> {:.4f} ({:.1f} s) |", r.requested,
-                     r.shadowRays ? ", " + ShadowRays(r) : "", r.noise, r.seconds);
+                     r.shadowRays ? ", " + ShadowRays(r) : "", p.Measured(r), r.seconds);
   s += p.TargetMet() ? " met\n"
        : p.stoppedBy.empty() ? " NOT met\n"
                              : fmt::format(" NOT met: stopped by {}\n", p.stoppedBy);
@@ -232,6 +235,7 @@ BakeReport DescribeBake(const BakeResults& r) {
   report.refine = r.refine;
   report.progressive = r.progressive;
   report.noise = r.noise;
+  report.error = r.error;
   report.directionNoise = BakeDirectionNoise(r.mesh);
   return report;
 }
@@ -266,6 +270,8 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   if (r.options.autoBandwidth) s += AutomaticBandwidthLine(r.surfaces);
   s += fmt::format("  noise     {:.2f}% predicted (95th percentile over the vertices, by luminance x area, of the "
                    "displayed light's relative standard error; smoothing bias not included)\n", 100 * r.noise);
+  s += fmt::format("  error     {:.2f}% predicted (the RMS of H's error over the vertices, relative to their mean H): "
+                   "noise {:.2f}%, smoothing bias {:.2f}%\n", 100 * r.error.Total(), 100 * r.error.noise, 100 * r.error.bias);
   if (r.options.sh)
     s += fmt::format("  directions  {:.2f} degrees predicted (95th percentile, as the noise, of the standard error of "
                      "the direction of each vertex's L1)\n", r.directionNoise * 180 / kPi);
@@ -343,6 +349,7 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
   j["photons"] = TraceJson(r.trace, r.storedHits);
   j["progressive"] = ProgressiveJson(r.progressive);
   j["noise"] = r.noise;
+  j["predicted_error"] = {{"total", r.error.Total()}, {"noise", r.error.noise}, {"bias", r.error.bias}};
   if (r.options.sh) j["direction_noise_deg"] = r.directionNoise * 180 / kPi;
   const std::vector<size_t> surfaces =
       Listed(r.surfaces, r.options.reportAll, [](const SurfaceReport& a, const SurfaceReport& b) { return a.area > b.area; });

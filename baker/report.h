@@ -69,6 +69,7 @@ struct BakeReport {
   RefineReport refine;  // --refine / --subdivide: vertices before and after, interpolation error
   ProgressiveReport progressive;  // --resume, --save-photons, --target-noise rounds, interruption
   double noise = 0;  // the bake's predicted noise: 95th percentile of sigma_L / L (baker/photons/progressive.h, BakeNoise)
+  BakeError error;   // its predicted relative RMS error of H, noise and bias (baker/photons/progressive.h, PredictedError)
   double directionNoise = 0;  // with --sh, BakeDirectionNoise of the written mesh [rad]
 
   double TotalSeconds() const;
@@ -88,6 +89,7 @@ struct BakeResults {
   const MapsWritten& maps;
   const ProgressiveReport& progressive;
   double noise;  // BakeNoise of the vertices before refinement
+  BakeError error;  // PredictedError of the same vertices
   const std::vector<std::pair<std::string, double>>& stageSeconds;
   const std::vector<std::string>& warnings;
 };

@@ -110,7 +110,7 @@ std::vector<Stencil> StencilsAt(const Pilot& p, int i, int j, Roughness kind) {
   return {du, dv};
 }
 
-PilotIntegrals Integrate(const Pilot& p, double surfaceArea, Roughness kind) {
+PilotIntegrals Integrate(const Pilot& p, double surfaceArea, Roughness kind, bool relative) {
   PilotIntegrals r;
   double stencilArea = 0, roughnessVariance = 0;
   const double g2 = p.side * p.side;
@@ -120,7 +120,7 @@ PilotIntegrals Integrate(const Pilot& p, double surfaceArea, Roughness kind) {
       if (p.area[c] <= 0 || p.flux[c] <= 0) continue;
       const double H = p.flux[c] / p.area[c];
       if (!(p.Full(i, j) && p.Full(i - 1, j) && p.Full(i + 1, j) && p.Full(i, j - 1) && p.Full(i, j + 1))) continue;
-      const double scale = g2 / (H * H);
+      const double scale = relative ? g2 / (H * H) : g2;
       for (const Stencil& s : StencilsAt(p, i, j, kind)) {
         r.roughness += (s.value * s.value - s.noise) * scale;  // unbiased; clipped only in total
         // Var(x^2) of a normal x: 2 noise^2 + 4 x^2 noise, with x^2 itself less its noise.
@@ -138,19 +138,25 @@ PilotIntegrals Integrate(const Pilot& p, double surfaceArea, Roughness kind) {
 
 // The roughness integral of the finest pilot level that measures one significantly (finer cells smooth the
 // light less, coarser ones hold more photons: a stencil's signal grows with the cell's side, its noise falls as
-// one over the side). Where no level does, the least roughness that no level can rule out (its estimate plus
-// kRoughnessSignificance standard errors, the smallest over the levels): an h no wider than the photons can
-// vouch for. 0 where no stencil fits at any level.
-double MeasuredRoughness(Pilot pilot, double surfaceArea, Roughness kind) {
+// one over the side). Where no level does, `measured` is false and the value is the least roughness that no level
+// can rule out (its estimate plus kRoughnessSignificance standard errors, the smallest over the levels): an h no
+// wider than the photons can vouch for. 0 where no stencil fits at any level.
+struct RoughnessMeasure {
+  double value = 0;
+  bool measured = false;
+};
+RoughnessMeasure MeasuredRoughness(Pilot pilot, double surfaceArea, Roughness kind, bool relative = true) {
   double bound = INFINITY;
   for (;;) {
-    const PilotIntegrals I = Integrate(pilot, surfaceArea, kind);
-    if (I.Significant()) return I.roughness;
+    const PilotIntegrals I = Integrate(pilot, surfaceArea, kind, relative);
+    if (I.Significant()) return {I.roughness, true};
     if (I.stencils > 0) bound = std::min(bound, std::max(I.roughness, 0.0) + kRoughnessSignificance * I.roughnessError);
-    if (pilot.n / 2 < 3) return std::isfinite(bound) ? bound : 0;  // a stencil needs 3 cells per axis
+    if (pilot.n / 2 < 3) return {std::isfinite(bound) ? bound : 0, false};  // a stencil needs 3 cells per axis
     pilot = Coarsen(pilot);
   }
 }
+
+bool PilotFits(double photons) { return photons >= kPilotPhotonsPerCell * 9; }
 
 }  // namespace
 
@@ -158,20 +164,33 @@ float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& re
                       std::span<const Rgb> flux) {
   const double area = std::max(region.Area(), 1e-30), n = double(uv.size());
   const double hMax = kMaxBandwidthOfSize * std::sqrt(area);
-  if (n < kPilotPhotonsPerCell * 9) return float(std::min(hMax, std::sqrt(kFallbackPhotons * area / (M_PI * std::max(n, 1.0)))));
+  if (!PilotFits(n)) return float(std::min(hMax, std::sqrt(kFallbackPhotons * area / (M_PI * std::max(n, 1.0)))));
   const double hMin = std::sqrt(kMinPhotons * area / (M_PI * n));
   const Pilot pilot = BuildPilot(region, uv, flux);
   const double variance = VarianceIntegral(pilot);
   double h = hMax;
   if (kind == EstimatorKind::kHistogram) {  // b^4 = 12 V / integral(|grad H / H|^2)
-    const double gradient = MeasuredRoughness(pilot, area, Roughness::kGradient);
+    const double gradient = MeasuredRoughness(pilot, area, Roughness::kGradient).value;
     if (gradient > 0) h = std::pow(12 * variance / gradient, 0.25);
   } else {  // h^6 = 2 R V / (mu2^2 integral((lap H / H)^2))
     const KernelMoments m = MomentsOf(kernel);
-    const double curvature = MeasuredRoughness(pilot, area, Roughness::kLaplacian);
+    const double curvature = MeasuredRoughness(pilot, area, Roughness::kLaplacian).value;
     if (curvature > 0) h = std::pow(2 * m.roughness * variance / (m.moment2 * m.moment2 * curvature), 1.0 / 6.0);
   }
   return float(std::clamp(h, hMin, std::max(hMin, hMax)));
+}
+
+double PredictedBias(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
+                     std::span<const Rgb> flux, float h) {
+  const double area = region.Area();
+  if (kind == EstimatorKind::kNearest || !(area > 0) || !PilotFits(double(uv.size()))) return 0;
+  const Pilot pilot = BuildPilot(region, uv, flux);
+  if (kind == EstimatorKind::kHistogram) {  // bias^2 averages b^2 |grad H|^2 / 12
+    const RoughnessMeasure gradient = MeasuredRoughness(pilot, area, Roughness::kGradient, false);
+    return gradient.measured ? double(h) * std::sqrt(std::max(gradient.value, 0.0) / (12 * area)) : 0.0;
+  }
+  const RoughnessMeasure curvature = MeasuredRoughness(pilot, area, Roughness::kLaplacian, false);  // h^2 mu2 lap H / 2
+  return curvature.measured ? double(h) * h * MomentsOf(kernel).moment2 / 2 * std::sqrt(std::max(curvature.value, 0.0) / area) : 0.0;
 }
 
 }  // namespace pb

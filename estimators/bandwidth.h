@@ -33,4 +33,14 @@ namespace pb {
 float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
                       std::span<const Rgb> flux);
 
+// The smoothing bias that the same pilot predicts for the surface's estimate of H's luminance at bandwidth h [m]:
+// its RMS over the surface [W/m^2 of (u,v)], h^2 mu2 sqrt(integral((lap H)^2) / area) / 2 for the kernels and
+// b sqrt(integral(|grad H|^2) / (12 area)) for the histogram (b = h): Hachisuka, Jarosz and Jensen 2010 ("A
+// progressive error estimation framework for photon density estimation") estimate the bias from the Laplacian
+// alike. 0 where no level of the pilot measures the roughness significantly (a bias below what the photons can
+// show), where photons are too few for a pilot, and for k nearest neighbours, whose radius is its own. Leaves out
+// what the pilot's interior stencils cannot see: the light curving up into a concave corner at the surface's edge.
+double PredictedBias(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
+                     std::span<const Rgb> flux, float h);
+
 }  // namespace pb

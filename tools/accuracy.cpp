@@ -57,6 +57,7 @@ struct Config {
   bool autoBandwidth = false;
   uint64_t photons = 0;
   std::optional<float> targetNoise;  // rounds to this noise (bake --target-noise), the first of `photons`
+  std::optional<float> targetError;  // rounds to this predicted error (bake --target-error), the first of `photons`
   pb::DirectSettings direct{pb::DirectLight::kPhotons};  // --direct, --direct-samples (the closed form: photons)
   uint32_t referencePaths = 0;  // > 0: a path tracer's vertex bake (--reference) instead of photons
   pb::GapSettings gaps;         // --gap-paths, with --direct sampled
@@ -84,6 +85,7 @@ struct Config {
     if (direct.mode == pb::DirectLight::kSampled && gaps.smallArea > 0) s += fmt::format(" small<{}h2", gaps.smallArea);
     if (direct.mode == pb::DirectLight::kSampled && gaps.edges) s += " edges";
     if (targetNoise) s += fmt::format(" target {}", *targetNoise);
+    if (targetError) s += fmt::format(" target error {}", *targetError);
     return s + guided;
   }
 };
@@ -95,6 +97,7 @@ struct ErrorSplit {
   double coveredMean = 0; // mean H over the covered vertices (whose truth is 0)
   uint32_t coveredVertices = 0, edgeVertices = 0;
   double meanTruth = 0;   // the mean exact H [W/m^2], which the rest are relative to
+  pb::BakeError predicted;  // what the bake itself predicted (the first seed's report)
 };
 
 // One object's error, relative to its own mean true H.
@@ -151,6 +154,7 @@ struct Sample {
   std::vector<uint32_t> object;
   std::vector<bool> edge, covered;
   double seconds = 0, trace = 0, estimate = 0;
+  pb::BakeError predicted;  // the bake's own prediction of its error (BakeReport::error)
 };
 
 pb::BakeOptions OptionsOf(const std::string& scene, const Config& c, uint64_t seed, unsigned threads) {
@@ -164,6 +168,7 @@ pb::BakeOptions OptionsOf(const std::string& scene, const Config& c, uint64_t se
   o.autoBandwidth = c.autoBandwidth;
   o.photons = c.photons;
   o.targetNoise = c.targetNoise;
+  o.targetError = c.targetError;
   o.seed = seed;
   o.threads = threads;
   return o;
@@ -181,6 +186,7 @@ Sample BakeOnce(const std::string& scene, const Truth& truth, const Config& c, u
     if (stage == "trace") s.trace = seconds;
     if (stage == "estimate" || stage == "estimators" || stage == "bandwidth") s.estimate += seconds;
   }
+  s.predicted = r.report.error;
   const pb::SplitMesh& mesh = r.mesh.mesh;
   for (size_t v = 0; v < mesh.VertexCount(); ++v) {
     const pb::Point3 p = mesh.positions[v];
@@ -227,6 +233,7 @@ ErrorSplit Errors(const Sample& a, const Sample& b) {
   e.edgeBias = edgeBias / double(std::max<size_t>(nEdge, 1)) / meanExact;
   e.coveredMean = covered / double(std::max<size_t>(nCovered, 1)) / meanExact;
   e.systematic = std::sqrt(std::max(0.0, e.rmse * e.rmse - e.noise * e.noise - e.truthNoise * e.truthNoise));
+  e.predicted = a.predicted;
   return e;
 }
 
@@ -446,18 +453,20 @@ void WriteCsv(const std::string& path, const std::vector<Run>& runs) {
   pb::WriteFileAtomically(path, [&](std::ostream& out) {
     out << "estimator,kernel,h_m,auto_h,k,edge_correction,photons,seconds,trace_s,estimate_s,peak_mib,rmse_rel,"
            "rmse_interior_rel,rmse_edge_rel,mean_bias_rel,max_error_rel,noise_rel,bias_rel,direct,direct_samples,"
-           "reference_paths,truth_noise_rel,edge_vertices,edge_bias_rel,covered_vertices,covered_mean_rel,direct_noise,target_noise\n";
+           "reference_paths,truth_noise_rel,edge_vertices,edge_bias_rel,covered_vertices,covered_mean_rel,direct_noise,target_noise,"
+           "predicted_rel,predicted_noise_rel,predicted_bias_rel\n";
     for (const Run& r : runs) {
       const pb::EstimatorSettings& e = r.config.estimator;
       out << fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.1f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},"
-                         "{},{},{},{:.5f},{},{:.5f},{},{:.5f},{},{}\n",
+                         "{},{},{},{:.5f},{},{:.5f},{},{:.5f},{},{},{:.5f},{:.5f},{:.5f}\n",
                          pb::EstimatorName(e.kind), pb::KernelName(e.kernel), e.bandwidth, r.config.autoBandwidth,
                          e.neighbours, e.edgeCorrection, r.config.photons, r.seconds, r.traceSeconds,
                          r.estimateSeconds, r.peakMiB, r.error.rmse, r.error.rmseInterior, r.error.rmseEdge,
                          r.error.bias, r.error.maxError, r.error.noise, r.error.systematic,
                          pb::DirectLightName(r.config.direct.mode), r.config.direct.samples, r.config.referencePaths,
                          r.error.truthNoise, r.error.edgeVertices, r.error.edgeBias, r.error.coveredVertices,
-                         r.error.coveredMean, r.config.direct.noise, r.config.targetNoise.value_or(0));
+                         r.error.coveredMean, r.config.direct.noise, r.config.targetNoise.value_or(0),
+                         r.error.predicted.Total(), r.error.predicted.noise, r.error.predicted.bias);
     }
   });
 }
@@ -635,6 +644,8 @@ int main(int argc, char** argv) {
   app.add_option("--photons", one.photons, "box, office: measure only --direct sampled with this many photons");
   app.add_option("--h", one.estimator.bandwidth, "with --photons: h [m]")->capture_default_str();
   app.add_option("--target-noise", one.targetNoise, "with --photons: rounds to this noise, the first of --photons (bake --target-noise)");
+  app.add_option("--target-error", one.targetError,
+                 "with --photons: rounds to this predicted error, the first of --photons (bake --target-error)");
   std::string quality;
   app.add_option("--quality", quality, "box, office: one bake of this preset, as bake --quality (" + pb::QualityNames() +
                                        "; h per surface unless --h)");
@@ -682,9 +693,11 @@ int main(int argc, char** argv) {
       runs.push_back(Measure(scene, truth, configs[i], threads));
       const Run& r = runs.back();
       fmt::print(stderr,
-                 "[{}/{}] {:<32} {:>9} photons  {:7.3f} s  RMSE {:6.2f}% (noise {:.2f}%, bias {:.2f}%)  {:.0f} MiB{}\n",
+                 "[{}/{}] {:<32} {:>9} photons  {:7.3f} s  RMSE {:6.2f}% (noise {:.2f}%, bias {:.2f}%; predicted {:.2f}%: "
+                 "{:.2f}% and {:.2f}%)  {:.0f} MiB{}\n",
                  i + 1, configs.size(), r.config.Label(), r.config.referencePaths > 0 ? 0 : r.config.photons, r.seconds,
-                 100 * r.error.rmse, 100 * r.error.noise, 100 * r.error.systematic, r.peakMiB,
+                 100 * r.error.rmse, 100 * r.error.noise, 100 * r.error.systematic, 100 * r.error.predicted.Total(),
+                 100 * r.error.predicted.noise, 100 * r.error.predicted.bias, r.peakMiB,
                  closedForm ? std::string()
                             : fmt::format("  edges {:+.2f}%, covered {:.2f}%", 100 * r.error.edgeBias,
                                           100 * r.error.coveredMean));

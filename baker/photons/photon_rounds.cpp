@@ -39,7 +39,8 @@ PhotonRounds::PhotonRounds(const PreparedScene& scene, const BakeOptions& option
       log_(log),
       // --reference traces none: the field gathers all of H at the points.
       photons_(options.referencePaths > 0 ? 0 : options.photons) {
-  report_.target = options.targetNoise;
+  report_.target = options.targetError ? options.targetError : options.targetNoise;
+  report_.targetIsError = options.targetError.has_value();
   store_ = clock_.Time("trace", [&] {
     PhotonStore empty = EmptyPhotonStore(scene.lights);
     if (options.resumePath.empty()) return empty;
@@ -62,7 +63,7 @@ PhotonOrigin PhotonRounds::Origin() const {
 // Whether the photons are binned as they are traced (baker/2_bin_photons.h): where the plan bins every wide surface
 // and nothing needs the photons themselves afterwards (a photon file written or extended, rounds).
 bool PhotonRounds::BinsWhileTracing(const BinningPlan& plan) const {
-  return plan.wide && options_.savePhotonsPath.empty() && options_.resumePath.empty() && !options_.targetNoise;
+  return plan.wide && options_.savePhotonsPath.empty() && options_.resumePath.empty() && !options_.Rounds();
 }
 
 // A distributed bake brings its processes' photons together as node sums, so it bins them while tracing.
@@ -120,6 +121,7 @@ RoundState PhotonRounds::StateAfterRound() const {
           .shadowRays = sampled ? direct_.samples : 0,
           .directNoise = sampled ? direct_.noise : 0,
           .raiseShadowRays = sampled && !direct_.fixedSamples,
+          .bandwidthFollows = BandwidthFollows(),
           .elapsed = now.elapsed,
           .traceSeconds = now.traced,
           .binSeconds = now.binned - start.binned,
@@ -130,13 +132,19 @@ RoundState PhotonRounds::StateAfterRound() const {
 // Ends the rounds (true) when the target is met, Ctrl-C came or the next round cannot help or fit; else sets the
 // next round's photons and shadow rays.
 bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
-  const float target = *options_.targetNoise;
+  const float target = *report_.target;
   const RoundState state = StateAfterRound();
-  report_.rounds.push_back({photons_, store_.stats.emitted, state.shadowRays, state.directNoise, noise, state.elapsed});
+  const BakeError error = PredictedError(baked);
+  report_.rounds.push_back({photons_, store_.stats.emitted, state.shadowRays, state.directNoise, noise, error.Total(),
+                            state.elapsed});
   const std::string rays = ShadowRays(report_.rounds.back());
-  log_.Info(fmt::format("round {}: {} photons{}, noise {:.4f} (target {:.4f}), {:.1f} s", report_.rounds.size(),
-                        store_.stats.emitted, rays.empty() ? "" : ", " + rays, noise, target, state.elapsed));
-  if (noise <= target || report_.interrupted) return true;
+  const std::string measured = report_.targetIsError
+                                   ? fmt::format("error {:.4f} (noise {:.4f}, bias {:.4f}; target {:.4f})", error.Total(),
+                                                 error.noise, error.bias, target)
+                                   : fmt::format("noise {:.4f} (target {:.4f})", noise, target);
+  log_.Info(fmt::format("round {}: {} photons{}, {}, {:.1f} s", report_.rounds.size(), store_.stats.emitted,
+                        rays.empty() ? "" : ", " + rays, measured, state.elapsed));
+  if (report_.Measured(report_.rounds.back()) <= target || report_.interrupted) return true;
   if (options_.maxRounds > 0 && report_.rounds.size() >= options_.maxRounds) {
     report_.stoppedBy = fmt::format("--max-rounds {}", options_.maxRounds);
     return true;
@@ -147,7 +155,7 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
     return true;
   }
   const NextRound next = PlanNextRound(baked, state, {target, options_.maxPhotons, options_.maxSeconds,
-                                                      kStoreMemoryShare * PhysicalMemoryBytes()});
+                                                      kStoreMemoryShare * PhysicalMemoryBytes(), report_.targetIsError});
   report_.stoppedBy = next.stop;
   if (!next.stop.empty()) return true;
   photons_ = next.photons, direct_.samples = std::max(next.shadowRays, 1u), direct_.noise = next.directNoise;
@@ -155,8 +163,8 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
 }
 
 bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const std::vector<float>& bandwidths) {
-  if (!options_.targetNoise || LastRound(baked, noise)) return false;
-  if (options_.autoBandwidth && heldBandwidths_.empty()) heldBandwidths_ = bandwidths;
+  if (!options_.Rounds() || LastRound(baked, noise)) return false;
+  if (options_.autoBandwidth && heldBandwidths_.empty() && !BandwidthFollows()) heldBandwidths_ = bandwidths;
   return true;
 }
 

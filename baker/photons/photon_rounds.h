@@ -63,6 +63,9 @@ class PhotonRounds {
   void RequireBinningWhileTracing(const BinningPlan& plan) const;
   bool Grow(const HitSink* sink);
   RoundState StateAfterRound() const;
+  // With --h auto and --target-error, h is chosen again from each round's photons, so that the smoothing bias falls
+  // with them; --target-noise holds the first round's, so that the noise falls as 1 / sqrt(photons).
+  bool BandwidthFollows() const { return options_.autoBandwidth && options_.targetError.has_value(); }
   bool LastRound(const BakedMesh& baked, double noise);
 
   const PreparedScene& scene_;

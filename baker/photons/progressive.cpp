@@ -97,6 +97,23 @@ double BakeNoise(const BakedMesh& baked, double photonScale, double pointScale) 
   return VertexNoise(baked).Percentile(photonScale, pointScale);
 }
 
+BakeError PredictedError(const BakedMesh& baked, double photonScale, double pointScale, double biasScale) {
+  const size_t n = baked.irradiance.size();
+  double sum = 0, noise2 = 0, bias2 = 0;
+  const auto at = [](const std::vector<double>& values, size_t v, double otherwise) {
+    return values.empty() ? otherwise : values[v];  // a mesh estimated without its noise, or without its bias
+  };
+  for (size_t v = 0; v < n; ++v) {
+    const double h = Luminance(baked.irradiance[v]);
+    const double noise = at(baked.irradianceNoise, v, 0) * h, bias = at(baked.irradianceBias, v, 0) * h;
+    const double share = at(baked.photonVarianceShare, v, 1);
+    sum += h, noise2 += noise * noise * (share * photonScale + (1 - share) * pointScale), bias2 += bias * bias * biasScale;
+  }
+  if (!(sum > 0)) return {};
+  const double mean = sum / double(n);
+  return {std::sqrt(noise2 / double(n)) / mean, std::sqrt(bias2 / double(n)) / mean};
+}
+
 double BakeDirectionNoise(const BakedMesh& baked) {
   if (baked.directionNoise.empty()) return 0;
   return WeightedPercentile(baked.directionNoise, DisplayWeights(baked), 0.95);
@@ -104,20 +121,43 @@ double BakeDirectionNoise(const BakedMesh& baked) {
 
 constexpr double kPointShare = 0.6;
 
-NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
-                           bool raisePoints) {
-  const VertexNoise vertices(baked);
+namespace {
+
+// The remedy for a statistic(photonScale, pointScale) of the bake that falls as either scale does: the points'
+// own part first, to 60% of the target where it is more, which leaves 80% to the photons': raising the photons
+// instead where the points hold most of the target costs them a square of what is left (at 90%, 5x).
+template <typename Statistic>
+NoiseRemedy RemedyFor(Statistic statistic, double target, uint64_t photons, uint32_t pointSamples, bool raisePoints) {
   NoiseRemedy remedy{photons, pointSamples};
-  // The points' own noise first, to 60% of the target where it is more, which leaves 80% to the photons': raising
-  // the photons instead where the points hold most of the target costs them a square of what is left (at 90%, 5x).
-  if (raisePoints && pointSamples > 0 && vertices.Percentile(0, 1) > kPointShare * target) {
-    const double s = LargestScaleWithin(kPointShare * target, [&](double k) { return vertices.Percentile(0, k); });
+  if (raisePoints && pointSamples > 0 && statistic(0, 1) > kPointShare * target) {
+    const double s = LargestScaleWithin(kPointShare * target, [&](double k) { return statistic(0, k); });
     if (s > 0) remedy.pointSamples = uint32_t(std::min(std::ceil(pointSamples / s), 1e6));
   }
   const double pointScale = double(pointSamples) / double(std::max(remedy.pointSamples, 1u));
-  const double s = LargestScaleWithin(target, [&](double k) { return vertices.Percentile(k, pointScale); });
+  const double s = LargestScaleWithin(target, [&](double k) { return statistic(k, pointScale); });
   if (s > 0) remedy.photons = uint64_t(std::ceil(double(photons) / s));
   return remedy;
+}
+
+}  // namespace
+
+NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
+                           bool raisePoints) {
+  const VertexNoise vertices(baked);
+  return RemedyFor([&](double k, double s) { return vertices.Percentile(k, s); }, target, photons, pointSamples,
+                   raisePoints);
+}
+
+NoiseRemedy RemedyForError(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
+                           bool raisePoints, bool bandwidthFollows) {
+  // The points' part alone leaves the bias out: their samples cannot lower it. With h chosen again for n / k
+  // photons, h^6 ~ k: the photons' variance (~ k / h^2) and the bias's square (~ h^4) both scale as k^(2/3).
+  const auto statistic = [&](double k, double s) {
+    if (k == 0) return PredictedError(baked, 0, s, 0).Total();
+    return bandwidthFollows ? PredictedError(baked, std::cbrt(k * k), s, std::cbrt(k * k)).Total()
+                            : PredictedError(baked, k, s).Total();
+  };
+  return RemedyFor(statistic, target, photons, pointSamples, raisePoints);
 }
 
 namespace {
@@ -172,7 +212,11 @@ PointRays PointRaysFor(const BakedMesh& baked, const RoundState& state, uint32_t
 }
 
 // Why no photon count helps, or what caps it.
-std::string StopReason(const NoiseRemedy& remedy, const RoundState& state, const RoundLimits& limits) {
+std::string StopReason(const BakedMesh& baked, const NoiseRemedy& remedy, const RoundState& state, const RoundLimits& limits) {
+  const BakeError error = limits.error ? PredictedError(baked) : BakeError{};
+  if (remedy.photons <= state.photons && error.bias > 0 && error.bias >= PredictedError(baked, 0, 1).noise)
+    return fmt::format("the smoothing bias ({:.2f}%), which more photons at this h cannot lower (give a smaller --h)",
+                       100 * error.bias);
   if (remedy.photons <= state.photons)
     return state.raiseShadowRays || state.shadowRays == 0
                ? "the points' own noise (shadow rays or gathered paths), which more photons cannot lower"
@@ -185,7 +229,9 @@ std::string StopReason(const NoiseRemedy& remedy, const RoundState& state, const
 
 NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits) {
   const NoiseRemedy remedy =
-      RemedyForNoise(baked, limits.target, state.photons, state.shadowRays, state.raiseShadowRays);
+      limits.error ? RemedyForError(baked, limits.target, state.photons, state.shadowRays, state.raiseShadowRays,
+                                    state.bandwidthFollows)
+                   : RemedyForNoise(baked, limits.target, state.photons, state.shadowRays, state.raiseShadowRays);
   NextRound next{state.photons, state.shadowRays, state.directNoise, ""};
   double rayGrowth = 1;
   if (remedy.pointSamples > state.shadowRays) {
@@ -203,7 +249,7 @@ NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const R
   if (worthARound && state.elapsed + RoundSeconds(state, next.photons, rayGrowth) <= limits.maxSeconds) return next;
   NextRound stay{state.photons, state.shadowRays, state.directNoise, ""};
   stay.stop = worthARound ? fmt::format("the time budget (--max-seconds {:g})", limits.maxSeconds)
-                          : StopReason(remedy, state, limits);
+                          : StopReason(baked, remedy, state, limits);
   return stay;
 }
 

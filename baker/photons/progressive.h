@@ -12,6 +12,7 @@
 // so that dark corners and dense meshes do not decide it. Dimensionless.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -27,6 +28,7 @@ struct RoundReport {
   uint32_t shadowRays = 0; // the round's --direct-samples (0 with --direct photons)
   double directNoise = 0;  // the round's --direct-noise: the points' target, shadowRays their most; 0: all take them
   double noise = 0;        // the bake's noise after it
+  double error = 0;        // and its predicted error (PredictedError's total)
   double seconds = 0;      // the bake's wall time at the round's end [s]
 };
 
@@ -39,10 +41,12 @@ struct ProgressiveReport {
   std::string savedTo;          // --save-photons' file, or ""
   bool interrupted = false;     // Ctrl-C stopped tracing early
   bool estimateStopped = false; // ... and a later round's estimate: the vertices are the last round's in `rounds`
-  std::optional<float> target;  // --target-noise
+  std::optional<float> target;  // --target-noise, or --target-error when targetIsError
+  bool targetIsError = false;
   std::vector<RoundReport> rounds;  // --target-noise's rounds, in order
   std::string stoppedBy;            // why the rounds ended short of the target (NextRound::stop), or ""
-  bool TargetMet() const { return target && !rounds.empty() && rounds.back().noise <= *target; }
+  double Measured(const RoundReport& r) const { return targetIsError ? r.error : r.noise; }  // what the target bounds
+  bool TargetMet() const { return target && !rounds.empty() && Measured(rounds.back()) <= *target; }
 };
 
 
@@ -55,6 +59,17 @@ double WeightedPercentile(const std::vector<double>& value, const std::vector<do
 // would have if the photons' variance were multiplied by photonScale and the points' samples' by pointScale
 // (n / n' for n' photons, S / S' for S' samples per point).
 double BakeNoise(const BakedMesh& baked, double photonScale = 1, double pointScale = 1);
+
+// The bake's predicted error of H, in the accuracy tool's measure (tools/accuracy.cpp): the RMS over vertices of
+// H's luminance error, relative to the vertices' mean H, split into the noise (sigma_H, BakedMesh::irradianceNoise)
+// and the photons' smoothing bias (BakedMesh::irradianceBias), which add in quadrature. With the scales, the error
+// it would have if the photons' variance were multiplied by photonScale, the points' samples' by pointScale and the
+// bias's square by biasScale. Dimensionless; 0 for a mesh with no lit vertex.
+struct BakeError {
+  double noise = 0, bias = 0;
+  double Total() const { return std::hypot(noise, bias); }
+};
+BakeError PredictedError(const BakedMesh& baked, double photonScale = 1, double pointScale = 1, double biasScale = 1);
 
 // With --sh, the 95th percentile of the vertices' direction noise [rad] (BakedMesh::directionNoise), by the same
 // weights as BakeNoise's; 0 without.
@@ -69,6 +84,13 @@ struct NoiseRemedy {
 };
 NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
                            bool raisePoints = true);
+// The same for the predicted error (PredictedError): the photons' variance falls with their count, the points'
+// with their samples, and the smoothing bias with neither (h is held); photons is the current count where the
+// bias, or the points' noise, holds the error above the target.
+// With bandwidthFollows (--h auto chosen again each round), the photons' variance and the bias both fall with the
+// photons, as (n / n')^(2/3).
+NoiseRemedy RemedyForError(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
+                           bool raisePoints = true, bool bandwidthFollows = false);
 
 // Where a bake with --target-noise stands after a round, and what bounds the next.
 struct RoundState {
@@ -76,6 +98,7 @@ struct RoundState {
   uint32_t shadowRays = 0;     // per point (--direct sampled), else 0; with directNoise, the most a point takes
   double directNoise = 0;      // each point's target for its direct light's relative noise; 0: none
   bool raiseShadowRays = false;  // the rounds may raise them (--direct-samples and --direct-noise not given)
+  bool bandwidthFollows = false; // --h auto chooses h again each round (--target-error), rather than holding it
   double elapsed = 0;          // the bake's wall time so far [s]
   double traceSeconds = 0;     // spent tracing all photons so far [s]
   double binSeconds = 0;       // the last round's binning [s]
@@ -83,10 +106,11 @@ struct RoundState {
   double bytesPerPhoton = 0;   // the photon store's bytes per emitted photon
 };
 struct RoundLimits {
-  float target = 0;           // --target-noise
+  float target = 0;           // --target-noise, or --target-error with `error`
   uint64_t maxPhotons = 0;    // --max-photons
   double maxSeconds = 0;      // --max-seconds: no round starts that is expected to end the bake's rounds later
   double maxStoreBytes = 0;   // the photon store's share of the machine's memory
+  bool error = false;         // the target bounds PredictedError's total, not BakeNoise
 };
 // The next round: photons n (noise / target)^2 with 10% to spare and at least 1.25 n, from the photons' share of
 // the noise (RemedyForNoise); within --max-photons and the store's memory. Where the points' own noise holds the

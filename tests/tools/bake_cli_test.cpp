@@ -97,6 +97,8 @@ TEST(BakeCli, OutOfRangeOptionsAreRefusedBeforeAnyWork) {
            {"--exposure inf", "--exposure"}, {"--texel 0", "--texel"}, {"--tolerance 1", "--tolerance"},
            {"--subdivide 9", "--subdivide"}, {"--max-vertices 2", "--max-vertices"},
            {"--target-noise 0", "--target-noise"}, {"--target-noise 0.1 --max-photons 10", "--max-photons"},
+           {"--target-error 1", "--target-error"}, {"--target-error 0.03 --target-noise 0.03", "--target-error"},
+           {"--target-error 0.03 --estimator knn", "--target-error"}, {"--target-error 0.1 --max-photons 10", "--max-photons"},
            {"--direct-noise 1e-5", "--direct-noise"}, {"--direct-noise 2", "--direct-noise"},
            {"--direct-noise -0.01", "--direct-noise"}}) {
     // 4e8 photons would take minutes: a refusal in moments shows that nothing was traced first.
