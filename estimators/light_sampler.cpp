@@ -396,15 +396,15 @@ void StratifiedMean::Add(uint32_t cell, Rgb e, Vector3 v) {
   vectors_[cell] = v;
 }
 
-template <typename Pair>
-double StratifiedMean::ForEachPair(Pair pair) const {
+template <typename Triple>
+double StratifiedMean::ForEachTriple(Triple triple) const {
   double n = 0;
   for (uint32_t b = 0; b < side_; ++b)
     for (uint32_t a = 0; a < side_; ++a) {
       const size_t cell = size_t(b) * side_ + a;
       if (byCell_[cell] < 0) continue;
       ++n;
-      if (a % 2 == 0 && a + 1 < side_ && byCell_[cell + 1] >= 0) pair(cell, cell + 1);
+      if (a + 2 < side_ && byCell_[cell + 1] >= 0 && byCell_[cell + 2] >= 0) triple(cell, cell + 1, cell + 2);
     }
   return n;
 }
@@ -412,26 +412,26 @@ double StratifiedMean::ForEachPair(Pair pair) const {
 DirectSample StratifiedMean::Result() const {
   DirectSample result = all_.Result();
   const double mean = Luminance(result.irradiance);
-  double squares = 0, paired = 0;
-  const double n = ForEachPair([&](size_t first, size_t second) {
-    squares += std::pow(byCell_[first] - byCell_[second], 2), paired += 2;
+  double squares = 0, triples = 0;
+  const double n = ForEachTriple([&](size_t a, size_t b, size_t c) {
+    squares += std::pow(byCell_[a] - 2 * byCell_[b] + byCell_[c], 2), ++triples;
   });
-  if (paired < 4 || !(mean > 0)) return result;  // too few pairs: the independent-sample error
-  // Per sample, the pairs give (f_1 - f_2)^2 / 2 each; the mean of n samples has n times that over n^2.
-  const double variance = squares / paired / n;
+  if (triples < 2 || !(mean > 0)) return result;  // too few triples: the independent-sample error
+  // Per sample, a triple gives (f_1 - 2 f_2 + f_3)^2 / 6; the mean of n samples has n times that over n^2.
+  const double variance = squares / (6 * triples) / n;
   result.relativeNoise = std::sqrt(variance) / mean;
   return result;
 }
 
 Symmetric3 StratifiedMean::VectorCovariance() const {
   Symmetric3 squares;
-  double paired = 0;
-  const double n = ForEachPair([&](size_t first, size_t second) {
-    squares.AddOuter(vectors_[first] - vectors_[second], 1), paired += 2;
+  double triples = 0;
+  const double n = ForEachTriple([&](size_t a, size_t b, size_t c) {
+    squares.AddOuter(vectors_[a] - 2.0f * vectors_[b] + vectors_[c], 1), ++triples;
   });
-  if (paired < 4) return all_.VectorCovariance();
+  if (triples < 2) return all_.VectorCovariance();
   Symmetric3 covariance;
-  covariance.Add(squares, 1 / paired / n);
+  covariance.Add(squares, 1 / (6 * triples) / n);
   return covariance;
 }
 

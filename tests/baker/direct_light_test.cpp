@@ -72,10 +72,10 @@ LambertScores AgainstLambert(const std::string& name, int side,
   return scores;
 }
 
-// The predicted error comes from pairs of neighbouring strata (StratifiedMean): still conservative on this smooth
-// light, but no longer blind to the stratification. At 256 samples the independent-sample error read a mean z^2
-// of 0.017 (7.7x the true error); the pairs read 0.18 (2.3x), and 0.35 at 16 samples, against 0.24 before. With
-// the light sampled by solid angle (it subtends 0.2-0.8 sr here) they read 0.45 at 256 samples and 0.58 at 16.
+// The predicted error comes from the second differences of three neighbouring strata (StratifiedMean): a little
+// conservative on this smooth light, and not blind to the stratification. At 256 samples the independent-sample
+// error read a mean z^2 of 0.017 (7.7x the true error); pairs of strata read 0.18 (2.3x: their difference also
+// holds the light's gradient across two cells), and 0.35 at 16 samples; the triples read 0.50 (1.4x) and 0.68.
 TEST(Direct, SampledMatchesLambertWithinItsPredictedNoise) {
   for (const uint32_t samples : {16u, 256u}) {
     const LambertScores s = AgainstLambert("direct-lambert-" + std::to_string(samples), 20,
@@ -184,8 +184,8 @@ TEST(Direct, SolidAngleSamplingBeatsAreaSamplingUnderANearLight) {
 // --direct-noise: each point's count from a pilot of 16. On the closed form at a target of 1% the fresh samples
 // match Lambert within 5 of their predicted errors, unbiased in the mean; their predicted error is 1% in RMS over
 // the points (within 25%), and above 2.5% at no more than one point in twenty: the pilot's own error estimate,
-// from 8 pairs of strata, is noisy. Measured: RMS 1.00%, 1 of 400 points above 2.5%, 78 rays per point (422 when
-// the light was sampled by area).
+// from 8 triples of strata, is noisy. Measured: RMS 0.92%, 1 of 400 points above 2.5%, 78 rays per point (with
+// pairs of strata, RMS 1.00%; 422 rays when the light was sampled by area).
 TEST(Direct, AdaptiveCountsMeetTheirTargetAndStayUnbiased) {
   constexpr double kTarget = 0.01;
   constexpr uint32_t kMost = 4096;
