@@ -60,18 +60,20 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   // Independent contributions: their variances add (IndependentSum).
   const std::optional<NoisyIrradiance> gap = GapTerm(p);
   NoisyIrradiance total = gap ? *gap : contributions_.front()->WithNoise(p);
-  double share = gap ? 0 : 1;
+  double photonShare = gap ? 0 : 1, gatheredShare = gap ? 1 : 0;
   const double photonLight = gap ? 0 : Luminance(total.irradiance);
   if (contributions_.size() > 1) {
     IndependentSum sum(total);
-    const double photons = gap ? 0 : sum.Variance();
+    const double first = sum.Variance();  // the photons', or the gathered paths' in a gap
     for (size_t i = 1; i < contributions_.size(); ++i) sum.Add(contributions_[i]->WithNoise(p));
     total = sum.Total();
-    share = sum.Variance() > 0 ? photons / sum.Variance() : 1.0;
+    const double all = sum.Variance();
+    photonShare = all > 0 ? (gap ? 0 : first / all) : 1.0;
+    gatheredShare = all > 0 && gap ? first / all : 0.0;
   }
   SurfaceLight light = LightWith(p, total.irradiance);
   light.relativeNoise = total.relativeNoise;
-  light.photonVarianceShare = share;
+  light.photonVarianceShare = photonShare, light.gatheredVarianceShare = gatheredShare;
   const double all = Luminance(total.irradiance);
   light.sampledShare = all > 0 ? std::clamp(1 - photonLight / all, 0.0, 1.0) : 0.0;
   light.relativeBias = all > 0 && !gap ? photons_->Bias(p.surface) * p.areaRatio / all : 0.0;
@@ -148,7 +150,7 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
   baked.emitted.resize(n);
   if (withNoise)
     baked.irradianceNoise.assign(n, 0.0), baked.photonVarianceShare.assign(n, 1.0), baked.sampledShare.assign(n, 0.0),
-        baked.irradianceBias.assign(n, 0.0);
+        baked.irradianceBias.assign(n, 0.0), baked.gatheredVarianceShare.assign(n, 0.0);
   ForEachVertex(mesh, log, "estimate irradiance", owns, [&](size_t v, const SurfacePoint& p) {
     const SurfaceLight light = withNoise ? field.LightWithNoise(p) : field.Light(p);
     baked.irradiance[v] = light.irradiance;
@@ -157,6 +159,7 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
     if (withNoise) {
       baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
       baked.sampledShare[v] = light.sampledShare, baked.irradianceBias[v] = light.relativeBias;
+      baked.gatheredVarianceShare[v] = light.gatheredVarianceShare;
     }
   });
   baked.mesh = std::move(mesh);

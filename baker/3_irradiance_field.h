@@ -46,6 +46,7 @@ struct SurfaceLight {
   Rgb irradiance, albedo, emitted;
   double relativeNoise = 0;
   double photonVarianceShare = 1;  // of relativeNoise^2: the photons'; the rest is the points' samples
+  double gatheredVarianceShare = 0;  // of relativeNoise^2: the paths gathered in a gap (of the points' samples)
   double sampledShare = 0;         // of the irradiance's luminance: the points' samples'; the rest is the photons'
   double relativeBias = 0;         // the photons' predicted smoothing bias (their surface's RMS), relative to H's luminance
   Rgb Radiance() const { return OutgoingRadiance(emitted, albedo, irradiance); }

@@ -197,7 +197,7 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
   };
   gather(baked.irradiance), gather(baked.albedo), gather(baked.emitted);
   gather(baked.irradianceNoise), gather(baked.photonVarianceShare), gather(baked.sampledShare);
-  gather(baked.irradianceBias);
+  gather(baked.irradianceBias), gather(baked.gatheredVarianceShare);
 }
 
 // Stage 3 from the round's photons at the vertices of `base`, with each vertex's noise and the bake's; with a

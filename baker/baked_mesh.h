@@ -23,6 +23,9 @@ struct BakedMesh {
   // The photons' share of each vertex's variance sigma_H^2, in [0, 1]; the rest is the points' own samples
   // (shadow rays, or --reference paths). Filled with irradianceNoise.
   std::vector<double> photonVarianceShare;
+  // Of the points' share, the paths gathered in a narrow gap (--gap-paths): a variance that neither more photons
+  // nor more shadow rays lower. Filled with irradianceNoise.
+  std::vector<double> gatheredVarianceShare;
   // The points' own samples' share of each vertex's H (luminance), in [0, 1]: what the shadow rays (or gathered
   // paths) brought, of which the photons brought the rest. Filled with irradianceNoise.
   std::vector<double> sampledShare;

@@ -53,26 +53,34 @@ std::vector<double> DisplayWeights(const BakedMesh& baked) {
   return weight;
 }
 
-// Each vertex's relative noise of displayed light split into the photons' and the points' variance, and its
-// weight (DisplayWeights): computed once, so that RemedyForNoise's search only re-takes the percentile.
+// Of a vertex's variance, the share of the paths gathered in a gap (0 where not recorded).
+double GatheredShare(const BakedMesh& baked, size_t v) {
+  return baked.gatheredVarianceShare.empty() ? 0.0 : baked.gatheredVarianceShare[v];
+}
+
+// Each vertex's relative noise of displayed light split into the photons', the points' own (shadow rays or
+// --reference paths) and the gathered paths' variance, and its weight (DisplayWeights): computed once, so that
+// RemedyForNoise's search only re-takes the percentile.
 struct VertexNoise {
-  std::vector<double> photonVariance, pointVariance, weight;
+  std::vector<double> photonVariance, pointVariance, gatheredVariance, weight;
 
   explicit VertexNoise(const BakedMesh& baked) : weight(DisplayWeights(baked)) {
-    photonVariance.resize(weight.size()), pointVariance.resize(weight.size());
+    photonVariance.resize(weight.size()), pointVariance.resize(weight.size()), gatheredVariance.resize(weight.size());
     for (size_t v = 0; v < weight.size(); ++v) {
       const double radiance = Luminance(baked.Radiance(v));
       const double reflected = Luminance(OutgoingRadiance({}, baked.albedo[v], baked.irradiance[v]));
       const double noise = radiance > 0 ? reflected / radiance * baked.irradianceNoise[v] : 0.0;
       const double share = baked.photonVarianceShare.empty() ? 1.0 : baked.photonVarianceShare[v];
+      const double gathered = GatheredShare(baked, v);
       photonVariance[v] = share * noise * noise;
-      pointVariance[v] = (1 - share) * noise * noise;
+      pointVariance[v] = std::max(1 - share - gathered, 0.0) * noise * noise;
+      gatheredVariance[v] = gathered * noise * noise;
     }
   }
   double Percentile(double photonScale, double pointScale) const {
     std::vector<double> noise(weight.size());
     for (size_t v = 0; v < noise.size(); ++v)
-      noise[v] = std::sqrt(photonVariance[v] * photonScale + pointVariance[v] * pointScale);
+      noise[v] = std::sqrt(photonVariance[v] * photonScale + pointVariance[v] * pointScale + gatheredVariance[v]);
     return WeightedPercentile(noise, weight, 0.95);
   }
 };
@@ -106,8 +114,9 @@ BakeError PredictedError(const BakedMesh& baked, double photonScale, double poin
   for (size_t v = 0; v < n; ++v) {
     const double h = Luminance(baked.irradiance[v]);
     const double noise = at(baked.irradianceNoise, v, 0) * h, bias = at(baked.irradianceBias, v, 0) * h;
-    const double share = at(baked.photonVarianceShare, v, 1);
-    sum += h, noise2 += noise * noise * (share * photonScale + (1 - share) * pointScale), bias2 += bias * bias * biasScale;
+    const double share = at(baked.photonVarianceShare, v, 1), gathered = at(baked.gatheredVarianceShare, v, 0);
+    const double scale = share * photonScale + std::max(1 - share - gathered, 0.0) * pointScale + gathered;
+    sum += h, noise2 += noise * noise * scale, bias2 += bias * bias * biasScale;
   }
   if (!(sum > 0)) return {};
   const double mean = sum / double(n);
@@ -200,7 +209,7 @@ PointRays PointRaysFor(const BakedMesh& baked, const RoundState& state, uint32_t
   double rays = 0;
   const size_t n = baked.irradianceNoise.size();
   for (size_t v = 0; v < n; ++v) {
-    const double points = baked.irradianceNoise[v] * std::sqrt(1 - baked.photonVarianceShare[v]);
+    const double points = baked.irradianceNoise[v] * std::sqrt(std::max(1 - baked.photonVarianceShare[v] - GatheredShare(baked, v), 0.0));
     const double share = baked.sampledShare.empty() ? 1.0 : baked.sampledShare[v];
     // LightSampler::AdaptiveIrradiance's count, from the noise of the point's direct light at today's rays, and
     // its pilot

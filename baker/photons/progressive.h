@@ -57,14 +57,14 @@ double WeightedPercentile(const std::vector<double>& value, const std::vector<do
 // The bake's noise: the weighted 95th percentile above, from each vertex's sigma_H / H (BakedMesh::irradianceNoise,
 // which EstimateIrradiance gives with withNoise); 0 for a mesh with no lit vertex. With the scales, the noise it
 // would have if the photons' variance were multiplied by photonScale and the points' samples' by pointScale
-// (n / n' for n' photons, S / S' for S' samples per point).
+// (n / n' for n' photons, S / S' for S' samples per point); the variance of paths gathered in gaps stays.
 double BakeNoise(const BakedMesh& baked, double photonScale = 1, double pointScale = 1);
 
 // The bake's predicted error of H, in the accuracy tool's measure (tools/accuracy.cpp): the RMS over vertices of
 // H's luminance error, relative to the vertices' mean H, split into the noise (sigma_H, BakedMesh::irradianceNoise)
 // and the photons' smoothing bias (BakedMesh::irradianceBias), which add in quadrature. With the scales, the error
 // it would have if the photons' variance were multiplied by photonScale, the points' samples' by pointScale and the
-// bias's square by biasScale. Dimensionless; 0 for a mesh with no lit vertex.
+// bias's square by biasScale; the gathered paths' variance stays. Dimensionless; 0 for a mesh with no lit vertex.
 struct BakeError {
   double noise = 0, bias = 0;
   double Total() const { return std::hypot(noise, bias); }

@@ -191,6 +191,21 @@ TEST(RoundPlan, StopsWhenOnlyTheGivenShadowRaysCouldLowerTheNoise) {
   EXPECT_EQ(next.shadowRays, 256u);
 }
 
+// Points in a narrow gap whose noise is all their gathered paths' (--gap-paths): neither shadow rays nor photons lower
+// it, so the rounds end saying so rather than raise the rays for nothing (as when the gathered variance counted as
+// the shadow rays').
+TEST(RoundPlan, StopsWhereTheGatheredPathsHoldTheNoise) {
+  BakedMesh baked = NoisyTriangle(0.06, 0.0);
+  baked.gatheredVarianceShare.assign(3, 1.0);
+  const NextRound next = PlanNextRound(baked, Round(256, true), kLimits);
+  EXPECT_NE(next.stop.find("gathered paths"), std::string::npos) << next.stop;
+  EXPECT_EQ(next.shadowRays, 256u);
+  EXPECT_NEAR(BakeNoise(baked, 1e-9, 1e-9), 0.06, 1e-9);
+  baked.gatheredVarianceShare.assign(3, 0.5);  // half the shadow rays': they are raised for that half
+  EXPECT_NEAR(BakeNoise(baked, 1, 0), 0.06 * std::sqrt(0.5), 1e-9);
+  EXPECT_NEAR(PredictedError(baked, 1, 0).noise, 0.06 * std::sqrt(0.5), 1e-9);
+}
+
 // Photons' noise only: n (noise / target)^2 with 10% to spare; within --max-photons, the store's memory and the
 // time budget, each of which ends the rounds when it leaves no step of 1.25 n.
 TEST(RoundPlan, GrowsThePhotonsWithinEveryLimit) {
