@@ -387,17 +387,23 @@ Rgb LightSampler::SkyRadiance(Vector3 w) const {
 void StratifiedMean::Add(uint32_t cell, Rgb e) {
   all_.Add(e);
   byCell_[cell] = Luminance(e);
+  order_.push_back(cell);
 }
 
 void StratifiedMean::Add(uint32_t cell, Rgb e, Vector3 v) {
   all_.Add(e, v);
   byCell_[cell] = Luminance(e);
+  order_.push_back(cell);
   if (vectors_.empty()) vectors_.resize(byCell_.size());
   vectors_[cell] = v;
 }
 
 template <typename Triple>
-double StratifiedMean::ForEachTriple(Triple triple) const {
+double StratifiedMean::ForEachTriple(bool byOrder, Triple triple) const {
+  if (byOrder) {
+    for (size_t k = 0; k + 2 < order_.size(); ++k) triple(order_[k], order_[k + 1], order_[k + 2]);
+    return double(order_.size());
+  }
   double n = 0;
   for (uint32_t b = 0; b < side_; ++b)
     for (uint32_t a = 0; a < side_; ++a) {
@@ -409,16 +415,26 @@ double StratifiedMean::ForEachTriple(Triple triple) const {
   return n;
 }
 
+// The variance of the mean from one kind of triples, or -1 with fewer than two.
+double StratifiedMean::TripleVariance(bool byOrder) const {
+  double squares = 0, triples = 0;
+  const double n = ForEachTriple(byOrder, [&](size_t a, size_t b, size_t c) {
+    squares += std::pow(byCell_[a] - 2 * byCell_[b] + byCell_[c], 2), ++triples;
+  });
+  // Per sample, a triple gives (f_1 - 2 f_2 + f_3)^2 / 6; the mean of n samples has n times that over n^2.
+  return triples < 2 ? -1.0 : squares / (6 * triples) / n;
+}
+
+bool StratifiedMean::ByOrder() const {
+  const double cells = TripleVariance(false), order = TripleVariance(true);
+  return order >= 0 && (cells < 0 || order < cells);
+}
+
 DirectSample StratifiedMean::Result() const {
   DirectSample result = all_.Result();
   const double mean = Luminance(result.irradiance);
-  double squares = 0, triples = 0;
-  const double n = ForEachTriple([&](size_t a, size_t b, size_t c) {
-    squares += std::pow(byCell_[a] - 2 * byCell_[b] + byCell_[c], 2), ++triples;
-  });
-  if (triples < 2 || !(mean > 0)) return result;  // too few triples: the independent-sample error
-  // Per sample, a triple gives (f_1 - 2 f_2 + f_3)^2 / 6; the mean of n samples has n times that over n^2.
-  const double variance = squares / (6 * triples) / n;
+  const double variance = TripleVariance(ByOrder());
+  if (variance < 0 || !(mean > 0)) return result;  // too few triples: the independent-sample error
   result.relativeNoise = std::sqrt(variance) / mean;
   return result;
 }
@@ -426,7 +442,7 @@ DirectSample StratifiedMean::Result() const {
 Symmetric3 StratifiedMean::VectorCovariance() const {
   Symmetric3 squares;
   double triples = 0;
-  const double n = ForEachTriple([&](size_t a, size_t b, size_t c) {
+  const double n = ForEachTriple(ByOrder(), [&](size_t a, size_t b, size_t c) {
     squares.AddOuter(vectors_[a] - 2.0f * vectors_[b] + vectors_[c], 1), ++triples;
   });
   if (triples < 2) return all_.VectorCovariance();

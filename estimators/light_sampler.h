@@ -95,7 +95,13 @@ class SampleMean {
 // (f_1 - f_2)^2 / 2, as before 2026-12-05, also counted the light's gradient across two cells: 2.3 to 2.8 times the
 // true error on a smooth light. Still conservative where the cells' means curve or a shadow's edge crosses a cell.
 // Samples outside a triple count at the triples' rate; fewer than two triples (side under 3): the independent-
-// sample error. With each sample's moment vector, the covariance of the vectors' mean alike.
+// sample error. The samples may be stratified along a second axis too, in the order they are added (the area
+// lights': sample j picks its light and triangle from the j-th of S strata, and its point from a cell in random
+// order), where neighbouring cells hold samples of unrelated triangles and their differences see the light's
+// variation over its triangles, which the picks' own stratification removes: the same estimate from triples of
+// samples consecutive in that order is taken where it is the smaller (each is an overestimate of the variance the
+// other axis's trend leaves; on the box's light of many triangles the cells' alone predicted 7x the true error).
+// With each sample's moment vector, the covariance of the vectors' mean alike, from the same triples.
 class StratifiedMean {
  public:
   explicit StratifiedMean(uint32_t side) : side_(side), byCell_(size_t(side) * side, -1.0) {}
@@ -105,12 +111,16 @@ class StratifiedMean {
   Symmetric3 VectorCovariance() const;
 
  private:
-  // Calls triple(a, b, c) for every three neighbouring cells of a row that all hold a sample; returns the samples.
+  // Calls triple(a, b, c) for every three neighbouring cells of a row that all hold a sample, or byOrder for every
+  // three samples added one after another; returns the samples.
   template <typename Triple>
-  double ForEachTriple(Triple triple) const;
+  double ForEachTriple(bool byOrder, Triple triple) const;
+  double TripleVariance(bool byOrder) const;
+  bool ByOrder() const;  // the samples' order gives the smaller variance
   uint32_t side_;
   SampleMean all_;
   std::vector<double> byCell_;   // each cell's sample luminance; -1 for none
+  std::vector<uint32_t> order_;  // the cells in the order their samples were added
   std::vector<Vector3> vectors_;  // each cell's moment vector, once one is added
 };
 
