@@ -187,7 +187,7 @@ std::vector<bool> EstimatedSurfaces(const BakeOptions& o, const PreparedScene& s
 
 FieldSettings FieldSettingsOf(const BakeOptions& o, const PhotonRounds& rounds) {
   return {o.estimator,      o.autoBandwidth, rounds.HeldBandwidths(), rounds.Direct(), o.referencePaths,
-          o.seed,           o.gaps,          o.guidePhotons};
+          o.seed,           rounds.Gaps(),   o.guidePhotons};
 }
 
 // Rank 0 takes every process's vertices (baker/distribution.h).

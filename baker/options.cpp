@@ -130,6 +130,7 @@ void BakeOptions::Validate() const {
 
 void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given) {
   o.direct.fixedSamples = o.direct.fixedSamples || given.shadowRays;
+  o.gaps.fixedPaths = o.gaps.fixedPaths || given.gapPaths;
   if (o.estimator.kind == EstimatorKind::kNearest) return;
   if (!given.bandwidth) o.autoBandwidth = true;
   if (!given.photons && !o.Rounds() && o.referencePaths == 0 && o.resumePath.empty())

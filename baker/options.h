@@ -48,6 +48,7 @@ struct GapSettings {
   float reach = 0.5f;    // how near, as a fraction of the point's h
   float smallArea = 0;   // a surface of area below smallArea h^2 is gathered everywhere, and never read
   bool edges = false;    // --gap-edges: also gather at every point on a planar surface's boundary
+  bool fixedPaths = false;  // --gap-paths given: the rounds keep `paths` as it is
   void Validate() const;  // --gap-paths, --gap-noise, --gap-small-area; an InputError naming the option
 };
 

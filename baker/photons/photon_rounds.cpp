@@ -34,6 +34,7 @@ PhotonRounds::PhotonRounds(const PreparedScene& scene, const BakeOptions& option
       options_(options),
       storeDirect_(options.direct.mode == DirectLight::kPhotons),
       direct_(options.direct),
+      gaps_(options.gaps),
       distribution_(distribution),
       clock_(clock),
       log_(log),
@@ -122,6 +123,8 @@ RoundState PhotonRounds::StateAfterRound() const {
           .directNoise = sampled ? direct_.noise : 0,
           .raiseShadowRays = sampled && !direct_.fixedSamples,
           .bandwidthFollows = BandwidthFollows(),
+          .gapPaths = sampled && options_.referencePaths == 0 ? gaps_.paths : 0,
+          .raiseGapPaths = sampled && gaps_.paths > 0 && gaps_.noise == 0 && !gaps_.fixedPaths,
           .elapsed = now.elapsed,
           .traceSeconds = now.traced,
           .binSeconds = now.binned - start.binned,
@@ -136,7 +139,7 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
   const RoundState state = StateAfterRound();
   const BakeError error = PredictedError(baked);
   report_.rounds.push_back({photons_, store_.stats.emitted, state.shadowRays, state.directNoise, noise, error.Total(),
-                            state.elapsed});
+                            state.elapsed, state.gapPaths});
   const std::string rays = ShadowRays(report_.rounds.back());
   const std::string measured = report_.targetIsError
                                    ? fmt::format("error {:.4f} (noise {:.4f}, bias {:.4f}; target {:.4f})", error.Total(),
@@ -159,6 +162,7 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
   report_.stoppedBy = next.stop;
   if (!next.stop.empty()) return true;
   photons_ = next.photons, direct_.samples = std::max(next.shadowRays, 1u), direct_.noise = next.directNoise;
+  if (next.gapPaths > 0) gaps_.paths = next.gapPaths;
   return false;
 }
 

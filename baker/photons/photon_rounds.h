@@ -51,6 +51,8 @@ class PhotonRounds {
 
   // The shadow rays per point of this round (the rounds may raise them) and the direct-light settings with them.
   const DirectSettings& Direct() const { return direct_; }
+  // The gathering in gaps of this round (the rounds may raise its paths).
+  const GapSettings& Gaps() const { return gaps_; }
   // --h auto's choice in the first round, held after it (empty: none held).
   const std::vector<float>& HeldBandwidths() const { return heldBandwidths_; }
   const PhotonStore& Store() const { return store_; }
@@ -72,6 +74,7 @@ class PhotonRounds {
   const BakeOptions& options_;
   const bool storeDirect_;  // the photons store their first hit: not when the points sample the direct light
   DirectSettings direct_;   // options_.direct, with the shadow rays the rounds chose
+  GapSettings gaps_;        // options_.gaps, with the paths the rounds chose
   const Distribution* distribution_;
   StageClock& clock_;
   const Log& log_;

@@ -26,8 +26,9 @@ std::vector<double> VertexAreas(const SplitMesh& mesh) {
 
 std::string ShadowRays(const RoundReport& r) {
   if (r.shadowRays == 0) return "";
-  if (r.directNoise == 0) return fmt::format("{} shadow rays per point", r.shadowRays);
-  return fmt::format("up to {} shadow rays per point, to {:.2g}%", r.shadowRays, 100 * r.directNoise);
+  const std::string gaps = r.gapPaths > 0 ? fmt::format(", {} paths in gaps", r.gapPaths) : "";
+  if (r.directNoise == 0) return fmt::format("{} shadow rays per point{}", r.shadowRays, gaps);
+  return fmt::format("up to {} shadow rays per point, to {:.2g}%{}", r.shadowRays, 100 * r.directNoise, gaps);
 }
 
 double WeightedPercentile(const std::vector<double>& value, const std::vector<double>& weight, double fraction) {
@@ -77,10 +78,10 @@ struct VertexNoise {
       gatheredVariance[v] = gathered * noise * noise;
     }
   }
-  double Percentile(double photonScale, double pointScale) const {
+  double Percentile(double photonScale, double pointScale, double gatheredScale = 1) const {
     std::vector<double> noise(weight.size());
     for (size_t v = 0; v < noise.size(); ++v)
-      noise[v] = std::sqrt(photonVariance[v] * photonScale + pointVariance[v] * pointScale + gatheredVariance[v]);
+      noise[v] = std::sqrt(photonVariance[v] * photonScale + pointVariance[v] * pointScale + gatheredVariance[v] * gatheredScale);
     return WeightedPercentile(noise, weight, 0.95);
   }
 };
@@ -105,7 +106,8 @@ double BakeNoise(const BakedMesh& baked, double photonScale, double pointScale) 
   return VertexNoise(baked).Percentile(photonScale, pointScale);
 }
 
-BakeError PredictedError(const BakedMesh& baked, double photonScale, double pointScale, double biasScale) {
+BakeError PredictedError(const BakedMesh& baked, double photonScale, double pointScale, double biasScale,
+                         double gatheredScale) {
   const size_t n = baked.irradiance.size();
   double sum = 0, noise2 = 0, bias2 = 0;
   const auto at = [](const std::vector<double>& values, size_t v, double otherwise) {
@@ -115,7 +117,7 @@ BakeError PredictedError(const BakedMesh& baked, double photonScale, double poin
     const double h = Luminance(baked.irradiance[v]);
     const double noise = at(baked.irradianceNoise, v, 0) * h, bias = at(baked.irradianceBias, v, 0) * h;
     const double share = at(baked.photonVarianceShare, v, 1), gathered = at(baked.gatheredVarianceShare, v, 0);
-    const double scale = share * photonScale + std::max(1 - share - gathered, 0.0) * pointScale + gathered;
+    const double scale = share * photonScale + std::max(1 - share - gathered, 0.0) * pointScale + gathered * gatheredScale;
     sum += h, noise2 += noise * noise * scale, bias2 += bias * bias * biasScale;
   }
   if (!(sum > 0)) return {};
@@ -151,20 +153,21 @@ NoiseRemedy RemedyFor(Statistic statistic, double target, uint64_t photons, uint
 }  // namespace
 
 NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
-                           bool raisePoints) {
+                           bool raisePoints, double gatheredScale) {
   const VertexNoise vertices(baked);
-  return RemedyFor([&](double k, double s) { return vertices.Percentile(k, s); }, target, photons, pointSamples,
-                   raisePoints);
+  return RemedyFor([&](double k, double s) { return vertices.Percentile(k, s, gatheredScale); }, target, photons,
+                   pointSamples, raisePoints);
 }
 
 NoiseRemedy RemedyForError(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
-                           bool raisePoints, bool bandwidthFollows) {
+                           bool raisePoints, bool bandwidthFollows, double gatheredScale) {
   // The points' part alone leaves the bias out: their samples cannot lower it. With h chosen again for n / k
   // photons, h^6 ~ k: the photons' variance (~ k / h^2) and the bias's square (~ h^4) both scale as k^(2/3).
+  const double g = gatheredScale;
   const auto statistic = [&](double k, double s) {
-    if (k == 0) return PredictedError(baked, 0, s, 0).Total();
-    return bandwidthFollows ? PredictedError(baked, std::cbrt(k * k), s, std::cbrt(k * k)).Total()
-                            : PredictedError(baked, k, s).Total();
+    if (k == 0) return PredictedError(baked, 0, s, 0, g).Total();
+    return bandwidthFollows ? PredictedError(baked, std::cbrt(k * k), s, std::cbrt(k * k), g).Total()
+                            : PredictedError(baked, k, s, 1, g).Total();
   };
   return RemedyFor(statistic, target, photons, pointSamples, raisePoints);
 }
@@ -220,6 +223,21 @@ PointRays PointRaysFor(const BakedMesh& baked, const RoundState& state, uint32_t
   return next;
 }
 
+// The paths gathered in gaps, raised where their own noise alone passes half the target, to half of it: the
+// factor by which their variance is to fall (1: as they are). Their noise falls as one over the root of the paths.
+constexpr double kGatheredShare = 0.5;
+constexpr uint32_t kMostGapPaths = 1 << 16;
+double GatheredScale(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits) {
+  if (!state.raiseGapPaths || state.gapPaths == 0) return 1;
+  const VertexNoise vertices(baked);
+  const auto alone = [&](double g) {
+    return limits.error ? PredictedError(baked, 0, 0, 0, g).Total() : vertices.Percentile(0, 0, g);
+  };
+  if (alone(1) <= kGatheredShare * limits.target) return 1;
+  const double g = LargestScaleWithin(kGatheredShare * limits.target, alone);
+  return std::max(g, double(state.gapPaths) / kMostGapPaths);
+}
+
 // Why no photon count helps, or what caps it.
 std::string StopReason(const BakedMesh& baked, const NoiseRemedy& remedy, const RoundState& state, const RoundLimits& limits) {
   const BakeError error = limits.error ? PredictedError(baked) : BakeError{};
@@ -237,15 +255,22 @@ std::string StopReason(const BakedMesh& baked, const NoiseRemedy& remedy, const 
 }  // namespace
 
 NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits) {
+  const double gatheredScale = GatheredScale(baked, state, limits);
   const NoiseRemedy remedy =
       limits.error ? RemedyForError(baked, limits.target, state.photons, state.shadowRays, state.raiseShadowRays,
-                                    state.bandwidthFollows)
-                   : RemedyForNoise(baked, limits.target, state.photons, state.shadowRays, state.raiseShadowRays);
+                                    state.bandwidthFollows, gatheredScale)
+                   : RemedyForNoise(baked, limits.target, state.photons, state.shadowRays, state.raiseShadowRays,
+                                    gatheredScale);
   NextRound next{state.photons, state.shadowRays, state.directNoise, ""};
   double rayGrowth = 1;
+  if (gatheredScale < 1) {  // the gathering's cost grows with its paths, at most as the estimate's
+    next.gapPaths = uint32_t(std::min(std::ceil(state.gapPaths / gatheredScale), double(kMostGapPaths)));
+    rayGrowth = double(next.gapPaths) / double(state.gapPaths);
+  }
   if (remedy.pointSamples > state.shadowRays) {
     const PointRays rays = PointRaysFor(baked, state, remedy.pointSamples, limits.target);
-    next.shadowRays = std::max(rays.most, state.shadowRays), next.directNoise = rays.target, rayGrowth = rays.growth;
+    next.shadowRays = std::max(rays.most, state.shadowRays), next.directNoise = rays.target;
+    rayGrowth = std::max(rayGrowth, rays.growth);
   }
   double photons = remedy.photons > state.photons ? std::max(1.25, 1.1 * remedy.photons / double(state.photons)) * double(state.photons)
                                                   : double(state.photons);
@@ -254,9 +279,10 @@ NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const R
   next.photons = std::max(state.photons, uint64_t(std::ceil(photons)));  // ceil: 1.25 n stays a step of 1.25 n
   // A step worth a round: 1.25 times the photons, or the points' target first set or lowered by 10% or more.
   const bool lowered = next.directNoise > 0 && (state.directNoise == 0 || next.directNoise <= 0.9 * state.directNoise);
-  const bool worthARound = double(next.photons) >= 1.25 * double(state.photons) || lowered;
+  const bool morePaths = double(next.gapPaths) >= 1.25 * double(state.gapPaths) && next.gapPaths > 0;
+  const bool worthARound = double(next.photons) >= 1.25 * double(state.photons) || lowered || morePaths;
   if (worthARound && state.elapsed + RoundSeconds(state, next.photons, rayGrowth) <= limits.maxSeconds) return next;
-  NextRound stay{state.photons, state.shadowRays, state.directNoise, ""};
+  NextRound stay{state.photons, state.shadowRays, state.directNoise, "", 0};
   stay.stop = worthARound ? fmt::format("the time budget (--max-seconds {:g})", limits.maxSeconds)
                           : StopReason(baked, remedy, state, limits);
   return stay;

@@ -30,9 +30,11 @@ struct RoundReport {
   double noise = 0;        // the bake's noise after it
   double error = 0;        // and its predicted error (PredictedError's total)
   double seconds = 0;      // the bake's wall time at the round's end [s]
+  uint32_t gapPaths = 0;   // the round's --gap-paths (0: no gathering)
 };
 
-// "256 shadow rays per point", or with a target per point "up to 1024 shadow rays per point, to 1.8%"; "" without.
+// "256 shadow rays per point", or with a target per point "up to 1024 shadow rays per point, to 1.8%", and ", 4096
+// paths in gaps" with gathering; "" without shadow rays.
 std::string ShadowRays(const RoundReport& round);
 
 struct ProgressiveReport {
@@ -64,12 +66,14 @@ double BakeNoise(const BakedMesh& baked, double photonScale = 1, double pointSca
 // H's luminance error, relative to the vertices' mean H, split into the noise (sigma_H, BakedMesh::irradianceNoise)
 // and the photons' smoothing bias (BakedMesh::irradianceBias), which add in quadrature. With the scales, the error
 // it would have if the photons' variance were multiplied by photonScale, the points' samples' by pointScale and the
-// bias's square by biasScale; the gathered paths' variance stays. Dimensionless; 0 for a mesh with no lit vertex.
+// bias's square by biasScale, and the paths gathered in gaps by gatheredScale. Dimensionless; 0 for a mesh with no
+// lit vertex.
 struct BakeError {
   double noise = 0, bias = 0;
   double Total() const { return std::hypot(noise, bias); }
 };
-BakeError PredictedError(const BakedMesh& baked, double photonScale = 1, double pointScale = 1, double biasScale = 1);
+BakeError PredictedError(const BakedMesh& baked, double photonScale = 1, double pointScale = 1, double biasScale = 1,
+                         double gatheredScale = 1);
 
 // With --sh, the 95th percentile of the vertices' direction noise [rad] (BakedMesh::directionNoise), by the same
 // weights as BakeNoise's; 0 without.
@@ -83,14 +87,14 @@ struct NoiseRemedy {
   uint32_t pointSamples = 0;
 };
 NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
-                           bool raisePoints = true);
+                           bool raisePoints = true, double gatheredScale = 1);
 // The same for the predicted error (PredictedError): the photons' variance falls with their count, the points'
 // with their samples, and the smoothing bias with neither (h is held); photons is the current count where the
 // bias, or the points' noise, holds the error above the target.
 // With bandwidthFollows (--h auto chosen again each round), the photons' variance and the bias both fall with the
 // photons, as (n / n')^(2/3).
 NoiseRemedy RemedyForError(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
-                           bool raisePoints = true, bool bandwidthFollows = false);
+                           bool raisePoints = true, bool bandwidthFollows = false, double gatheredScale = 1);
 
 // Where a bake with --target-noise stands after a round, and what bounds the next.
 struct RoundState {
@@ -99,6 +103,8 @@ struct RoundState {
   double directNoise = 0;      // each point's target for its direct light's relative noise; 0: none
   bool raiseShadowRays = false;  // the rounds may raise them (--direct-samples and --direct-noise not given)
   bool bandwidthFollows = false; // --h auto chooses h again each round (--target-error), rather than holding it
+  uint32_t gapPaths = 0;         // paths gathered per point in a gap (--gap-paths); 0: none
+  bool raiseGapPaths = false;    // the rounds may raise them (--gap-paths and --gap-noise not given)
   double elapsed = 0;          // the bake's wall time so far [s]
   double traceSeconds = 0;     // spent tracing all photons so far [s]
   double binSeconds = 0;       // the last round's binning [s]
@@ -125,6 +131,7 @@ struct NextRound {
   uint32_t shadowRays = 0;
   double directNoise = 0;
   std::string stop;
+  uint32_t gapPaths = 0;  // the next round's --gap-paths; 0: as it was
 };
 NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits);
 

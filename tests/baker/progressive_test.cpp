@@ -191,9 +191,9 @@ TEST(RoundPlan, StopsWhenOnlyTheGivenShadowRaysCouldLowerTheNoise) {
   EXPECT_EQ(next.shadowRays, 256u);
 }
 
-// Points in a narrow gap whose noise is all their gathered paths' (--gap-paths): neither shadow rays nor photons lower
-// it, so the rounds end saying so rather than raise the rays for nothing (as when the gathered variance counted as
-// the shadow rays').
+// Points in a narrow gap whose noise is all their gathered paths' (--gap-paths given, so the rounds keep it): neither
+// shadow rays nor photons lower it, so the rounds end saying so rather than raise the rays for nothing (as when the
+// gathered variance counted as the shadow rays').
 TEST(RoundPlan, StopsWhereTheGatheredPathsHoldTheNoise) {
   BakedMesh baked = NoisyTriangle(0.06, 0.0);
   baked.gatheredVarianceShare.assign(3, 1.0);
@@ -204,6 +204,23 @@ TEST(RoundPlan, StopsWhereTheGatheredPathsHoldTheNoise) {
   baked.gatheredVarianceShare.assign(3, 0.5);  // half the shadow rays': they are raised for that half
   EXPECT_NEAR(BakeNoise(baked, 1, 0), 0.06 * std::sqrt(0.5), 1e-9);
   EXPECT_NEAR(PredictedError(baked, 1, 0).noise, 0.06 * std::sqrt(0.5), 1e-9);
+}
+
+// The same gap, its paths free to grow (--gap-paths not given): the next round gathers with enough paths to bring
+// their noise to half the target, 256 (0.06 / 0.015)^2 = 4,096, and nothing else.
+TEST(RoundPlan, RaisesTheGatheredPathsWhereTheyHoldTheNoise) {
+  BakedMesh baked = NoisyTriangle(0.06, 0.0);
+  baked.gatheredVarianceShare.assign(3, 1.0);
+  RoundState state = Round(256, true);
+  state.gapPaths = 256, state.raiseGapPaths = true;
+  const NextRound next = PlanNextRound(baked, state, kLimits);
+  ASSERT_EQ(next.stop, "");
+  EXPECT_NEAR(double(next.gapPaths), 4096, 0.02 * 4096);
+  EXPECT_EQ(next.shadowRays, 256u);
+  EXPECT_EQ(next.photons, state.photons);
+  RoundLimits error = kLimits;
+  error.error = true;
+  EXPECT_NEAR(double(PlanNextRound(baked, state, error).gapPaths), 4096, 0.02 * 4096) << "the same for a target error";
 }
 
 // Photons' noise only: n (noise / target)^2 with 10% to spare; within --max-photons, the store's memory and the
