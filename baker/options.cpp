@@ -34,10 +34,10 @@ std::optional<DirectLight> ParseDirectLight(std::string_view name) {
 }
 
 std::optional<QualityPreset> ParseQuality(std::string_view name) {
-  if (name == "draft") return QualityPreset{0.08f, 250'000};
+  if (name == "draft") return QualityPreset{0.08f, 250'000, false, 0, true};
   if (name == "medium") return QualityPreset{kDefaultTargetNoise, 1'000'000};
-  if (name == "high") return QualityPreset{0.02f, 2'000'000};
-  if (name == "production") return QualityPreset{0.01f, 8'000'000, true, 4096};
+  if (name == "high") return QualityPreset{0.03f, 2'000'000, false, 0, true};
+  if (name == "production") return QualityPreset{0.02f, 8'000'000, true, 4096, true};
   return std::nullopt;
 }
 
@@ -145,7 +145,7 @@ void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions&
   if (preset->gatherEdges) o.gaps.edges = true;
   if (preset->gatherEdges && !given.gapPaths) o.gaps.paths = preset->gapPaths;
   const bool rounds = o.referencePaths == 0 && o.estimator.kind != EstimatorKind::kNearest;
-  if (rounds && !o.Rounds()) o.targetNoise = preset->targetNoise;
+  if (rounds && !o.Rounds()) (preset->error ? o.targetError : o.targetNoise) = preset->target;
 }
 
 }  // namespace pb

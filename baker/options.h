@@ -52,18 +52,21 @@ struct GapSettings {
   void Validate() const;  // --gap-paths, --gap-noise, --gap-small-area; an InputError naming the option
 };
 
-// --quality: a name for a noise target (--target-noise) and the first round's photons (--photons). h is chosen per
-// surface from the photons (--h auto) and the shadow rays by the rounds, so a preset suits a scene of any size;
-// options given explicitly win (docs/bake.md, "Quality presets", has what each reaches on the box and the office).
-//   draft       8% noise, first round   250,000 photons
-//   medium      3% noise, first round 1,000,000 photons (the defaults)
-//   high        2% noise, first round 2,000,000 photons
-//   production  1% noise, first round 8,000,000 photons, and the edges gathered (--gap-edges --gap-paths 4096)
+// --quality: a name for a target and the first round's photons (--photons): the predicted error of H
+// (--target-error) for draft, high and production, the defaults' noise target (--target-noise) for medium. h is
+// chosen per surface from the photons (--h auto) and the shadow rays and gathered paths by the rounds, so a preset
+// suits a scene of any size; options given explicitly win (docs/bake.md, "Quality presets", has what each reaches
+// on the box and the office).
+//   draft       error 8%, first round   250,000 photons
+//   medium      noise 3%, first round 1,000,000 photons (the defaults)
+//   high        error 3%, first round 2,000,000 photons
+//   production  error 2%, first round 8,000,000 photons, and the edges gathered (--gap-edges --gap-paths 4096)
 struct QualityPreset {
-  float targetNoise;  // the 95th percentile of the vertices' predicted relative noise (baker/photons/progressive.h)
+  float target;       // --target-noise, or with `error` --target-error (baker/photons/progressive.h)
   uint64_t photons;   // the first round's, over all lights
   bool gatherEdges = false;  // --gap-edges, with gapPaths paths per point (baker/3_gap_gather.h)
   uint32_t gapPaths = 0;
+  bool error = false;  // the target is the predicted error of H, not the noise's 95th percentile
 };
 // "draft", "medium", "high" or "production"; nullopt for any other name.
 std::optional<QualityPreset> ParseQuality(std::string_view name);

@@ -615,7 +615,7 @@ std::string ScenePath(Bench bench, const std::string& out) {
 void ApplyQuality(const std::string& name, const pb::GivenOptions& given, Config& c) {
   pb::BakeOptions o = OptionsOf("", c, 1, 0);
   pb::ApplyQuality(name, given, o);
-  c.photons = o.photons, c.targetNoise = o.targetNoise, c.gaps = o.gaps;
+  c.photons = o.photons, c.targetNoise = o.targetNoise, c.targetError = o.targetError, c.gaps = o.gaps;
   c.autoBandwidth = c.autoBandwidth || !given.bandwidth;
 }
 

@@ -122,7 +122,7 @@ RoundState PhotonRounds::StateAfterRound() const {
           .shadowRays = sampled ? direct_.samples : 0,
           .directNoise = sampled ? direct_.noise : 0,
           .raiseShadowRays = sampled && !direct_.fixedSamples,
-          .bandwidthFollows = BandwidthFollows(),
+          .bandwidthFollows = bandwidthFollows_,
           .gapPaths = sampled && options_.referencePaths == 0 ? gaps_.paths : 0,
           .raiseGapPaths = sampled && gaps_.paths > 0 && gaps_.noise == 0 && !gaps_.fixedPaths,
           .elapsed = now.elapsed,
@@ -136,8 +136,9 @@ RoundState PhotonRounds::StateAfterRound() const {
 // next round's photons and shadow rays.
 bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
   const float target = *report_.target;
-  const RoundState state = StateAfterRound();
   const BakeError error = PredictedError(baked);
+  if (report_.rounds.empty()) bandwidthFollows_ = BandwidthFollows(error);
+  const RoundState state = StateAfterRound();
   report_.rounds.push_back({photons_, store_.stats.emitted, state.shadowRays, state.directNoise, noise, error.Total(),
                             state.elapsed, state.gapPaths});
   const std::string rays = ShadowRays(report_.rounds.back());
@@ -168,7 +169,7 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
 
 bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const std::vector<float>& bandwidths) {
   if (!options_.Rounds() || LastRound(baked, noise)) return false;
-  if (options_.autoBandwidth && heldBandwidths_.empty() && !BandwidthFollows()) heldBandwidths_ = bandwidths;
+  if (options_.autoBandwidth && heldBandwidths_.empty() && !bandwidthFollows_) heldBandwidths_ = bandwidths;
   return true;
 }
 

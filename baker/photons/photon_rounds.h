@@ -65,9 +65,14 @@ class PhotonRounds {
   void RequireBinningWhileTracing(const BinningPlan& plan) const;
   bool Grow(const HitSink* sink);
   RoundState StateAfterRound() const;
-  // With --h auto and --target-error, h is chosen again from each round's photons, so that the smoothing bias falls
-  // with them; --target-noise holds the first round's, so that the noise falls as 1 / sqrt(photons).
-  bool BandwidthFollows() const { return options_.autoBandwidth && options_.targetError.has_value(); }
+  // With --h auto, h is held at the first round's choice, so that the noise falls as 1 / sqrt(photons); with
+  // --target-error, where the first round's predicted smoothing bias passes half the target, h is chosen again
+  // from each round's photons instead, so that the bias falls with them (where it did not, chosen again it shrank
+  // faster than the noise could follow: the office with books took 3 rounds and 17M photons for 3%).
+  bool BandwidthFollows(const BakeError& error) const {
+    return options_.autoBandwidth && options_.targetError && error.bias > kFollowingBias * *options_.targetError;
+  }
+  static constexpr double kFollowingBias = 0.5;
   bool LastRound(const BakedMesh& baked, double noise);
 
   const PreparedScene& scene_;
@@ -83,6 +88,7 @@ class PhotonRounds {
   ProgressiveReport report_;
   uint64_t photons_ = 0;                // the round's count over all lights
   std::vector<float> heldBandwidths_;
+  bool bandwidthFollows_ = false;  // BandwidthFollows, decided after the first round
   // The bake's wall, tracing and binning time [s], read together.
   struct ClockReading {
     double elapsed = 0, traced = 0, binned = 0;

@@ -115,7 +115,9 @@ BakeError PredictedError(const BakedMesh& baked, double photonScale, double poin
   };
   for (size_t v = 0; v < n; ++v) {
     const double h = Luminance(baked.irradiance[v]);
-    const double noise = at(baked.irradianceNoise, v, 0) * h, bias = at(baked.irradianceBias, v, 0) * h;
+    // A vertex's error is taken at most as large as its H: an ill-conditioned local fit on a few photons can predict
+    // a noise of thousands of times its estimate (a book's edge in the office: 1,499 H), which would be the RMS.
+    const double noise = std::min(at(baked.irradianceNoise, v, 0), 1.0) * h, bias = at(baked.irradianceBias, v, 0) * h;
     const double share = at(baked.photonVarianceShare, v, 1), gathered = at(baked.gatheredVarianceShare, v, 0);
     const double scale = share * photonScale + std::max(1 - share - gathered, 0.0) * pointScale + gathered * gatheredScale;
     sum += h, noise2 += noise * noise * scale, bias2 += bias * bias * biasScale;

@@ -64,7 +64,8 @@ double BakeNoise(const BakedMesh& baked, double photonScale = 1, double pointSca
 
 // The bake's predicted error of H, in the accuracy tool's measure (tools/accuracy.cpp): the RMS over vertices of
 // H's luminance error, relative to the vertices' mean H, split into the noise (sigma_H, BakedMesh::irradianceNoise)
-// and the photons' smoothing bias (BakedMesh::irradianceBias), which add in quadrature. With the scales, the error
+// and the photons' smoothing bias (BakedMesh::irradianceBias), which add in quadrature; a vertex's noise is taken at
+// most as large as its H. With the scales, the error
 // it would have if the photons' variance were multiplied by photonScale, the points' samples' by pointScale and the
 // bias's square by biasScale, and the paths gathered in gaps by gatheredScale. Dimensionless; 0 for a mesh with no
 // lit vertex.
