@@ -180,17 +180,40 @@ float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& re
   return float(std::clamp(h, hMin, std::max(hMin, hMax)));
 }
 
+namespace {
+
+// The RMS over the surface of H's departure from its mean, from the pilot's cells, each cell's noise taken out: what
+// a kernel as wide as the surface, which reads the mean everywhere, is off by at most.
+double Spread(const Pilot& p) {
+  double flux = 0, area = 0;
+  for (size_t c = 0; c < p.flux.size(); ++c) flux += p.flux[c], area += p.area[c];
+  if (!(area > 0)) return 0;
+  const double mean = flux / area;
+  double squares = 0;
+  for (size_t c = 0; c < p.flux.size(); ++c) {
+    if (!(p.area[c] > 0)) continue;
+    const double H = p.flux[c] / p.area[c], noise = p.flux2[c] / (p.area[c] * p.area[c]);
+    squares += ((H - mean) * (H - mean) - noise) * p.area[c];
+  }
+  return std::sqrt(std::max(squares, 0.0) / area);
+}
+
+}  // namespace
+
 double PredictedBias(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
                      std::span<const Rgb> flux, float h) {
   const double area = region.Area();
   if (kind == EstimatorKind::kNearest || !(area > 0) || !PilotFits(double(uv.size()))) return 0;
   const Pilot pilot = BuildPilot(region, uv, flux);
+  double bias = 0;
   if (kind == EstimatorKind::kHistogram) {  // bias^2 averages b^2 |grad H|^2 / 12
     const RoughnessMeasure gradient = MeasuredRoughness(pilot, area, Roughness::kGradient, false);
-    return gradient.measured ? double(h) * std::sqrt(std::max(gradient.value, 0.0) / (12 * area)) : 0.0;
+    if (gradient.measured) bias = double(h) * std::sqrt(std::max(gradient.value, 0.0) / (12 * area));
+  } else {  // h^2 mu2 lap H / 2
+    const RoughnessMeasure curvature = MeasuredRoughness(pilot, area, Roughness::kLaplacian, false);
+    if (curvature.measured) bias = double(h) * h * MomentsOf(kernel).moment2 / 2 * std::sqrt(std::max(curvature.value, 0.0) / area);
   }
-  const RoughnessMeasure curvature = MeasuredRoughness(pilot, area, Roughness::kLaplacian, false);  // h^2 mu2 lap H / 2
-  return curvature.measured ? double(h) * h * MomentsOf(kernel).moment2 / 2 * std::sqrt(std::max(curvature.value, 0.0) / area) : 0.0;
+  return std::min(bias, Spread(pilot));
 }
 
 }  // namespace pb
