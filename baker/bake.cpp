@@ -317,7 +317,7 @@ Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const Bak
       rounds.EstimateInterrupted();
       break;
     }
-  } while (rounds.Continue(lit.baked, lit.noise, lit.field->Photons().Bandwidths()));
+  } while (rounds.Continue(lit.baked, lit.noise, lit.error, lit.field->Photons().Bandwidths()));
   rounds.Save(outputs);
   return lit;
 }

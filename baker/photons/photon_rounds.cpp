@@ -134,9 +134,8 @@ RoundState PhotonRounds::StateAfterRound() const {
 
 // Ends the rounds (true) when the target is met, Ctrl-C came or the next round cannot help or fit; else sets the
 // next round's photons and shadow rays.
-bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
+bool PhotonRounds::LastRound(const BakedMesh& baked, double noise, const BakeError& error) {
   const float target = *report_.target;
-  const BakeError error = PredictedError(baked);
   if (report_.rounds.empty()) bandwidthFollows_ = BandwidthFollows(error);
   const RoundState state = StateAfterRound();
   report_.rounds.push_back({photons_, store_.stats.emitted, state.shadowRays, state.directNoise, noise, error.Total(),
@@ -167,8 +166,9 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise) {
   return false;
 }
 
-bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const std::vector<float>& bandwidths) {
-  if (!options_.Rounds() || LastRound(baked, noise)) return false;
+bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const BakeError& error,
+                            const std::vector<float>& bandwidths) {
+  if (!options_.Rounds() || LastRound(baked, noise, error)) return false;
   if (options_.autoBandwidth && heldBandwidths_.empty() && !bandwidthFollows_) heldBandwidths_ = bandwidths;
   return true;
 }

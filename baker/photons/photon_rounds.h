@@ -39,10 +39,11 @@ class PhotonRounds {
   // Traces the next round (all of it, or this process's share) and bins the store per surface. An interrupted
   // round whose photons were binned while traced cannot be cut short: InputError.
   void TraceRound();
-  // After the round's estimate (its vertices, with their noise, and the bake's noise): whether another round
-  // follows. False without --target-noise, and when the target is met, Ctrl-C came, or a limit ends the rounds.
-  // `bandwidths` are the round's h per surface: with --h auto, the first round's are held from then on.
-  bool Continue(const BakedMesh& baked, double noise, const std::vector<float>& bandwidths);
+  // After the round's estimate (its vertices, with their noise, and the bake's noise and predicted error): whether
+  // another round follows. False without --target-noise or --target-error, and when the target is met, Ctrl-C
+  // came, or a limit ends the rounds. `bandwidths` are the round's h per surface: with --h auto, the first round's
+  // are held from then on (unless BandwidthFollows).
+  bool Continue(const BakedMesh& baked, double noise, const BakeError& error, const std::vector<float>& bandwidths);
   // Ctrl-C stopped a later round's estimate: the rounds end, the bake keeping the round before's vertices (reported,
   // and warned about).
   void EstimateInterrupted();
@@ -73,7 +74,7 @@ class PhotonRounds {
     return options_.autoBandwidth && options_.targetError && error.bias > kFollowingBias * *options_.targetError;
   }
   static constexpr double kFollowingBias = 0.5;
-  bool LastRound(const BakedMesh& baked, double noise);
+  bool LastRound(const BakedMesh& baked, double noise, const BakeError& error);
 
   const PreparedScene& scene_;
   const BakeOptions& options_;

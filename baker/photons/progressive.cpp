@@ -54,9 +54,17 @@ std::vector<double> DisplayWeights(const BakedMesh& baked) {
   return weight;
 }
 
-// Of a vertex's variance, the share of the paths gathered in a gap (0 where not recorded).
-double GatheredShare(const BakedMesh& baked, size_t v) {
-  return baked.gatheredVarianceShare.empty() ? 0.0 : baked.gatheredVarianceShare[v];
+// A vertex's variance split into the shares of the photons, the points' own samples (shadow rays or --reference
+// paths) and the paths gathered in a gap; a mesh without the split is all photons.
+struct VarianceShares {
+  double photons = 1, points = 0, gathered = 0;
+};
+VarianceShares SharesOf(const BakedMesh& baked, size_t v) {
+  VarianceShares s;
+  if (!baked.photonVarianceShare.empty()) s.photons = baked.photonVarianceShare[v];
+  if (!baked.gatheredVarianceShare.empty()) s.gathered = baked.gatheredVarianceShare[v];
+  s.points = std::max(1 - s.photons - s.gathered, 0.0);
+  return s;
 }
 
 // Each vertex's relative noise of displayed light split into the photons', the points' own (shadow rays or
@@ -71,11 +79,10 @@ struct VertexNoise {
       const double radiance = Luminance(baked.Radiance(v));
       const double reflected = Luminance(OutgoingRadiance({}, baked.albedo[v], baked.irradiance[v]));
       const double noise = radiance > 0 ? reflected / radiance * baked.irradianceNoise[v] : 0.0;
-      const double share = baked.photonVarianceShare.empty() ? 1.0 : baked.photonVarianceShare[v];
-      const double gathered = GatheredShare(baked, v);
-      photonVariance[v] = share * noise * noise;
-      pointVariance[v] = std::max(1 - share - gathered, 0.0) * noise * noise;
-      gatheredVariance[v] = gathered * noise * noise;
+      const VarianceShares share = SharesOf(baked, v);
+      photonVariance[v] = share.photons * noise * noise;
+      pointVariance[v] = share.points * noise * noise;
+      gatheredVariance[v] = share.gathered * noise * noise;
     }
   }
   double Percentile(double photonScale, double pointScale, double gatheredScale = 1) const {
@@ -110,16 +117,16 @@ BakeError PredictedError(const BakedMesh& baked, double photonScale, double poin
                          double gatheredScale) {
   const size_t n = baked.irradiance.size();
   double sum = 0, noise2 = 0, bias2 = 0;
-  const auto at = [](const std::vector<double>& values, size_t v, double otherwise) {
-    return values.empty() ? otherwise : values[v];  // a mesh estimated without its noise, or without its bias
+  const auto at = [](const std::vector<double>& values, size_t v) {
+    return values.empty() ? 0.0 : values[v];  // a mesh estimated without its noise, or without its bias
   };
   for (size_t v = 0; v < n; ++v) {
     const double h = Luminance(baked.irradiance[v]);
     // A vertex's error is taken at most as large as its H: an ill-conditioned local fit on a few photons can predict
     // a noise of thousands of times its estimate (a book's edge in the office: 1,499 H), which would be the RMS.
-    const double noise = std::min(at(baked.irradianceNoise, v, 0), 1.0) * h, bias = at(baked.irradianceBias, v, 0) * h;
-    const double share = at(baked.photonVarianceShare, v, 1), gathered = at(baked.gatheredVarianceShare, v, 0);
-    const double scale = share * photonScale + std::max(1 - share - gathered, 0.0) * pointScale + gathered * gatheredScale;
+    const double noise = std::min(at(baked.irradianceNoise, v), 1.0) * h, bias = at(baked.irradianceBias, v) * h;
+    const VarianceShares share = SharesOf(baked, v);
+    const double scale = share.photons * photonScale + share.points * pointScale + share.gathered * gatheredScale;
     sum += h, noise2 += noise * noise * scale, bias2 += bias * bias * biasScale;
   }
   if (!(sum > 0)) return {};
@@ -214,7 +221,7 @@ PointRays PointRaysFor(const BakedMesh& baked, const RoundState& state, uint32_t
   double rays = 0;
   const size_t n = baked.irradianceNoise.size();
   for (size_t v = 0; v < n; ++v) {
-    const double points = baked.irradianceNoise[v] * std::sqrt(std::max(1 - baked.photonVarianceShare[v] - GatheredShare(baked, v), 0.0));
+    const double points = baked.irradianceNoise[v] * std::sqrt(SharesOf(baked, v).points);
     const double share = baked.sampledShare.empty() ? 1.0 : baked.sampledShare[v];
     // LightSampler::AdaptiveIrradiance's count, from the noise of the point's direct light at today's rays, and
     // its pilot
@@ -279,7 +286,8 @@ NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const R
   photons = std::min(photons, double(limits.maxPhotons));
   if (state.bytesPerPhoton > 0) photons = std::min(photons, limits.maxStoreBytes / state.bytesPerPhoton);
   next.photons = std::max(state.photons, uint64_t(std::ceil(photons)));  // ceil: 1.25 n stays a step of 1.25 n
-  // A step worth a round: 1.25 times the photons, or the points' target first set or lowered by 10% or more.
+  // A step worth a round: 1.25 times the photons or the gathered paths, or the points' target first set or lowered
+  // by 10% or more.
   const bool lowered = next.directNoise > 0 && (state.directNoise == 0 || next.directNoise <= 0.9 * state.directNoise);
   const bool morePaths = double(next.gapPaths) >= 1.25 * double(state.gapPaths) && next.gapPaths > 0;
   const bool worthARound = double(next.photons) >= 1.25 * double(state.photons) || lowered || morePaths;
