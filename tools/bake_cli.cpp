@@ -235,10 +235,10 @@ void DefineBakeCommandLine(CLI::App& app, BakeCommandLine& c) {
   DefineOptions(app, c.options, c.sceneDefaults);
   app.option_defaults()->group("Photons");
   if (c.sceneDefaults)  // a preset is a noise target, met in rounds, which bake-mpi does not trace
-    app.add_option("--quality", c.quality, "a noise target and the first round's photons, with h and shadow rays chosen "
-                                           "for the scene: " + pb::QualityNames() + " (8%, 3%, 2%, 1%; docs/bake.md, "
-                                           "'Quality presets'; production also gathers the edges); options given "
-                                           "explicitly win");
+    app.add_option("--quality", c.quality, "a target and the first round's photons, with h and shadow rays chosen "
+                                           "for the scene: " + pb::QualityNames() + " (error 8%, the defaults' noise "
+                                           "3%, error 3%, error 2%; docs/bake.md, 'Quality presets'; production also "
+                                           "gathers the edges); options given explicitly win");
   app.option_defaults()->group("Options");  // CLI11's own group, for what the tools add after
 }
 

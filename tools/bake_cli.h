@@ -1,5 +1,6 @@
 // The bake command line, shared by bake and bake-mpi (tools/bake.cpp, tools/bake_mpi.cpp): every option of
-// BakeOptions, and --quality, which sets --target-noise and the first round's --photons except those given.
+// BakeOptions, and --quality, which sets --target-error (or --target-noise) and the first round's --photons, except
+// those given.
 #pragma once
 
 #include <string>
