@@ -425,15 +425,16 @@ double StratifiedMean::TripleVariance(bool byOrder) const {
   return triples < 2 ? -1.0 : squares / (6 * triples) / n;
 }
 
-bool StratifiedMean::ByOrder() const {
+StratifiedMean::Variance StratifiedMean::SmallerVariance() const {
   const double cells = TripleVariance(false), order = TripleVariance(true);
-  return order >= 0 && (cells < 0 || order < cells);
+  const bool byOrder = order >= 0 && (cells < 0 || order < cells);
+  return {byOrder ? order : cells, byOrder};
 }
 
 DirectSample StratifiedMean::Result() const {
   DirectSample result = all_.Result();
   const double mean = Luminance(result.irradiance);
-  const double variance = TripleVariance(ByOrder());
+  const double variance = SmallerVariance().ofMean;
   if (variance < 0 || !(mean > 0)) return result;  // too few triples: the independent-sample error
   result.relativeNoise = std::sqrt(variance) / mean;
   return result;
@@ -442,7 +443,7 @@ DirectSample StratifiedMean::Result() const {
 Symmetric3 StratifiedMean::VectorCovariance() const {
   Symmetric3 squares;
   double triples = 0;
-  const double n = ForEachTriple(ByOrder(), [&](size_t a, size_t b, size_t c) {
+  const double n = ForEachTriple(SmallerVariance().byOrder, [&](size_t a, size_t b, size_t c) {
     squares.AddOuter(vectors_[a] - 2.0f * vectors_[b] + vectors_[c], 1), ++triples;
   });
   if (triples < 2) return all_.VectorCovariance();

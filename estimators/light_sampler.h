@@ -116,7 +116,13 @@ class StratifiedMean {
   template <typename Triple>
   double ForEachTriple(bool byOrder, Triple triple) const;
   double TripleVariance(bool byOrder) const;
-  bool ByOrder() const;  // the samples' order gives the smaller variance
+  // The smaller of the two triples' variances of the mean (-1 with too few of either), and whether the samples'
+  // order gave it.
+  struct Variance {
+    double ofMean = -1;
+    bool byOrder = false;
+  };
+  Variance SmallerVariance() const;
   uint32_t side_;
   SampleMean all_;
   std::vector<double> byCell_;   // each cell's sample luminance; -1 for none
