@@ -37,7 +37,7 @@ std::optional<QualityPreset> ParseQuality(std::string_view name) {
   if (name == "draft") return QualityPreset{0.08f, 250'000, false, 0, true};
   if (name == "medium") return QualityPreset{kDefaultTargetNoise, 1'000'000};
   if (name == "high") return QualityPreset{0.03f, 2'000'000, false, 0, true};
-  if (name == "production") return QualityPreset{0.02f, 8'000'000, true, 4096, true};
+  if (name == "production") return QualityPreset{0.02f, 2'000'000, true, 1024, true};
   return std::nullopt;
 }
 

@@ -60,7 +60,7 @@ struct GapSettings {
 //   draft       error 8%, first round   250,000 photons
 //   medium      noise 3%, first round 1,000,000 photons (the defaults)
 //   high        error 3%, first round 2,000,000 photons
-//   production  error 2%, first round 8,000,000 photons, and the edges gathered (--gap-edges --gap-paths 4096)
+//   production  error 2%, first round 2,000,000 photons, and the edges gathered (--gap-edges, 1,024 paths to start)
 struct QualityPreset {
   float target;       // --target-noise, or with `error` --target-error (baker/photons/progressive.h)
   uint64_t photons;   // the first round's, over all lights

@@ -382,8 +382,8 @@ TEST(BakeCli, QualityPresetsAreTargetsWithTheScenesH) {
   EXPECT_FLOAT_EQ(given.at("options").at("h_m").get<float>(), 0.2f);
   EXPECT_EQ(given.at("options").at("direct_samples"), 9);
   EXPECT_FLOAT_EQ(given.at("options").at("target_noise").get<float>(), 0.5f);
-  EXPECT_EQ(given.at("options").at("gap_edges"), true);  // production gathers the edges, with 4,096 paths
-  EXPECT_EQ(given.at("options").at("gap_paths"), 4096);
+  EXPECT_EQ(given.at("options").at("gap_edges"), true);  // production gathers the edges, from 1,024 paths
+  EXPECT_EQ(given.at("options").at("gap_paths"), 1024);
   EXPECT_EQ(report("--quality production --photons 1000 --target-noise 0.5 --gap-paths 16").at("options").at("gap_paths"), 16);
   const BakeRun bad = RunBake(scene + " -o " + dir + "/out.ply --quality ultra");
   EXPECT_EQ(bad.status, 2) << bad.output;
