@@ -62,10 +62,12 @@ struct Config {
   uint32_t referencePaths = 0;  // > 0: a path tracer's vertex bake (--reference) instead of photons
   pb::GapSettings gaps;         // --gap-paths, with --direct sampled
   uint64_t guidePhotons = 0;    // --guide-photons: the gathered paths' first directions guided
-  // The curve this run belongs to: the method on the box, the estimator on the closed form.
+  // The curve this run belongs to: the method on the box, the estimator on the closed form; a scene's bakes to a
+  // target with h per surface are what a user asks for by --quality or --target-error.
   std::string Group(Bench bench) const {
     if (referencePaths > 0) return "path tracer";
     if (bench == Bench::kClosedForm) return pb::EstimatorName(estimator.kind);
+    if ((targetError || targetNoise) && autoBandwidth) return "quality targets";
     return direct.mode == pb::DirectLight::kSampled ? "sampled" : "photons";
   }
   std::string Label() const {
@@ -329,7 +331,8 @@ std::vector<Config> ClosedFormConfigs(bool quick) {
 }
 
 // A bundled scene's sweep: photons only (the paper's method) and --direct sampled over photon counts, h and direct
-// samples, and the path tracer's vertex bake over samples per vertex.
+// samples, the path tracer's vertex bake over samples per vertex, and the quality presets with further error
+// targets (each as production, with its target).
 struct SceneSweep {
   std::vector<uint64_t> photonsOnly;
   std::vector<float> photonsOnlyH;
@@ -337,7 +340,25 @@ struct SceneSweep {
   std::vector<float> sampledH;
   std::vector<uint32_t> shadowRays, paths;
   std::vector<double> directNoise;  // --direct-noise targets, each at every sampled count and h, up to 1,024 rays
+  std::vector<std::string> presets;
+  std::vector<float> errorTargets;  // --quality production --target-error E
+  // The settings that meet the accuracy issue's targets (docs/accuracy.md): photons, h, shadow rays, and the edges
+  // gathered with this many paths.
+  struct Recipe {
+    uint64_t photons;
+    float h;
+    uint32_t shadowRays, edgePaths;
+  };
+  std::vector<Recipe> recipes;
 };
+
+// --quality NAME as bake applies it: the preset's target and first round, unless given, and h per surface unless --h.
+void ApplyQuality(const std::string& name, const pb::GivenOptions& given, Config& c) {
+  pb::BakeOptions o = OptionsOf("", c, 1, 0);
+  pb::ApplyQuality(name, given, o);
+  c.photons = o.photons, c.targetNoise = o.targetNoise, c.targetError = o.targetError, c.gaps = o.gaps;
+  c.autoBandwidth = c.autoBandwidth || !given.bandwidth;
+}
 
 std::vector<Config> Sweep(const SceneSweep& sweep) {
   std::vector<Config> configs;
@@ -361,17 +382,33 @@ std::vector<Config> Sweep(const SceneSweep& sweep) {
         configs.back().direct.noise = noise;
       }
   for (uint32_t paths : sweep.paths) add(pb::DirectLight::kPhotons, 64, 0.05f, 1, paths);
+  const auto preset = [&](const std::string& name, std::optional<float> targetError) {
+    Config c;
+    c.direct.mode = pb::DirectLight::kSampled;
+    c.targetError = targetError;
+    ApplyQuality(name, {}, c);  // a target set before is kept (bake: --target-error given wins)
+    configs.push_back(c);
+  };
+  for (const SceneSweep::Recipe& r : sweep.recipes) {
+    add(pb::DirectLight::kSampled, r.shadowRays, r.h, r.photons, 0);
+    configs.back().gaps.edges = true, configs.back().gaps.paths = r.edgePaths;
+  }
+  for (const std::string& name : sweep.presets) preset(name, std::nullopt);
+  for (float e : sweep.errorTargets) preset("production", e);
   return configs;
 }
 
 std::vector<Config> SceneConfigs(Bench bench, bool quick) {
-  if (quick) return Sweep({{}, {}, {100'000}, {0.05f}, {16}, {64}});
+  const std::vector<std::string> kPresets = {"draft", "medium", "high", "production"};
+  if (quick) return Sweep({{}, {}, {100'000}, {0.05f}, {16}, {64}, {}, {}});
   if (bench == Bench::kBox)
     return Sweep({{1'000'000, 4'000'000, 16'000'000}, {0.01f, 0.02f, 0.03f}, {250'000, 1'000'000, 4'000'000},
-                  {0.05f, 0.08f, 0.12f}, {64, 100, 256, 1024}, {64, 256, 1024, 4096}, {0.02, 0.01}});
+                  {0.05f, 0.08f, 0.12f}, {64, 100, 256, 1024}, {64, 256, 1024, 4096}, {0.02, 0.01}, kPresets, {0.015f, 0.01f},
+                  {{8'000'000, 0.04f, 400, 3072}}});
   // The office is 5 x 4 x 3 m: about 30 times the box's area, so wider kernels and more photons.
   return Sweep({{4'000'000, 16'000'000}, {0.03f, 0.05f, 0.1f}, {1'000'000, 4'000'000, 16'000'000},
-                {0.05f, 0.1f, 0.2f}, {64, 256}, {64, 256, 1024}, {}});
+                {0.05f, 0.1f, 0.2f}, {64, 256}, {64, 256, 1024, 4096}, {}, kPresets, {0.015f},
+                {{16'000'000, 0.1f, 400, 3072}}});
 }
 
 // Plain bytes of a Truth, to bring it back from the child that computed it.
@@ -611,13 +648,6 @@ std::string ScenePath(Bench bench, const std::string& out) {
   }
 }
 
-// --quality NAME as bake applies it: the preset's target and first round, unless given, and h per surface unless --h.
-void ApplyQuality(const std::string& name, const pb::GivenOptions& given, Config& c) {
-  pb::BakeOptions o = OptionsOf("", c, 1, 0);
-  pb::ApplyQuality(name, given, o);
-  c.photons = o.photons, c.targetNoise = o.targetNoise, c.targetError = o.targetError, c.gaps = o.gaps;
-  c.autoBandwidth = c.autoBandwidth || !given.bandwidth;
-}
 
 }  // namespace
 
