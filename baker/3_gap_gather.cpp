@@ -1,5 +1,6 @@
 #include "baker/3_gap_gather.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "baker/3_contributions.h"
@@ -14,15 +15,39 @@ constexpr uint64_t kProbeStream = 0x9a9e'0b5e'77e5'0001ull, kPathStream = 0x9a9e
 constexpr float kParallelCosine = 0.5f;                       // within 60 degrees of parallel
 }  // namespace
 
+namespace {
+
+// Per surface, whether it is gathered everywhere: its area below smallArea h^2, and among the smallest such that
+// hold at most smallShare of the triangles.
+std::vector<bool> SmallSurfaces(const SurfaceSet& surfaces, const PhotonIrradiance& photons, const GapSettings& settings) {
+  const size_t n = surfaces.surfaces.size();
+  std::vector<uint32_t> small;
+  for (uint32_t s = 0; s < n; ++s) {
+    const double h = photons.Bandwidth(s);
+    if (surfaces.surfaces[s].area < settings.smallArea * h * h) small.push_back(s);
+  }
+  std::vector<bool> gathered(n, false);
+  std::vector<uint32_t> triangles(n, 0);
+  for (uint32_t s : surfaces.surfaceOfTriangle) ++triangles[s];
+  std::stable_sort(small.begin(), small.end(),
+                   [&](uint32_t a, uint32_t b) { return surfaces.surfaces[a].area < surfaces.surfaces[b].area; });
+  const double budget = settings.smallShare * double(surfaces.surfaceOfTriangle.size());
+  double taken = 0;
+  for (uint32_t s : small) {
+    taken += triangles[s];
+    if (taken > budget) break;
+    gathered[s] = true;
+  }
+  return gathered;
+}
+
+}  // namespace
+
 GapGather::GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const LightSampler& lights,
                      const GapSettings& settings, uint64_t seed, const ImportanceCache* guide)
     : scene_(scene), photons_(photons), settings_(settings), seed_(seed),
-      gatherer_(scene.scene, *scene.rays, lights, IrradianceGatherer::kMaxDepth, guide) {}
-
-bool GapGather::SmallerThanKernel(uint32_t s) const {
-  const double h = photons_.Bandwidth(s);
-  return scene_.surfaces.surfaces[s].area < settings_.smallArea * h * h;
-}
+      gatherer_(scene.scene, *scene.rays, lights, IrradianceGatherer::kMaxDepth, guide),
+      small_(SmallSurfaces(scene.surfaces, photons, settings)) {}
 
 bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
   if (SmallerThanKernel(p.surface)) return true;

@@ -10,7 +10,9 @@
 // within `reach` x its surface's h, a surface within 60 degrees of parallel to its own (facing it or turned
 // away). A floor meeting a wall sees the wall at right angles and is not a gap; its kernel, corrected at the
 // boundary, follows the light there. With `smallArea` > 0, every point of a surface of area below smallArea h^2
-// (smaller than its kernel: a book's face at a wide h) is gathered too. With `edges`, every point on a planar
+// (smaller than its kernel: a book's face at a wide h) is gathered too: of such surfaces, the smallest first (by
+// area, then index), as many as hold at most `smallShare` of the scene's triangles (the vertices' share, near
+// enough, and the same whatever part of the scene --only estimates). With `edges`, every point on a planar
 // surface's boundary (where RayStart steps it inward: a floor's line along a wall, a block's contact line, a
 // wall's corner) is gathered too: there the scattered light turns in a concave corner closer than any h (the
 // floor darkens into its corner with the wall), and the kernel's local linear fit reads the turn as a line,
@@ -24,6 +26,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "baker/0_prepare_scene.h"
 #include "baker/options.h"
@@ -53,14 +56,15 @@ class GapGather final : public ScatteredLightField {
   std::optional<Rgb> ScatteredAt(const RayHit& hit, bool onFront) const override;
 
  private:
-  // Whether surface s is smaller than its kernel: its area below smallArea h^2.
-  bool SmallerThanKernel(uint32_t s) const;
+  // Whether surface s is gathered everywhere as smaller than its kernel.
+  bool SmallerThanKernel(uint32_t s) const { return small_[s]; }
 
   const PreparedScene& scene_;
   const PhotonIrradiance& photons_;
   GapSettings settings_;
   uint64_t seed_;
   IrradianceGatherer gatherer_;
+  std::vector<bool> small_;  // per surface: SmallerThanKernel
 };
 
 }  // namespace pb

@@ -137,6 +137,11 @@ void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given) {
     o.targetNoise = kDefaultTargetNoise;
 }
 
+void ApplyGapDefaults(BakeOptions& o, const GivenOptions& given) {
+  if (given.smallArea || o.estimator.kind == EstimatorKind::kNearest) return;
+  o.gaps.smallArea = kDefaultSmallArea, o.gaps.smallShare = kDefaultSmallShare;
+}
+
 void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions& o) {
   const std::optional<QualityPreset> preset = ParseQuality(name);
   if (!preset)

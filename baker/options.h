@@ -47,6 +47,10 @@ struct GapSettings {
   float facing = 0.3f;   // the fraction of them that must meet a near parallel surface
   float reach = 0.5f;    // how near, as a fraction of the point's h
   float smallArea = 0;   // a surface of area below smallArea h^2 is gathered everywhere, and never read
+  // Of the estimated mesh's vertices, the most that such small surfaces may hold: the smallest are gathered first,
+  // and the rest read the photons (1: every small surface; the defaults' cap, so that a scene of tiny faces, a
+  // Minecraft world, does not gather everywhere).
+  float smallShare = 1;
   bool edges = false;    // --gap-edges: also gather at every point on a planar surface's boundary
   bool fixedPaths = false;  // --gap-paths given: the rounds keep `paths` as it is
   void Validate() const;  // --gap-paths, --gap-noise, --gap-small-area; an InputError naming the option
@@ -154,6 +158,9 @@ struct BakeOptions {
 // The noise the defaults aim at: the 95th percentile of the displayed light's predicted relative error at 3%
 // (baker/photons/progressive.h; docs/bake.md, "Defaults that suit the scene").
 constexpr float kDefaultTargetNoise = 0.03f;
+// The defaults gather on surfaces smaller than 6 h^2 (--gap-small-area), the smallest first, while they hold at
+// most a tenth of the vertices (GapSettings::smallShare; docs/bake.md, "Narrow gaps").
+constexpr float kDefaultSmallArea = 6, kDefaultSmallShare = 0.1f;
 
 // Which of the options that the defaults choose were given on the command line (or, for photons, by --quality).
 struct GivenOptions {
@@ -161,12 +168,16 @@ struct GivenOptions {
   bool photons = false;     // --photons
   bool shadowRays = false;  // --direct-samples or --direct-noise
   bool gapPaths = false;    // --gap-paths
+  bool smallArea = false;   // --gap-small-area
 };
 // `bake`'s defaults that suit the scene, for what was not given: h chosen per surface from its photons (--h auto),
 // and photons and shadow rays raised in rounds to kDefaultTargetNoise within --max-seconds (--target-noise). The
 // kernel and histogram estimators only (knn has no h, and its noise is set by k); not with --reference (no
 // photons) or --resume (which continues to --photons).
 void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given);
+// bake's and bake-mpi's gathering on the smallest surfaces (kDefaultSmallArea, kDefaultSmallShare) unless
+// --gap-small-area is given (which then gathers on every surface it names small); not with knn, which has no h.
+void ApplyGapDefaults(BakeOptions& o, const GivenOptions& given);
 // --quality NAME, for what was not given: its target (unless --target-noise is given, or the bake has no rounds:
 // --reference, knn), its first round's photons and its gathered edges' paths. Before ApplySceneDefaults, whose
 // `given.photons` it then implies. An InputError naming --quality for an unknown name.

@@ -84,7 +84,8 @@ struct Config {
     if (!estimator.edgeCorrection) s += " no-correction";
     if (direct.mode == pb::DirectLight::kSampled && gaps.paths != pb::GapSettings{}.paths)
       s += gaps.noise > 0 ? fmt::format(" gaps noise {} (<= {})", gaps.noise, gaps.paths) : fmt::format(" gaps={}", gaps.paths);
-    if (direct.mode == pb::DirectLight::kSampled && gaps.smallArea > 0) s += fmt::format(" small<{}h2", gaps.smallArea);
+    if (direct.mode == pb::DirectLight::kSampled && gaps.smallArea > 0)
+      s += fmt::format(" small<{}h2{}", gaps.smallArea, gaps.smallShare < 1 ? fmt::format(" ({:g}%)", 100 * gaps.smallShare) : "");
     if (direct.mode == pb::DirectLight::kSampled && gaps.edges) s += " edges";
     if (targetNoise) s += fmt::format(" target {}", *targetNoise);
     if (targetError) s += fmt::format(" target error {}", *targetError);
@@ -352,12 +353,16 @@ struct SceneSweep {
   std::vector<Recipe> recipes;
 };
 
-// --quality NAME as bake applies it: the preset's target and first round, unless given, and h per surface unless --h.
-void ApplyQuality(const std::string& name, const pb::GivenOptions& given, Config& c) {
+// --quality NAME as bake applies it, with bake's defaults for what is not given: the preset's target and first
+// round, h per surface unless --h, and the smallest surfaces gathered.
+void ApplyQuality(const std::string& name, pb::GivenOptions given, Config& c) {
   pb::BakeOptions o = OptionsOf("", c, 1, 0);
   pb::ApplyQuality(name, given, o);
+  given.photons = true;
+  pb::ApplySceneDefaults(o, given);
+  pb::ApplyGapDefaults(o, given);
   c.photons = o.photons, c.targetNoise = o.targetNoise, c.targetError = o.targetError, c.gaps = o.gaps;
-  c.autoBandwidth = c.autoBandwidth || !given.bandwidth;
+  c.autoBandwidth = o.autoBandwidth;
 }
 
 std::vector<Config> Sweep(const SceneSweep& sweep) {
@@ -703,7 +708,8 @@ int main(int argc, char** argv) {
     pb::RequireThreads(threads);
     if (!quality.empty())
       ApplyQuality(quality, {.bandwidth = app.count("--h") > 0, .photons = app.count("--photons") > 0,
-                             .gapPaths = app.count("--gap-paths") > 0}, one);
+                             .gapPaths = app.count("--gap-paths") > 0, .smallArea = app.count("--gap-small-area") > 0},
+                   one);
     pb::RequireOption(truthPaths >= 1 && truthPaths <= 10'000'000, "--truth-paths",
                       "must lie in [1, 10000000] paths per point");
     if (one.referencePaths > 0 && one.photons == 0) one.photons = 1;  // a reference traces none; the count is unused

@@ -156,9 +156,9 @@ void DefineDirectOptions(CLI::App& app, pb::BakeOptions& o) {
                "'Narrow gaps'); typical with --gap-paths 4096 for 1% accuracy");
   app.add_option("--gap-small-area", o.gaps.smallArea,
                  "with --direct sampled and --gap-paths: also gather on every surface whose area is below this many "
-                 "h^2, smaller than its kernel (books, table legs at a wide h; docs/bake.md, 'Narrow gaps'); 0 = off; "
-                 "range 0-1e3, typical 4-8")
-      ->capture_default_str();
+                 "h^2, smaller than its kernel (books, table legs at a wide h; docs/bake.md, 'Narrow gaps'); not "
+                 "given: 6, on the smallest such surfaces up to a tenth of the triangles; 0 = off; range 0-1e3, "
+                 "typical 4-8");
   app.add_option("--reference", o.referencePaths,
                  "trace no photons: gather this many paths at every vertex and texel instead, an unbiased path-traced "
                  "vertex bake to measure against (docs/bake.md, 'A reference'); range 1-1e7, typical 1024-16384");
@@ -246,9 +246,11 @@ void ApplyBakeCommandLine(const CLI::App& app, BakeCommandLine& c) {
   pb::GivenOptions given{.bandwidth = app.count("--h") > 0,
                          .photons = app.count("--photons") > 0,
                          .shadowRays = app.count("--direct-samples") + app.count("--direct-noise") > 0,
-                         .gapPaths = app.count("--gap-paths") > 0};
+                         .gapPaths = app.count("--gap-paths") > 0,
+                         .smallArea = app.count("--gap-small-area") > 0};
   if (!c.quality.empty()) pb::ApplyQuality(c.quality, given, c.options), given.photons = true;
   if (c.sceneDefaults) pb::ApplySceneDefaults(c.options, given);  // bake-mpi has no rounds, whose rays it fixes
+  pb::ApplyGapDefaults(c.options, given);
   c.options.Validate();
 }
 

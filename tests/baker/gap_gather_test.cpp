@@ -7,7 +7,7 @@
 //  - only points in gaps are gathered: the floor under the slab, the slab's underside and the ceiling 1 cm over
 //    the light's back, never the open floor or the floor where it meets a wall;
 //  - with --gap-small-area, every vertex of a surface smaller than its kernel (the slab's sides) is gathered, and
-//    nothing else changes;
+//    nothing else changes; with a share of the triangles (the defaults'), the smallest such surfaces first, within it;
 //  - with --gap-noise, each gathered point takes the paths its own noise asks for: the floor under the slab still
 //    agrees with the path tracer as above, and its lit points' predicted noise is the target in RMS (within the
 //    pilot's misjudgement), where a fixed 256 paths leave it several times higher;
@@ -28,7 +28,8 @@ namespace pb {
 namespace {
 
 BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned threads = 0, float smallArea = 0,
-                   double gapNoise = 0, bool edges = false, uint64_t photons = 1'000'000, uint64_t guidePhotons = 0) {
+                   double gapNoise = 0, bool edges = false, uint64_t photons = 1'000'000, uint64_t guidePhotons = 0,
+                   float smallShare = 1) {
   static const std::string scene = test::WriteGapScene(test::TempDirectory("gap-gather"));
   BakeOptions o;
   o.scenePath = scene;
@@ -36,6 +37,7 @@ BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned thre
   o.estimator.bandwidth = 0.1f;
   o.gaps.paths = gapPaths;
   o.gaps.smallArea = smallArea;
+  o.gaps.smallShare = smallShare;
   o.gaps.noise = gapNoise;
   o.gaps.edges = edges;
   o.referencePaths = referencePaths;
@@ -161,6 +163,29 @@ TEST(GapGather, SurfacesSmallerThanTheKernelAreGatheredEverywhere) {
     if (a.irradiance[v] != b.irradiance[v]) {
       EXPECT_LT(std::abs(a.mesh.normals[v].y), 0.5f) << "only the sides change";
     }
+}
+
+// Below 20 h^2 = 0.2 m^2 lie the slab's sides (0.004 m^2, 2 triangles each), the light (0.04 m^2, 2) and the slab's
+// top and underside (0.16 m^2, 32 each), of the scene's 1,034 triangles. A share of 9.5 of them takes the four sides
+// and nothing larger: the same bake, bit for bit, as the sides alone (1 h^2, every small surface). A share of 5.5
+// takes two of the four sides.
+TEST(GapGather, TheSmallestSurfacesAreGatheredFirstWithinTheirShare) {
+  constexpr float kTriangles = 1034;
+  const auto bake = [](float smallArea, float share) {
+    return BakeGap(256, 0, 0, smallArea, 0, false, 1'000'000, 0, share);
+  };
+  const BakeResult sides = bake(1.0f, 1.0f), capped = bake(20.0f, 9.5f / kTriangles);
+  ASSERT_EQ(sides.mesh.irradiance.size(), capped.mesh.irradiance.size());
+  for (size_t v = 0; v < sides.mesh.irradiance.size(); ++v)
+    ASSERT_EQ(sides.mesh.irradiance[v], capped.mesh.irradiance[v]) << "vertex " << v;
+  const BakeResult gaps = bake(0.0f, 1.0f), two = bake(20.0f, 5.5f / kTriangles);
+  int changed = 0;
+  for (size_t v = 0; v < gaps.mesh.irradiance.size(); ++v)
+    if (two.mesh.irradiance[v] != gaps.mesh.irradiance[v]) {
+      ++changed;
+      EXPECT_LT(std::abs(two.mesh.mesh.normals[v].y), 0.5f) << "only sides change";
+    }
+  EXPECT_EQ(changed, 8) << "two sides of four vertices each";
 }
 
 // The floor's vertices along the walls, off the slab's corners (the room's floor is 20 x 20 cells of 5 cm).

@@ -385,6 +385,12 @@ TEST(BakeCli, QualityPresetsAreTargetsWithTheScenesH) {
   EXPECT_EQ(given.at("options").at("gap_edges"), true);  // production gathers the edges, from 1,024 paths
   EXPECT_EQ(given.at("options").at("gap_paths"), 1024);
   EXPECT_EQ(report("--quality production --photons 1000 --target-noise 0.5 --gap-paths 16").at("options").at("gap_paths"), 16);
+  // Every bake gathers on its smallest surfaces, up to a tenth of the triangles, unless --gap-small-area is given.
+  EXPECT_FLOAT_EQ(given.at("options").at("gap_small_area_h2").get<float>(), 6.0f);
+  EXPECT_FLOAT_EQ(given.at("options").at("gap_small_share").get<float>(), 0.1f);
+  const nlohmann::json all = report("--quality medium --direct photons --gap-small-area 4").at("options");
+  EXPECT_FLOAT_EQ(all.at("gap_small_area_h2").get<float>(), 4.0f);
+  EXPECT_FLOAT_EQ(all.at("gap_small_share").get<float>(), 1.0f);
   const BakeRun bad = RunBake(scene + " -o " + dir + "/out.ply --quality ultra");
   EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_NE(bad.output.find("draft, medium, high, production"), std::string::npos) << bad.output;
