@@ -47,7 +47,7 @@ struct GapSettings {
   float facing = 0.3f;   // the fraction of them that must meet a near parallel surface
   float reach = 0.5f;    // how near, as a fraction of the point's h
   float smallArea = 0;   // a surface of area below smallArea h^2 is gathered everywhere, and never read
-  // Of the estimated mesh's vertices, the most that such small surfaces may hold: the smallest are gathered first,
+  // Of the scene's triangles, the most that the small surfaces gathered may hold: the smallest are gathered first,
   // and the rest read the photons (1: every small surface; the defaults' cap, so that a scene of tiny faces, a
   // Minecraft world, does not gather everywhere).
   float smallShare = 1;
@@ -159,7 +159,7 @@ struct BakeOptions {
 // (baker/photons/progressive.h; docs/bake.md, "Defaults that suit the scene").
 constexpr float kDefaultTargetNoise = 0.03f;
 // The defaults gather on surfaces smaller than 6 h^2 (--gap-small-area), the smallest first, while they hold at
-// most a tenth of the vertices (GapSettings::smallShare; docs/bake.md, "Narrow gaps").
+// most a tenth of the triangles (GapSettings::smallShare; docs/bake.md, "Narrow gaps").
 constexpr float kDefaultSmallArea = 6, kDefaultSmallShare = 0.1f;
 
 // Which of the options that the defaults choose were given on the command line (or, for photons, by --quality).
