@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "baker/0_plan_transport.h"
@@ -128,13 +129,19 @@ void BakeOptions::Validate() const {
   ValidateOutputOptions(*this);
 }
 
+uint64_t FirstRoundForError(float target, uint64_t photons, float at) {
+  const double n = double(photons) * std::pow(double(at) / target, 2);
+  return uint64_t(std::llround(std::clamp(n, 250'000.0, 32'000'000.0)));
+}
+
 void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given) {
   o.direct.fixedSamples = o.direct.fixedSamples || given.shadowRays;
   o.gaps.fixedPaths = o.gaps.fixedPaths || given.gapPaths;
   if (o.estimator.kind == EstimatorKind::kNearest) return;
   if (!given.bandwidth) o.autoBandwidth = true;
-  if (!given.photons && !o.Rounds() && o.referencePaths == 0 && o.resumePath.empty())
-    o.targetNoise = kDefaultTargetNoise;
+  if (given.photons || o.referencePaths > 0 || !o.resumePath.empty()) return;
+  if (o.targetError) o.photons = FirstRoundForError(*o.targetError, o.photons, kDefaultTargetNoise);
+  if (!o.Rounds()) o.targetNoise = kDefaultTargetNoise;
 }
 
 void ApplyGapDefaults(BakeOptions& o, const GivenOptions& given) {
@@ -146,7 +153,9 @@ void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions&
   const std::optional<QualityPreset> preset = ParseQuality(name);
   if (!preset)
     throw InputError("--quality", 0, fmt::format("unknown preset '{}'; choose one of: {}", name, QualityNames()));
-  if (!given.photons) o.photons = preset->photons;
+  if (!given.photons)  // a --target-error given in the preset's place scales its first round
+    o.photons = o.targetError && preset->error ? FirstRoundForError(*o.targetError, preset->photons, preset->target)
+                                               : preset->photons;
   if (preset->gatherEdges) o.gaps.edges = true;
   if (preset->gatherEdges && !given.gapPaths) o.gaps.paths = preset->gapPaths;
   const bool rounds = o.referencePaths == 0 && o.estimator.kind != EstimatorKind::kNearest;

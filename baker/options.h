@@ -170,8 +170,14 @@ struct GivenOptions {
   bool gapPaths = false;    // --gap-paths
   bool smallArea = false;   // --gap-small-area
 };
+// The first round's photons for --target-error `target`, from a first round of `photons` that suits target `at`:
+// photons (at / target)^2, within [250,000, 32,000,000]. h is chosen from the first round and held, so a first
+// round sized for the target gives the h that suits about the photons the target needs (the box at 1%: 1.24% net
+// from 2M photons, 0.91% from 8M, in about the same time; docs/bake.md, "Target error").
+uint64_t FirstRoundForError(float target, uint64_t photons, float at);
 // `bake`'s defaults that suit the scene, for what was not given: h chosen per surface from its photons (--h auto),
-// and photons and shadow rays raised in rounds to kDefaultTargetNoise within --max-seconds (--target-noise). The
+// and photons and shadow rays raised in rounds to kDefaultTargetNoise within --max-seconds (--target-noise), or,
+// with --target-error, from a first round sized for it (FirstRoundForError, from the defaults' 10^6 at 3%). The
 // kernel and histogram estimators only (knn has no h, and its noise is set by k); not with --reference (no
 // photons) or --resume (which continues to --photons).
 void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given);
@@ -179,7 +185,8 @@ void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given);
 // --gap-small-area is given (which then gathers on every surface it names small); not with knn, which has no h.
 void ApplyGapDefaults(BakeOptions& o, const GivenOptions& given);
 // --quality NAME, for what was not given: its target (unless --target-noise is given, or the bake has no rounds:
-// --reference, knn), its first round's photons and its gathered edges' paths. Before ApplySceneDefaults, whose
+// --reference, knn), its first round's photons (for a --target-error given in place of an error preset's,
+// FirstRoundForError from the preset's) and its gathered edges' paths. Before ApplySceneDefaults, whose
 // `given.photons` it then implies. An InputError naming --quality for an unknown name.
 void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions& o);
 

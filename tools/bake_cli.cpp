@@ -103,9 +103,9 @@ void DefineRoundOptions(CLI::App& app, pb::BakeOptions& o) {
                  "trace in rounds, the first of --photons, until the 95th percentile of the vertices' relative noise "
                  "(luminance- and area-weighted) is at most this; range (0, 1), typical 0.01-0.05");
   app.add_option("--target-error", o.targetError,
-                 "trace in rounds, the first of --photons, until the predicted error of H (the RMS over the vertices "
-                 "of its noise and smoothing bias, relative to their mean H) is at most this; range (0, 1), typical "
-                 "0.01-0.05; not with --target-noise");
+                 "trace in rounds until the predicted error of H (the RMS over the vertices of its noise and "
+                 "smoothing bias, relative to their mean H) is at most this, the first of --photons, or without it "
+                 "of 1e6 x (0.03 / this)^2; range (0, 1), typical 0.01-0.05; not with --target-noise");
   app.add_option("--max-photons", o.maxPhotons, "--target-noise's photon budget over all lights")->capture_default_str();
   app.add_option("--max-seconds", o.maxSeconds,
                  "--target-noise's time budget: no round starts that would end after this many seconds of the bake; "

@@ -290,6 +290,33 @@ TEST(RoundPlan, ForATargetErrorGrowsThePhotonsAsTheBandwidthAllowsAndNamesTheBia
   EXPECT_EQ(PlanNextRound(baked, follows, error).stop, "");
 }
 
+// Without --photons, an error target's first round is sized for it, n (t / E)^2 from a first round of n photons at
+// target t (the defaults' 10^6 at 3%, or an error preset's own), within [250,000, 32,000,000]; --photons given,
+// or a noise target, keep theirs.
+TEST(Progressive, AnErrorTargetsFirstRoundIsSizedForIt) {
+  const auto bare = [](float target, GivenOptions given = {}) {
+    BakeOptions o;
+    o.targetError = target;
+    ApplySceneDefaults(o, given);
+    return o.photons;
+  };
+  EXPECT_EQ(bare(0.03f), 1'000'000u);
+  EXPECT_EQ(bare(0.01f), 9'000'000u);
+  EXPECT_EQ(bare(0.2f), 250'000u);
+  EXPECT_EQ(bare(1e-4f), 32'000'000u);
+  EXPECT_EQ(bare(0.01f, {.photons = true}), 1'000'000u);
+  const auto preset = [](const char* name, std::optional<float> target) {
+    BakeOptions o;
+    o.targetError = target;
+    ApplyQuality(name, {}, o);
+    return o.photons;
+  };
+  EXPECT_EQ(preset("production", std::nullopt), 2'000'000u);
+  EXPECT_EQ(preset("production", 0.01f), 8'000'000u);
+  EXPECT_EQ(preset("high", 0.03f), 2'000'000u);
+  EXPECT_EQ(preset("medium", 0.01f), 1'000'000u);  // a noise preset's first round is its own
+}
+
 // The paper's method (--direct photons) on the closed form, the square light over a grey floor, with --target-error
 // and h per surface chosen again each round: the error reached, measured against Lambert's formula in the
 // accuracy tool's measure over every vertex, lies within 1.5 times the target both ways, and the bake says it met
