@@ -149,6 +149,12 @@ void ApplyGapDefaults(BakeOptions& o, const GivenOptions& given) {
   o.gaps.smallArea = kDefaultSmallArea, o.gaps.smallShare = kDefaultSmallShare;
 }
 
+void ApplyDefaults(BakeOptions& o, GivenOptions given, std::string_view quality, bool sceneDefaults) {
+  if (!quality.empty()) ApplyQuality(quality, given, o), given.photons = true;
+  if (sceneDefaults) ApplySceneDefaults(o, given);
+  ApplyGapDefaults(o, given);
+}
+
 void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions& o) {
   const std::optional<QualityPreset> preset = ParseQuality(name);
   if (!preset)

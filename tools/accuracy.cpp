@@ -355,12 +355,9 @@ struct SceneSweep {
 
 // --quality NAME as bake applies it, with bake's defaults for what is not given: the preset's target and first
 // round, h per surface unless --h, and the smallest surfaces gathered.
-void ApplyQuality(const std::string& name, pb::GivenOptions given, Config& c) {
+void ApplyQuality(const std::string& name, const pb::GivenOptions& given, Config& c) {
   pb::BakeOptions o = OptionsOf("", c, 1, 0);
-  pb::ApplyQuality(name, given, o);
-  given.photons = true;
-  pb::ApplySceneDefaults(o, given);
-  pb::ApplyGapDefaults(o, given);
+  pb::ApplyDefaults(o, given, name, true);
   c.photons = o.photons, c.targetNoise = o.targetNoise, c.targetError = o.targetError, c.gaps = o.gaps;
   c.autoBandwidth = o.autoBandwidth;
 }

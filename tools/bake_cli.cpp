@@ -248,9 +248,7 @@ void ApplyBakeCommandLine(const CLI::App& app, BakeCommandLine& c) {
                          .shadowRays = app.count("--direct-samples") + app.count("--direct-noise") > 0,
                          .gapPaths = app.count("--gap-paths") > 0,
                          .smallArea = app.count("--gap-small-area") > 0};
-  if (!c.quality.empty()) pb::ApplyQuality(c.quality, given, c.options), given.photons = true;
-  if (c.sceneDefaults) pb::ApplySceneDefaults(c.options, given);  // bake-mpi has no rounds, whose rays it fixes
-  pb::ApplyGapDefaults(c.options, given);
+  pb::ApplyDefaults(c.options, given, c.quality, c.sceneDefaults);  // bake-mpi has no rounds, whose rays it fixes
   c.options.Validate();
 }
 
