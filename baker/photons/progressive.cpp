@@ -164,17 +164,19 @@ NoiseRemedy RemedyFor(Statistic statistic, double target, uint64_t photons, uint
 NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
                            bool raisePoints, double gatheredScale) {
   const VertexNoise vertices(baked);
-  return RemedyFor([&](double k, double s) { return vertices.Percentile(k, s, gatheredScale); }, target, photons,
-                   pointSamples, raisePoints);
+  // The points' part alone (k = 0) is their samples', without the gathered paths', which their samples cannot lower.
+  return RemedyFor([&](double k, double s) { return vertices.Percentile(k, s, k == 0 ? 0 : gatheredScale); }, target,
+                   photons, pointSamples, raisePoints);
 }
 
 NoiseRemedy RemedyForError(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
                            bool raisePoints, bool bandwidthFollows, double gatheredScale) {
-  // The points' part alone leaves the bias out: their samples cannot lower it. With h chosen again for n / k
-  // photons, h^6 ~ k: the photons' variance (~ k / h^2) and the bias's square (~ h^4) both scale as k^(2/3).
+  // The points' part alone leaves the bias and the gathered paths' noise out: their samples cannot lower either.
+  // With h chosen again for n / k photons, h^6 ~ k: the photons' variance (~ k / h^2) and the bias's square (~ h^4)
+  // both scale as k^(2/3).
   const double g = gatheredScale;
   const auto statistic = [&](double k, double s) {
-    if (k == 0) return PredictedError(baked, 0, s, 0, g).Total();
+    if (k == 0) return PredictedError(baked, 0, s, 0, 0).Total();
     return bandwidthFollows ? PredictedError(baked, std::cbrt(k * k), s, std::cbrt(k * k), g).Total()
                             : PredictedError(baked, k, s, 1, g).Total();
   };

@@ -206,6 +206,26 @@ TEST(RoundPlan, StopsWhereTheGatheredPathsHoldTheNoise) {
   EXPECT_NEAR(PredictedError(baked, 1, 0).noise, 0.06 * std::sqrt(0.5), 1e-9);
 }
 
+// Half a point's 6% the shadow rays' (4.24%) and half its gathered paths', the rays already per point (to 1.8%,
+// at most 1,024) and the paths free to grow: the paths are raised to bring theirs to half the target, and the rays'
+// target falls as the rays' own noise asks (to 60% of 3% over 4.24%, as sqrt(variance): 0.76%), not also to make up
+// for the gathered paths' noise, which no shadow ray lowers (0.42% when it counted, three rounds on the box at 1%
+// where two sufficed).
+TEST(RoundPlan, TheShadowRaysAreNotRaisedForTheGatheredPathsNoise) {
+  BakedMesh baked = NoisyTriangle(0.06, 0.0);
+  baked.gatheredVarianceShare.assign(3, 0.5);
+  RoundState state = Round(1024, true);
+  state.directNoise = 0.018, state.gapPaths = 256, state.raiseGapPaths = true;
+  for (const bool error : {false, true}) {
+    RoundLimits limits = kLimits;
+    limits.error = error;
+    const NextRound next = PlanNextRound(baked, state, limits);
+    ASSERT_EQ(next.stop, "");
+    EXPECT_NEAR(next.directNoise, 0.018 * 0.018 / (0.06 * std::sqrt(0.5)), 0.0003) << (error ? "error" : "noise");
+    EXPECT_GT(next.gapPaths, 256u);
+  }
+}
+
 // The same gap, its paths free to grow (--gap-paths not given): the next round gathers with enough paths to bring
 // their noise to half the target, 256 (0.06 / 0.015)^2 = 4,096, and nothing else.
 TEST(RoundPlan, RaisesTheGatheredPathsWhereTheyHoldTheNoise) {
