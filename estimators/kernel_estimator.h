@@ -25,8 +25,9 @@
 // area per half-spacing cell, SurfaceRegion::GridOverlapAreas), not from the boundary integral: numerator and
 // denominator share the binning's error, which then cancels, and no boundary edge is visited per point. The noise
 // sums use each node's share of the photons' squared luminance. The photon arrays are not kept. Kernels that step
-// at their rim (uniform, the truncated Gaussian) are not binned: their error would be first order; nor are
-// surfaces narrower than 2 h, too few nodes across for the fit at their edges. The node sums are fixed point
+// at their rim (uniform, the truncated Gaussian) are not binned: their error would be first order. A surface
+// narrower than 2 h would have too few nodes across for the fit at its edges: it is binned on a lattice of a
+// quarter of its width instead (kAuto; kWide leaves it unbinned). The node sums are fixed point
 // (estimators/binned_photons.h), so photons binned as they were traced (the second constructor) give the same
 // estimator, bit for bit, as the same photons listed; Binning::kWide bins every surface that can be, whatever its
 // density, as a bake that bins while tracing does.
