@@ -13,9 +13,6 @@ namespace {
 // Salt the probes' and the paths' streams apart from each other and from the direct light's at the same point.
 constexpr uint64_t kProbeStream = 0x9a9e'0b5e'77e5'0001ull, kPathStream = 0x9a9e'0b5e'77e5'0002ull;
 constexpr float kParallelCosine = 0.5f;                       // within 60 degrees of parallel
-}  // namespace
-
-namespace {
 
 // Per surface, whether it is gathered everywhere: its area below smallArea h^2, and among the smallest such that
 // hold at most smallShare of the triangles.
@@ -27,6 +24,7 @@ std::vector<bool> SmallSurfaces(const SurfaceSet& surfaces, const PhotonIrradian
     if (surfaces.surfaces[s].area < settings.smallArea * h * h) small.push_back(s);
   }
   std::vector<bool> gathered(n, false);
+  if (small.empty()) return gathered;
   std::vector<uint32_t> triangles(n, 0);
   for (uint32_t s : surfaces.surfaceOfTriangle) ++triangles[s];
   std::stable_sort(small.begin(), small.end(),

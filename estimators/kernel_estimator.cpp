@@ -60,9 +60,9 @@ KernelEstimator::KernelEstimator(std::span<const Point2> uv, std::span<const Rgb
   // from few photons) then sums more nodes per point than usual, still far fewer than the photons that it would
   // otherwise sum one by one (the office's floor at 250,000 photons, h = 4.4 m: draft 2.8 s -> 1.2 s). A bake
   // binning while traced plans the lattices of h.
-  const bool narrow = !Wide(grid, h) && binning == Binning::kAuto && Width(grid) > 0;
+  const bool wide = Wide(grid, h), narrow = !wide && binning == Binning::kAuto && Width(grid) > 0;
   const NodeLattice lattice = NodeLattice::Over(grid, narrow ? 0.25f * Width(grid) : h, kNodesPerH);
-  const bool binnable = SmoothRim(kernel) && (Wide(grid, h) || narrow);
+  const bool binnable = SmoothRim(kernel) && (wide || narrow);
   const bool dense = double(uv.size()) >= kBinnedPhotonsPerNode * double(lattice.Count());
   if (binning == Binning::kBinned || (binnable && (binning == Binning::kWide || (binning == Binning::kAuto && dense)))) {
     Bin(uv, flux, lattice, fluxUnit > 0 ? fluxUnit : BrightestChannel(flux));
