@@ -12,6 +12,7 @@
 #include <cstring>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include "mesh/errors.h"
 #include "mesh/input_file.h"
@@ -27,15 +28,16 @@ void RequireSize(const std::string& path, int64_t width, int64_t height, uint64_
 
 // How many bytes OpenEXR 3.1 reads for an attribute of `type` whose value starts at `value` and declares
 // `size` bytes: it reads a known type by its own layout, not by the declared size, so a header whose sizes lie
-// would have it read later attributes from other bytes than the ones walked here. 0 for a value it would misread.
-size_t ExrValueBytes(const std::string& bytes, const std::string& type, size_t value, uint32_t size) {
+// would have it read later attributes from other bytes than the ones walked here. Nothing for a value it would
+// misread (a float declaring 0 bytes is read as 4: found by fuzz_sky_image, when 0 stood for a misread too).
+std::optional<size_t> ExrValueBytes(const std::string& bytes, const std::string& type, size_t value, uint32_t size) {
   static const std::pair<const char*, uint32_t> kFixed[] = {
       {"box2i", 16}, {"box2f", 16}, {"compression", 1}, {"lineOrder", 1}, {"envmap", 1}, {"deepImageState", 1},
       {"float", 4}, {"int", 4}, {"double", 8}, {"rational", 8}, {"timecode", 8}, {"keycode", 28},
       {"chromaticities", 32}, {"tiledesc", 9}, {"v2i", 8}, {"v2f", 8}, {"v2d", 16}, {"v3i", 12}, {"v3f", 12},
       {"v3d", 24}, {"m33f", 36}, {"m33d", 72}, {"m44f", 64}, {"m44d", 128}};
   for (const auto& [name, fixed] : kFixed)
-    if (type == name) return fixed == size ? size : 0;
+    if (type == name) return fixed == size ? std::optional<size_t>(size) : std::nullopt;
   const auto uint32At = [&](size_t at) {
     uint32_t v = 0;
     std::memcpy(&v, bytes.data() + at, 4);  // little-endian, as EXR and this machine are
@@ -46,19 +48,20 @@ size_t ExrValueBytes(const std::string& bytes, const std::string& type, size_t v
     size_t at = value;
     for (;;) {
       const size_t nameEnd = bytes.find('\0', at);
-      if (nameEnd == std::string::npos || nameEnd >= end || nameEnd - at > 255) return 0;
-      if (nameEnd == at) return nameEnd + 1 == end ? size : 0;
+      if (nameEnd == std::string::npos || nameEnd >= end || nameEnd - at > 255) return std::nullopt;
+      if (nameEnd == at) return nameEnd + 1 == end ? std::optional<size_t>(size) : std::nullopt;
       at = nameEnd + 17;
     }
   }
   if (type == "stringvector") {  // strings, each after its length, up to the declared size
     for (size_t at = value; at < end; at += 4 + uint32At(at))
-      if (end - at < 4 || uint32At(at) > end - at - 4) return 0;
+      if (end - at < 4 || uint32At(at) > end - at - 4) return std::nullopt;
     return size;
   }
-  if (type == "preview") return size >= 8 && uint64_t(uint32At(value)) * uint32At(value + 4) * 4 == size - 8 ? size : 0;
-  if (type == "floatvector") return size % 4 == 0 ? size : 0;
-  if (type == "idmanifest") return size >= 8 ? size : 0;
+  const auto whole = [&](bool reads) { return reads ? std::optional<size_t>(size) : std::nullopt; };
+  if (type == "preview") return whole(size >= 8 && uint64_t(uint32At(value)) * uint32At(value + 4) * 4 == size - 8);
+  if (type == "floatvector") return whole(size % 4 == 0);
+  if (type == "idmanifest") return whole(size >= 8);
   return size;  // a string, or a type OpenEXR does not know (read as opaque bytes): the declared size
 }
 
@@ -88,7 +91,7 @@ void CheckExrHeader(const std::string& path, const std::string& bytes, uint64_t 
     const size_t value = typeEnd + 5;
     if (size < 0 || uint64_t(size) > bytes.size() - value) fail("an attribute's value runs past the end of the file");
     const std::string type = bytes.substr(nameEnd + 1, typeEnd - nameEnd - 1);
-    if (ExrValueBytes(bytes, type, value, uint32_t(size)) != uint32_t(size))
+    if (ExrValueBytes(bytes, type, value, uint32_t(size)) != size_t(size))
       fail(fmt::format("the attribute '{}' of type {} declares {} bytes, not what its type reads", bytes.substr(at, nameEnd - at), type, size));
     if (bytes.compare(at, nameEnd - at, "dataWindow") == 0 && type == "box2i") {
       const int64_t width = int64_t(int32At(value + 8)) - int32At(value) + 1, height = int64_t(int32At(value + 12)) - int32At(value + 4) + 1;

@@ -233,6 +233,8 @@ TEST(LightFile, SkyImageFaultsNameTheirFile) {
   // An EXR whose v2f attribute declares 21 bytes: OpenEXR reads 8 and takes the next 13 for a string attribute of
   // 1.9 GB, which it allocated (fuzz_sky_image, out of memory in CI).
   std::filesystem::copy_file(PB_SOURCE_DIR "/tests/fuzz/corpus/sky_image/desynced-attribute-oom.exr", dir + "/desynced.exr");
+  // The same through a float declaring 0 bytes, which OpenEXR reads as 4 (the walk had taken 0 for "misread").
+  std::filesystem::copy_file(PB_SOURCE_DIR "/tests/fuzz/corpus/sky_image/zero-size-float-oom.exr", dir + "/zero.exr");
   const std::pair<std::string, std::string> cases[] = {
       {R"({"lights": [{"type": "sky", "image": "square.exr"}]})", "square.exr: error: a sky image of 8 x 8 pixels is not latitude-longitude"},
       {R"({"lights": [{"type": "sky", "image": "negative.exr"}]})", "negative.exr: error: the sky image's pixel (1, 0) holds (-1, 1, 1)"},
@@ -243,6 +245,7 @@ TEST(LightFile, SkyImageFaultsNameTheirFile) {
       {R"({"lights": [{"type": "sky", "image": "sideways.hdr"}]})", "sideways.hdr: error: only the resolution layout '-Y H +X W'"},
       {R"({"lights": [{"type": "sky", "image": "huge.exr"}]})", "huge.exr: error: cannot read the sky image as EXR: an attribute's value runs past the end"},
       {R"({"lights": [{"type": "sky", "image": "desynced.exr"}]})", "desynced.exr: error: cannot read the sky image as EXR: the attribute 'a' of type v2f declares 21 bytes"},
+      {R"({"lights": [{"type": "sky", "image": "zero.exr"}]})", "zero.exr: error: cannot read the sky image as EXR: the attribute 'screenWinfowWidth' of type float declares 0 bytes"},
       {R"({"lights": [{"type": "sky", "image": "sky.hdr", "front": [0, 2, 0]}]})", "'front' must not be parallel to 'up'"},
   };
   for (const auto& [text, fragment] : cases) {
