@@ -61,16 +61,17 @@ struct GapSettings {
 // chosen per surface from the photons (--h auto) and the shadow rays and gathered paths by the rounds, so a preset
 // suits a scene of any size; options given explicitly win (docs/bake.md, "Quality presets", has what each reaches
 // on the box and the office).
-//   draft       error 8%, first round   250,000 photons
+//   draft       error 8%, first round   250,000 photons, 32 shadow rays and 32 gathered paths a point
 //   medium      noise 3%, first round 1,000,000 photons (the defaults)
 //   high        error 3%, first round 2,000,000 photons
 //   production  error 2%, first round 2,000,000 photons, and the edges gathered (--gap-edges, 1,024 paths to start)
 struct QualityPreset {
   float target;       // --target-noise, or with `error` --target-error (baker/photons/progressive.h)
   uint64_t photons;   // the first round's, over all lights
-  bool gatherEdges = false;  // --gap-edges, with gapPaths paths per point (baker/3_gap_gather.h)
-  uint32_t gapPaths = 0;
   bool error = false;  // the target is the predicted error of H, not the noise's 95th percentile
+  bool gatherEdges = false;  // --gap-edges (baker/3_gap_gather.h)
+  // The first round's --direct-samples and --gap-paths per point; 0: the defaults' (DirectSettings, GapSettings).
+  uint32_t shadowRays = 0, gapPaths = 0;
 };
 // "draft", "medium", "high" or "production"; nullopt for any other name.
 std::optional<QualityPreset> ParseQuality(std::string_view name);

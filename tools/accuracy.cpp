@@ -358,7 +358,7 @@ struct SceneSweep {
 void ApplyQuality(const std::string& name, const pb::GivenOptions& given, Config& c) {
   pb::BakeOptions o = OptionsOf("", c, 1, 0);
   pb::ApplyDefaults(o, given, name, true);
-  c.photons = o.photons, c.targetNoise = o.targetNoise, c.targetError = o.targetError, c.gaps = o.gaps;
+  c.photons = o.photons, c.targetNoise = o.targetNoise, c.targetError = o.targetError, c.gaps = o.gaps, c.direct = o.direct;
   c.autoBandwidth = o.autoBandwidth;
 }
 
@@ -705,6 +705,7 @@ int main(int argc, char** argv) {
     pb::RequireThreads(threads);
     if (!quality.empty())
       ApplyQuality(quality, {.bandwidth = app.count("--h") > 0, .photons = app.count("--photons") > 0,
+                             .shadowRays = app.count("--direct-samples") + app.count("--direct-noise") > 0,
                              .gapPaths = app.count("--gap-paths") > 0, .smallArea = app.count("--gap-small-area") > 0},
                    one);
     pb::RequireOption(truthPaths >= 1 && truthPaths <= 10'000'000, "--truth-paths",

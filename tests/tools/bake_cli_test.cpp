@@ -348,8 +348,8 @@ TEST(BakeCli, EveryStageEndsAt100PercentWithItsRate) {
 // shadow rays. On the square light over a grey floor (Lambert's formula is H), with the photons carrying the
 // direct light too (so that the photons' noise is the error), draft's error target of 8% is met, and the floor
 // vertices' error in the target's measure (the RMS over them relative to their mean H) lies within 1.5 times it.
-// medium is the defaults' noise target. production also gathers the edges. What the command line gives explicitly
-// wins.
+// draft's first round takes 32 shadow rays and 32 gathered paths a point. medium is the defaults' noise target.
+// production also gathers the edges. What the command line gives explicitly wins.
 TEST(BakeCli, QualityPresetsAreTargetsWithTheScenesH) {
   const std::string dir = test::TempDirectory("cli-quality");
   const std::string scene = test::WriteSquareLightOverFloor(dir, 1.0f, 1.0f, 1.0f, 4.0f, 40, 0.5f);
@@ -376,6 +376,10 @@ TEST(BakeCli, QualityPresetsAreTargetsWithTheScenesH) {
   const double rmse = std::sqrt(squared / n) / (sum / n);
   std::printf("draft: relative RMS error %.4f against its target 0.08\n", rmse);
   EXPECT_LT(rmse, 1.5 * 0.08);
+  const nlohmann::json sampled = report("--quality draft").at("options");
+  EXPECT_EQ(sampled.at("direct_samples"), 32);
+  EXPECT_EQ(sampled.at("gap_paths"), 32);
+  EXPECT_EQ(report("--quality draft --direct-samples 64").at("options").at("direct_samples"), 64);
   EXPECT_FLOAT_EQ(report("--quality medium --direct photons").at("options").at("target_noise").get<float>(), 0.03f);
   const nlohmann::json given = report("--quality production --photons 1000 --h 0.2 --direct-samples 9 --target-noise 0.5");
   EXPECT_EQ(given.at("options").at("photons"), 1000);
