@@ -265,7 +265,9 @@ std::string StopReason(const BakedMesh& baked, const NoiseRemedy& remedy, const 
 
 }  // namespace
 
-NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits) {
+NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const RoundLimits& given) {
+  RoundLimits limits = given;
+  limits.target *= kPlanMargin;
   const double gatheredScale = GatheredScale(baked, state, limits);
   const NoiseRemedy remedy =
       limits.error ? RemedyForError(baked, limits.target, state.photons, state.shadowRays, state.raiseShadowRays,
