@@ -2,7 +2,11 @@
 // writes the CSV (one row per configuration, errors finite and in range), the SVG plot and the cheapest-run table.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 
@@ -53,6 +57,46 @@ TEST(AccuracyCli, QuickBoxSweepMeasuresSampledAndPathTracedRuns) {
   for (const char* row : {"| floor | 576 |", "| tall_block_top | 64 |", "| **all** | 3937 |"})
     EXPECT_NE(objects.find(row), std::string::npos) << row << "\n" << objects;
   EXPECT_NE(test::ReadBytes(dir + "/objects.csv").find("path tracer 64 spp,1,"), std::string::npos);
+}
+
+// The quality targets against a path-traced truth, as the accuracy issue asks of --target-error: the error the
+// accuracy tool measures, the relative RMSE of H over the vertices, net of the truth's own noise (its predicted
+// sigma_H, in quadrature: sqrt(rmse^2 - truth^2)), within 1.5 times the target both ways. Box (a 2,048-path truth,
+// 2.4% of its own noise): draft (8%) and production (2%); the office with books (1,024 paths, 3.5%): draft.
+// Measured against 16,384-path truths, 2026-12-05: 6.27%, 1.70% and 7.18%; against these: 6.26%, 1.72%, 7.08%.
+// The net figure's own uncertainty is small beside the bounds: the path tracer's predicted noise lies within 3% of
+// its noise measured between two seeds (the box's sweep: 3.36% against 3.44% at 1,024 paths, 1.68% against 1.72%
+// at 4,096), which would move the box's production figure by 0.1%.
+double NetError(const std::string& dir, const std::string& args) {
+  const test::ToolRun run = test::RunTool(PB_ACCURACY_EXE, args + " --out " + dir + " --truth-cache " + dir + "/truth");
+  EXPECT_EQ(run.status, 0) << run.output;
+  std::istringstream csv(test::ReadBytes(dir + "/accuracy.csv"));
+  std::string header, line, field;
+  std::getline(csv, header), std::getline(csv, line);
+  std::istringstream names(header), values(line);
+  std::map<std::string, double> row;
+  while (std::getline(names, header, ',') && std::getline(values, field, ','))
+    row[header] = std::strtod(field.c_str(), nullptr);
+  const double rmse = row["rmse_rel"], truth = row["truth_noise_rel"];
+  EXPECT_GT(rmse, truth) << args;
+  return std::sqrt(rmse * rmse - truth * truth);
+}
+
+void ExpectWithinOneAndAHalf(double error, double target, const std::string& what) {
+  std::printf("%s: %.2f%% net of the truth's noise, target %.2f%%\n", what.c_str(), 100 * error, 100 * target);
+  EXPECT_GT(error, target / 1.5) << what;
+  EXPECT_LT(error, target * 1.5) << what;
+}
+
+TEST(AccuracyCli, QualityTargetsAreReachedWithinOneAndAHalfOfThePathTracedTruthOnTheBox) {
+  const std::string dir = test::TempDirectory("accuracy-box-targets");
+  ExpectWithinOneAndAHalf(NetError(dir, "--scene box --truth-paths 2048 --quality draft"), 0.08, "box, draft");
+  ExpectWithinOneAndAHalf(NetError(dir, "--scene box --truth-paths 2048 --quality production"), 0.02, "box, production");
+}
+
+TEST(AccuracyCli, QualityTargetsAreReachedWithinOneAndAHalfOfThePathTracedTruthOnTheOffice) {
+  const std::string dir = test::TempDirectory("accuracy-office-targets");
+  ExpectWithinOneAndAHalf(NetError(dir, "--scene office --truth-paths 1024 --quality draft"), 0.08, "office, draft");
 }
 
 }  // namespace
