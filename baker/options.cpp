@@ -9,6 +9,7 @@
 
 #include "baker/0_plan_transport.h"
 #include "baker/option_ranges.h"
+#include "estimators/light_sampler.h"
 #include "mesh/errors.h"
 
 namespace pb {
@@ -137,13 +138,24 @@ uint64_t FirstRoundForError(float target, uint64_t photons, float at) {
   return uint64_t(std::llround(std::clamp(n, 250'000.0, 32'000'000.0)));
 }
 
+void SizeFirstRoundForError(BakeOptions& o, const GivenOptions& given, uint64_t photons, float at) {
+  const double k = double(at) / *o.targetError;
+  if (!given.photons) o.photons = FirstRoundForError(*o.targetError, photons, at);
+  if (!given.shadowRays) {  // stratified: their noise falls as S^-kStratifiedOrder; a square, for the strata
+    const double rays = std::clamp(o.direct.samples * std::pow(k, 1 / LightSampler::kStratifiedOrder), 16.0, 4096.0);
+    o.direct.samples = uint32_t(std::pow(std::ceil(std::sqrt(rays)), 2));
+  }
+  if (!given.gapPaths && o.gaps.paths > 0)
+    o.gaps.paths = uint32_t(std::llround(std::clamp(o.gaps.paths * k * k, 16.0, double(1 << 16))));
+}
+
 void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given) {
   o.direct.fixedSamples = o.direct.fixedSamples || given.shadowRays;
   o.gaps.fixedPaths = o.gaps.fixedPaths || given.gapPaths;
   if (o.estimator.kind == EstimatorKind::kNearest) return;
   if (!given.bandwidth) o.autoBandwidth = true;
   if (given.photons || o.referencePaths > 0 || !o.resumePath.empty()) return;
-  if (o.targetError) o.photons = FirstRoundForError(*o.targetError, o.photons, kDefaultTargetNoise);
+  if (o.targetError) SizeFirstRoundForError(o, given, o.photons, kDefaultTargetNoise);
   if (!o.Rounds()) o.targetNoise = kDefaultTargetNoise;
 }
 
@@ -162,12 +174,12 @@ void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions&
   const std::optional<QualityPreset> preset = ParseQuality(name);
   if (!preset)
     throw InputError("--quality", 0, fmt::format("unknown preset '{}'; choose one of: {}", name, QualityNames()));
-  if (!given.photons)  // a --target-error given in the preset's place scales its first round
-    o.photons = o.targetError && preset->error ? FirstRoundForError(*o.targetError, preset->photons, preset->target)
-                                               : preset->photons;
+  if (!given.photons) o.photons = preset->photons;
   if (preset->gatherEdges) o.gaps.edges = true;
   if (preset->gapPaths > 0 && !given.gapPaths) o.gaps.paths = preset->gapPaths;
   if (preset->shadowRays > 0 && !given.shadowRays) o.direct.samples = preset->shadowRays;
+  // a --target-error given in the preset's place scales its first round
+  if (o.targetError && preset->error) SizeFirstRoundForError(o, given, preset->photons, preset->target);
   const bool rounds = o.referencePaths == 0 && o.estimator.kind != EstimatorKind::kNearest;
   if (rounds && !o.Rounds()) (preset->error ? o.targetError : o.targetNoise) = preset->target;
 }

@@ -324,7 +324,8 @@ TEST(RoundPlan, ForATargetErrorGrowsThePhotonsAsTheBandwidthAllowsAndNamesTheBia
 
 // Without --photons, an error target's first round is sized for it, n (t / E)^2 from a first round of n photons at
 // target t (the defaults' 10^6 at 3%, or an error preset's own), within [250,000, 32,000,000]; --photons given,
-// or a noise target, keep theirs.
+// or a noise target, keep theirs. The shadow rays grow as (t / E)^(4/3), to a square (stratified, their noise
+// falls as S^-0.75), the gathered paths as (t / E)^2, each unless given.
 TEST(Progressive, AnErrorTargetsFirstRoundIsSizedForIt) {
   const auto bare = [](float target, GivenOptions given = {}) {
     BakeOptions o;
@@ -347,6 +348,21 @@ TEST(Progressive, AnErrorTargetsFirstRoundIsSizedForIt) {
   EXPECT_EQ(preset("production", 0.01f), 8'000'000u);
   EXPECT_EQ(preset("high", 0.03f), 2'000'000u);
   EXPECT_EQ(preset("medium", 0.01f), 1'000'000u);  // a noise preset's first round is its own
+  BakeOptions production;
+  production.targetError = 0.01f;
+  ApplyQuality("production", {}, production);
+  EXPECT_EQ(production.direct.samples, 26u * 26u);  // 256 x 2^(4/3) = 645, to a square
+  EXPECT_EQ(production.gaps.paths, 4096u);          // 1,024 x 2^2
+  BakeOptions defaults;
+  defaults.targetError = 0.01f;
+  ApplySceneDefaults(defaults, {});
+  EXPECT_EQ(defaults.direct.samples, 34u * 34u);  // 256 x 3^(4/3) = 1,108
+  EXPECT_EQ(defaults.gaps.paths, 2304u);
+  BakeOptions given;
+  given.targetError = 0.01f, given.direct.samples = 64, given.gaps.paths = 100;
+  ApplyQuality("production", {.shadowRays = true, .gapPaths = true}, given);
+  EXPECT_EQ(given.direct.samples, 64u);
+  EXPECT_EQ(given.gaps.paths, 100u);
 }
 
 // The paper's method (--direct photons) on the closed form, the square light over a grey floor, with --target-error
