@@ -185,7 +185,7 @@ uint64_t FirstRoundForError(float target, uint64_t photons, float at);
 void SizeFirstRoundForError(BakeOptions& o, const GivenOptions& given, uint64_t photons, float at);
 // `bake`'s defaults that suit the scene, for what was not given: h chosen per surface from its photons (--h auto),
 // and photons and shadow rays raised in rounds to kDefaultTargetNoise within --max-seconds (--target-noise), or,
-// with --target-error, from a first round sized for it (SizeFirstRoundForError, from the defaults' at 3%). The
+// with --target-error, from a first round sized for it (SizeFirstRoundForError, from the defaults' first round at 3%). The
 // kernel and histogram estimators only (knn has no h, and its noise is set by k); not with --reference (no
 // photons) or --resume (which continues to --photons).
 void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given);
@@ -194,8 +194,8 @@ void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given);
 void ApplyGapDefaults(BakeOptions& o, const GivenOptions& given);
 // --quality NAME, for what was not given: its target (unless --target-noise is given, or the bake has no rounds:
 // --reference, knn), its first round's photons, shadow rays and gathered paths (for a --target-error given in
-// place of an error preset's, SizeFirstRoundForError from the preset's) and its gathered edges. Before ApplySceneDefaults, whose
-// `given.photons` it then implies. An InputError naming --quality for an unknown name.
+// place of an error preset's, SizeFirstRoundForError from the preset's) and its gathered edges. Before
+// ApplySceneDefaults, whose `given.photons` it then implies. An InputError naming --quality for an unknown name.
 void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions& o);
 // All that bake's command line applies for what was not given, in order: --quality `quality` (when not empty), the
 // scene's defaults (with `sceneDefaults`: bake, not bake-mpi, which has no rounds) and the gathering's.
