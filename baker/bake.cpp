@@ -178,6 +178,7 @@ struct Lit {
   BakedMesh baked;
   double noise = 0;  // the bake's predicted noise (BakeNoise)
   BakeError error;   // and its predicted error of H (PredictedError)
+  NoiseParts noiseParts;  // the noise of each source alone (BakeNoiseParts)
 };
 
 // --only's surfaces (every surface without it).
@@ -223,7 +224,9 @@ bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, 
   lit.baked = std::move(baked);
   if (d != nullptr) clock.Time("estimate", [&] { GatherVertices(lit.baked, *d); });
   if (d == nullptr || d->Root())
-    clock.Time("noise", [&] { lit.noise = BakeNoise(lit.baked), lit.error = PredictedError(lit.baked); });
+    clock.Time("noise", [&] {
+      lit.noise = BakeNoise(lit.baked), lit.error = PredictedError(lit.baked), lit.noiseParts = BakeNoiseParts(lit.baked);
+    });
   return true;
 }
 
@@ -392,7 +395,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
     clock.Time("directions", [&] { EstimateDirections(field, lit.baked, log); });
 
   BakeReport report = DescribeBake({o, threads.Count(), scene, rounds.Store(), rounds.Bins(), field, lit.baked,
-                                    exposure, refine, maps, rounds.Report(), lit.noise, lit.error, journal.stageSeconds, journal.warnings});
+                                    exposure, refine, maps, rounds.Report(), lit.noise, lit.error, lit.noiseParts, journal.stageSeconds, journal.warnings});
   return {std::move(report), std::move(lit.baked), NamesOf(scene.scene, scene.surfaces)};
 }
 

@@ -237,9 +237,24 @@ BakeReport DescribeBake(const BakeResults& r) {
   report.progressive = r.progressive;
   report.noise = r.noise;
   report.error = r.error;
+  report.noiseParts = r.noiseParts;
   report.directionNoise = BakeDirectionNoise(r.mesh);
   return report;
 }
+
+namespace {
+
+// "; alone: photons 2.10%, shadow rays 8.40%, gathered paths 60.30%", the sources that contribute; "" with one.
+std::string NoisePartsText(const BakeReport& r) {
+  const NoiseParts& p = r.noiseParts;
+  std::vector<std::string> parts;
+  if (p.photons > 0) parts.push_back(fmt::format("photons {:.2f}%", 100 * p.photons));
+  if (p.points > 0) parts.push_back(fmt::format("{} {:.2f}%", r.options.referencePaths > 0 ? "paths" : "shadow rays", 100 * p.points));
+  if (p.gathered > 0) parts.push_back(fmt::format("gathered paths {:.2f}%", 100 * p.gathered));
+  return parts.size() > 1 ? fmt::format("; alone: {}", fmt::join(parts, ", ")) : "";
+}
+
+}  // namespace
 
 void PrintSummary(const BakeReport& r, const Log& log) {
   if (log.Quiet()) return;
@@ -270,7 +285,8 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   s += ProgressiveLines(r.progressive, t.emitted);
   if (r.options.autoBandwidth) s += AutomaticBandwidthLine(r.surfaces);
   s += fmt::format("  noise     {:.2f}% predicted (95th percentile over the vertices, by luminance x area, of the "
-                   "displayed light's relative standard error; smoothing bias not included)\n", 100 * r.noise);
+                   "displayed light's relative standard error; smoothing bias not included){}\n", 100 * r.noise,
+                   NoisePartsText(r));
   s += fmt::format("  error     {:.2f}% predicted (the RMS of H's error over the vertices, relative to their mean H): "
                    "noise {:.2f}%, smoothing bias {:.2f}%\n", 100 * r.error.Total(), 100 * r.error.noise, 100 * r.error.bias);
   if (r.options.sh)
@@ -351,6 +367,7 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
   j["progressive"] = ProgressiveJson(r.progressive);
   j["noise"] = r.noise;
   j["predicted_error"] = {{"total", r.error.Total()}, {"noise", r.error.noise}, {"bias", r.error.bias}};
+  j["noise_parts"] = {{"photons", r.noiseParts.photons}, {"points", r.noiseParts.points}, {"gathered", r.noiseParts.gathered}};
   if (r.options.sh) j["direction_noise_deg"] = r.directionNoise * 180 / kPi;
   const std::vector<size_t> surfaces =
       Listed(r.surfaces, r.options.reportAll, [](const SurfaceReport& a, const SurfaceReport& b) { return a.area > b.area; });

@@ -70,6 +70,7 @@ struct BakeReport {
   ProgressiveReport progressive;  // --resume, --save-photons, --target-noise rounds, interruption
   double noise = 0;  // the bake's predicted noise: 95th percentile of sigma_L / L (baker/photons/progressive.h, BakeNoise)
   BakeError error;   // its predicted relative RMS error of H, noise and bias (baker/photons/progressive.h, PredictedError)
+  NoiseParts noiseParts;  // the noise of each source alone (baker/photons/progressive.h, BakeNoiseParts)
   double directionNoise = 0;  // with --sh, BakeDirectionNoise of the written mesh [rad]
 
   double TotalSeconds() const;
@@ -90,6 +91,7 @@ struct BakeResults {
   const ProgressiveReport& progressive;
   double noise;  // BakeNoise of the vertices before refinement
   BakeError error;  // PredictedError of the same vertices
+  NoiseParts noiseParts;  // BakeNoiseParts of the same vertices
   const std::vector<std::pair<std::string, double>>& stageSeconds;
   const std::vector<std::string>& warnings;
 };

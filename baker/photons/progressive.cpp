@@ -113,6 +113,11 @@ double BakeNoise(const BakedMesh& baked, double photonScale, double pointScale) 
   return VertexNoise(baked).Percentile(photonScale, pointScale);
 }
 
+NoiseParts BakeNoiseParts(const BakedMesh& baked) {
+  const VertexNoise vertices(baked);
+  return {vertices.Percentile(1, 0, 0), vertices.Percentile(0, 1, 0), vertices.Percentile(0, 0, 1)};
+}
+
 BakeError PredictedError(const BakedMesh& baked, double photonScale, double pointScale, double biasScale,
                          double gatheredScale) {
   const size_t n = baked.irradiance.size();

@@ -196,6 +196,21 @@ TEST(RoundPlan, PlansForLessThanTheTarget) {
   EXPECT_NEAR(next.directNoise, 0.6 * kPlanMargin * 0.03, 1e-8);  // 60%: the points' share
 }
 
+// The noise of each source alone, by the same percentile: on a triangle whose vertices read 6% with a fifth of the
+// variance the photons', 6% sqrt(0.2) and 6% sqrt(0.8); with half the rest gathered in a gap, that half apart.
+TEST(RoundPlan, TheNoiseOfEachSourceAlone) {
+  BakedMesh baked = NoisyTriangle(0.06, 0.2);
+  NoiseParts parts = BakeNoiseParts(baked);
+  EXPECT_NEAR(parts.photons, 0.06 * std::sqrt(0.2), 1e-9);
+  EXPECT_NEAR(parts.points, 0.06 * std::sqrt(0.8), 1e-9);
+  EXPECT_EQ(parts.gathered, 0);
+  baked.gatheredVarianceShare.assign(3, 0.4);
+  parts = BakeNoiseParts(baked);
+  EXPECT_NEAR(parts.points, 0.06 * std::sqrt(0.4), 1e-9);
+  EXPECT_NEAR(parts.gathered, 0.06 * std::sqrt(0.4), 1e-9);
+  EXPECT_NEAR(BakeNoise(baked), 0.06, 1e-9);
+}
+
 // The same bake with --direct-samples given: the rays stay, no photon count helps, and the rounds end saying so.
 TEST(RoundPlan, StopsWhenOnlyTheGivenShadowRaysCouldLowerTheNoise) {
   const NextRound next = PlanNextRound(NoisyTriangle(0.06, 0.2), Round(256, false), kLimits);

@@ -366,6 +366,9 @@ TEST(BakeCli, QualityPresetsAreTargetsWithTheScenesH) {
   ASSERT_FALSE(rounds.empty());
   EXPECT_LE(rounds.back().at("error").get<double>(), 0.08);
   EXPECT_TRUE(draft.at("progressive").at("target_met").get<bool>());
+  // With the photons carrying all the light, their noise alone is the bake's.
+  EXPECT_DOUBLE_EQ(draft.at("noise_parts").at("photons").get<double>(), draft.at("noise").get<double>());
+  EXPECT_EQ(draft.at("noise_parts").at("points").get<double>(), 0.0);
   const test::PlyData ply = test::ReadPly(dir + "/out.ply");
   double sum = 0, squared = 0, n = 0;
   for (size_t v = 0; v < ply.VertexCount(); ++v) {
@@ -376,9 +379,14 @@ TEST(BakeCli, QualityPresetsAreTargetsWithTheScenesH) {
   const double rmse = std::sqrt(squared / n) / (sum / n);
   std::printf("draft: relative RMS error %.4f against its target 0.08\n", rmse);
   EXPECT_LT(rmse, 1.5 * 0.08);
-  const nlohmann::json sampled = report("--quality draft").at("options");
+  const nlohmann::json sampledReport = report("--quality draft");
+  const nlohmann::json& sampled = sampledReport.at("options");
   EXPECT_EQ(sampled.at("direct_samples"), 32);
   EXPECT_EQ(sampled.at("gap_paths"), 32);
+  const double noise = sampledReport.at("noise").get<double>();  // each source alone is at most the whole
+  EXPECT_GT(sampledReport.at("noise_parts").at("points").get<double>(), 0.0);
+  for (const char* part : {"photons", "points", "gathered"})
+    EXPECT_LE(sampledReport.at("noise_parts").at(part).get<double>(), noise) << part;
   EXPECT_EQ(report("--quality draft --direct-samples 64").at("options").at("direct_samples"), 64);
   EXPECT_FLOAT_EQ(report("--quality medium --direct photons").at("options").at("target_noise").get<float>(), 0.03f);
   const nlohmann::json given = report("--quality production --photons 1000 --h 0.2 --direct-samples 9 --target-noise 0.5");
