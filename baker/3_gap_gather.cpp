@@ -47,9 +47,9 @@ GapGather::GapGather(const PreparedScene& scene, const PhotonIrradiance& photons
       gatherer_(scene.scene, *scene.rays, lights, IrradianceGatherer::kMaxDepth, guide),
       small_(SmallSurfaces(scene.surfaces, photons, settings)) {}
 
-bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
-  if (SmallerThanKernel(p.surface)) return true;
-  if (settings_.edges && OnBoundary(p, start)) return true;
+GapGather::Kind GapGather::KindOf(const SurfacePoint& p, const SurfacePoint& start) const {
+  if (SmallerThanKernel(p.surface)) return Kind::kSmallSurface;
+  if (settings_.edges && OnBoundary(p, start)) return Kind::kEdge;
   const float reach = settings_.reach * photons_.Bandwidth(p.surface);
   const RayScene& rays = *scene_.rays;
   const Frame frame = Frame::FromNormal(p.normal);
@@ -58,14 +58,14 @@ bool GapGather::InGap(const SurfacePoint& p, const SurfacePoint& start) const {
   // The decision, parallel >= needed, is known as soon as enough probes have met a surface or too few are left to.
   const auto needed = uint32_t(std::ceil(settings_.facing * float(settings_.probes)));
   // Where nothing lies in front within reach (most points of a room, an LED's face), every probe would miss.
-  if (needed > 0 && !rays.MayMeetInFront(origin, p.normal, reach)) return false;
+  if (needed > 0 && !rays.MayMeetInFront(origin, p.normal, reach)) return Kind::kNone;
   uint32_t parallel = 0;
   for (uint32_t k = 0; k < settings_.probes && parallel < needed && parallel + (settings_.probes - k) >= needed; ++k) {
     const Vector3 w = frame.ToWorld(SampleCosineHemisphere(rng.Uniform2()).direction);
     const auto hit = rays.Intersect(origin, w, reach);
     if (hit && std::abs(Dot(scene_.scene.FrontNormal(hit->triangle), p.normal)) >= kParallelCosine) ++parallel;
   }
-  return parallel >= needed;
+  return parallel >= needed ? Kind::kNarrowGap : Kind::kNone;
 }
 
 NoisyIrradiance GapGather::Gathered(const SurfacePoint& p, const SurfacePoint& start, IncidentMoments* moments) const {

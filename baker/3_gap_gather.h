@@ -47,9 +47,11 @@ class GapGather final : public ScatteredLightField {
   GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const LightSampler& lights,
             const GapSettings& settings, uint64_t seed, const ImportanceCache* guide = nullptr);
 
-  // Whether p, whose rays start at `start` (RayStart), lies in a gap, on a surface smaller than its kernel, or
-  // (with `edges`) on a planar surface's boundary.
-  bool InGap(const SurfacePoint& p, const SurfacePoint& start) const;
+  // Why p, whose rays start at `start` (RayStart), is gathered: on a surface smaller than its kernel, (with `edges`)
+  // on a planar surface's boundary, or in a narrow gap; kNone when it is not.
+  enum class Kind { kNone, kSmallSurface, kEdge, kNarrowGap };
+  Kind KindOf(const SurfacePoint& p, const SurfacePoint& start) const;
+  bool InGap(const SurfacePoint& p, const SurfacePoint& start) const { return KindOf(p, start) != Kind::kNone; }
   // E_s at p by `paths` gathered paths, and its relative noise; with `moments`, their moments added to it.
   NoisyIrradiance Gathered(const SurfacePoint& p, const SurfacePoint& start, IncidentMoments* moments = nullptr) const;
 

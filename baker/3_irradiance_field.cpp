@@ -26,16 +26,20 @@ const ImportanceCache* IrradianceField::Guide(std::unique_ptr<ImportanceCache> g
   return guide_.get();
 }
 
-std::optional<NoisyIrradiance> IrradianceField::GapTerm(const SurfacePoint& p) const {
+std::optional<IrradianceField::GapTerm> IrradianceField::Gap(const SurfacePoint& p) const {
   if (!gaps_) return std::nullopt;
   const SurfacePoint start = RayStart(*scene_, p);
-  if (!gaps_->InGap(p, start)) return std::nullopt;
-  return gaps_->Gathered(p, start);
+  const GapGather::Kind kind = gaps_->KindOf(p, start);
+  if (kind == GapGather::Kind::kNone) return std::nullopt;
+  const NoisyIrradiance gathered = gaps_->Gathered(p, start);
+  if (kind != GapGather::Kind::kNarrowGap) return GapTerm{Blend(gathered, {}, 1), std::nullopt};
+  const NoisyIrradiance photons = contributions_.front()->WithNoise(p);
+  return GapTerm{Blend(gathered, photons, GapWeightOf(p.surface).alpha), std::pair(gathered, photons)};
 }
 
 Rgb IrradianceField::Irradiance(const SurfacePoint& p) const {
-  const std::optional<NoisyIrradiance> gap = GapTerm(p);
-  Rgb sum = gap ? gap->irradiance : contributions_.front()->At(p);
+  const std::optional<GapTerm> gap = Gap(p);
+  Rgb sum = gap ? gap->blended.value.irradiance : contributions_.front()->At(p);
   for (size_t i = 1; i < contributions_.size(); ++i) sum = sum + contributions_[i]->At(p);
   return sum;
 }
@@ -50,34 +54,66 @@ SurfaceLight IrradianceField::Light(const SurfacePoint& p) const { return LightW
 IncidentMoments IrradianceField::Moments(const SurfacePoint& p) const {
   IncidentMoments moments;
   const std::optional<SurfacePoint> start = gaps_ ? std::optional(RayStart(*scene_, p)) : std::nullopt;
-  if (start && gaps_->InGap(p, *start)) gaps_->Gathered(p, *start, &moments);
-  else contributions_.front()->AddMoments(p, moments);
+  const GapGather::Kind kind = start ? gaps_->KindOf(p, *start) : GapGather::Kind::kNone;
+  const double alpha = kind == GapGather::Kind::kNarrowGap ? GapWeightOf(p.surface).alpha : 1.0;
+  if (kind != GapGather::Kind::kNone && alpha >= 1) {
+    gaps_->Gathered(p, *start, &moments);
+  } else if (kind != GapGather::Kind::kNone) {  // a narrow gap's mix, as its H
+    IncidentMoments gathered, photons;
+    gaps_->Gathered(p, *start, &gathered);
+    contributions_.front()->AddMoments(p, photons);
+    moments.Add(gathered, float(alpha)), moments.Add(photons, float(1 - alpha));
+  } else {
+    contributions_.front()->AddMoments(p, moments);
+  }
   for (size_t i = 1; i < contributions_.size(); ++i) contributions_[i]->AddMoments(p, moments);
   return moments;
 }
 
+void IrradianceField::SetNoise(SurfaceLight& light, uint32_t surface, float areaRatio, const GapTerm* gap,
+                               const NoisyIrradiance& first, const IndependentSum& sum) const {
+  const NoisyIrradiance total = sum.Total();
+  light.irradiance = total.irradiance;
+  light.relativeNoise = total.relativeNoise;
+  const double all = sum.Variance(), mean = Luminance(total.irradiance);
+  // Outside a gap the first term is the photons'; in one, the gathered paths' or their mix with the photons'.
+  const double photonVariance = gap ? gap->blended.photonVariance : first.Variance();
+  const double photonLight = Luminance(gap ? gap->blended.photonPart : first.irradiance);
+  light.photonVarianceShare = all > 0 ? photonVariance / all : 1.0;
+  light.gatheredVarianceShare = all > 0 && gap ? gap->blended.gatheredVariance / all : 0.0;
+  light.sampledShare = mean > 0 ? std::clamp(1 - photonLight / mean, 0.0, 1.0) : 0.0;
+  // The photons' bias: their surface's outside a gap; in a narrow gap, what the mix keeps of it; else none.
+  const GapWeight weight = GapWeightOf(surface);
+  const double bias = !gap ? photons_->Bias(surface) * areaRatio : gap->estimates ? (1 - weight.alpha) * weight.bias : 0.0;
+  light.relativeBias = mean > 0 ? bias / mean : 0.0;
+}
+
 SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   // Independent contributions: their variances add (IndependentSum).
-  const std::optional<NoisyIrradiance> gap = GapTerm(p);
-  NoisyIrradiance total = gap ? *gap : contributions_.front()->WithNoise(p);
-  double photonShare = gap ? 0 : 1, gatheredShare = gap ? 1 : 0;
-  const double photonLight = gap ? 0 : Luminance(total.irradiance);
-  if (contributions_.size() > 1) {
-    IndependentSum sum(total);
-    const double first = sum.Variance();  // the photons', or the gathered paths' in a gap
-    for (size_t i = 1; i < contributions_.size(); ++i) sum.Add(contributions_[i]->WithNoise(p));
-    total = sum.Total();
-    const double all = sum.Variance();
-    photonShare = all > 0 ? (gap ? 0 : first / all) : 1.0;
-    gatheredShare = all > 0 && gap ? first / all : 0.0;
+  const std::optional<GapTerm> gap = Gap(p);
+  const NoisyIrradiance first = gap ? gap->blended.value : contributions_.front()->WithNoise(p);
+  IndependentSum sum(first);
+  NoisyIrradiance rest;  // the other terms' sum: the one other term itself (the direct light), as Remix adds it
+  for (size_t i = 1; i < contributions_.size(); ++i) {
+    const NoisyIrradiance term = contributions_[i]->WithNoise(p);
+    sum.Add(term);
+    IndependentSum others(rest);
+    others.Add(term);
+    rest = i == 1 ? term : others.Total();
   }
-  SurfaceLight light = LightWith(p, total.irradiance);
-  light.relativeNoise = total.relativeNoise;
-  light.photonVarianceShare = photonShare, light.gatheredVarianceShare = gatheredShare;
-  const double all = Luminance(total.irradiance);
-  light.sampledShare = all > 0 ? std::clamp(1 - photonLight / all, 0.0, 1.0) : 0.0;
-  light.relativeBias = all > 0 && !gap ? photons_->Bias(p.surface) * p.areaRatio / all : 0.0;
+  SurfaceLight light = LightWith(p, first.irradiance);
+  SetNoise(light, p.surface, p.areaRatio, gap ? &*gap : nullptr, first, sum);
+  if (gap && gap->estimates) light.gap = {p.surface, gap->estimates->first, gap->estimates->second, rest};
   return light;
+}
+
+void IrradianceField::Remix(SurfaceLight& light) const {
+  if (!light.gap.Present()) return;
+  const GapPair& pair = light.gap;
+  const GapTerm gap{Blend(pair.gathered, pair.photons, GapWeightOf(pair.surface).alpha), std::pair(pair.gathered, pair.photons)};
+  IndependentSum sum(gap.blended.value);
+  sum.Add(pair.rest);
+  SetNoise(light, pair.surface, 1.0f, &gap, gap.blended.value, sum);
 }
 
 namespace {
@@ -150,7 +186,7 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
   baked.emitted.resize(n);
   if (withNoise)
     baked.irradianceNoise.assign(n, 0.0), baked.photonVarianceShare.assign(n, 1.0), baked.sampledShare.assign(n, 0.0),
-        baked.irradianceBias.assign(n, 0.0), baked.gatheredVarianceShare.assign(n, 0.0);
+        baked.irradianceBias.assign(n, 0.0), baked.gatheredVarianceShare.assign(n, 0.0), baked.gapPairs.assign(n, {});
   ForEachVertex(mesh, log, "estimate irradiance", owns, [&](size_t v, const SurfacePoint& p) {
     const SurfaceLight light = withNoise ? field.LightWithNoise(p) : field.Light(p);
     baked.irradiance[v] = light.irradiance;
@@ -159,11 +195,26 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
     if (withNoise) {
       baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
       baked.sampledShare[v] = light.sampledShare, baked.irradianceBias[v] = light.relativeBias;
-      baked.gatheredVarianceShare[v] = light.gatheredVarianceShare;
+      baked.gatheredVarianceShare[v] = light.gatheredVarianceShare, baked.gapPairs[v] = light.gap;
     }
   });
   baked.mesh = std::move(mesh);
   return baked;
+}
+
+void WeighGatheredPaths(IrradianceField& field, BakedMesh& baked) {
+  if (baked.gapPairs.empty()) return;
+  field.WeighGaps(LearnGapWeights(baked.gapPairs, field.Prepared().surfaces.surfaces.size()));
+  for (size_t v = 0; v < baked.gapPairs.size(); ++v) {
+    if (!baked.gapPairs[v].Present()) continue;
+    SurfaceLight light{baked.irradiance[v], baked.albedo[v], baked.emitted[v]};
+    light.gap = baked.gapPairs[v];
+    field.Remix(light);
+    baked.irradiance[v] = light.irradiance, baked.irradianceNoise[v] = light.relativeNoise;
+    baked.photonVarianceShare[v] = light.photonVarianceShare, baked.gatheredVarianceShare[v] = light.gatheredVarianceShare;
+    baked.sampledShare[v] = light.sampledShare, baked.irradianceBias[v] = light.relativeBias;
+  }
+  baked.gapPairs = {};
 }
 
 void EstimateDirections(const IrradianceField& field, BakedMesh& baked, const Log& log) {

@@ -16,7 +16,8 @@
 //   reference with --reference SPP, all of H by SPP paths gathered at the point (estimators/irradiance_gather.h),
 //            a path tracer's vertex bake; no photons are traced then.
 // With --direct sampled, at a point in a narrow gap (or on a surface smaller than its kernel) the photons' term is
-// replaced by the scattered light gathered there (baker/3_gap_gather.h).
+// replaced by the scattered light gathered there (baker/3_gap_gather.h); in a narrow gap, once the field has
+// weighed its surface's gathered paths against the photons (WeighGaps, baker/3_gap_weights.h), by their mix.
 //
 // With --sh the field also says where the light at a point comes from: the moments of its incident radiance, the
 // sum of every term's (estimators/incident_moments.h), each from the same samples (and photons) as its H.
@@ -33,6 +34,7 @@
 #include "baker/2_bin_photons.h"
 #include "baker/3_contributions.h"
 #include "baker/3_gap_gather.h"
+#include "baker/3_gap_weights.h"
 #include "baker/baked_mesh.h"
 #include "baker/options.h"
 #include "baker/runtime/progress.h"
@@ -49,6 +51,7 @@ struct SurfaceLight {
   double gatheredVarianceShare = 0;  // of relativeNoise^2: the paths gathered in a gap (of the points' samples)
   double sampledShare = 0;         // of the irradiance's luminance: the points' samples'; the rest is the photons'
   double relativeBias = 0;         // the photons' predicted smoothing bias (their surface's RMS), relative to H's luminance
+  GapPair gap;  // LightWithNoise in a narrow gap: the gathered and the photons' estimates, and the rest of H
   Rgb Radiance() const { return OutgoingRadiance(emitted, albedo, irradiance); }
 };
 
@@ -63,6 +66,10 @@ class IrradianceField {
   // The importance maps that guide the gathered paths' first directions (--guide-photons), kept for the field's
   // life; null when none.
   const ImportanceCache* Guide(std::unique_ptr<ImportanceCache> guide);
+  // From here on, mixes the gathered light of each surface's narrow gaps with the photons' by its weight
+  // (LearnGapWeights, from the vertices' GapPairs); before, or on a surface without one, the gathered light alone.
+  void WeighGaps(std::vector<GapWeight> weights) { gapWeights_ = std::move(weights); }
+  GapWeight GapWeightOf(uint32_t s) const { return s < gapWeights_.size() ? gapWeights_[s] : GapWeight{}; }
 
   Rgb Irradiance(const SurfacePoint& p) const;
   SurfaceLight Light(const SurfacePoint& p) const;
@@ -70,6 +77,9 @@ class IrradianceField {
   SurfaceLight LightWithNoise(const SurfacePoint& p) const;
   // R and Le at p with H given (refinement's cached irradiance grid).
   SurfaceLight LightWith(const SurfacePoint& p, Rgb irradiance) const;
+  // H and its noise at a vertex in a narrow gap from its two estimates (SurfaceLight::gap) and its surface's weight:
+  // LightWithNoise's bit for bit, with R and Le left as `light` has them.
+  void Remix(SurfaceLight& light) const;
   // Builds the estimators of the photons' moments from `bins` (the field's own, with directions: --sh), with their
   // progress on `log`; once, before Moments.
   void PrepareMoments(const SurfaceBins& bins, const Log* log = nullptr) { photons_->BuildMoments(*scene_, bins, log); }
@@ -82,14 +92,23 @@ class IrradianceField {
   const PreparedScene& Prepared() const { return *scene_; }
 
  private:
-  // The gathered term that replaces the photons' at p, if p lies in a gap.
-  std::optional<NoisyIrradiance> GapTerm(const SurfacePoint& p) const;
+  // The gathered term that replaces the photons' at p, if p lies in a gap: in a narrow gap, mixed with the photons'
+  // by its surface's weight, with the two estimates it was mixed from.
+  struct GapTerm {
+    BlendedGap blended;
+    std::optional<std::pair<NoisyIrradiance, NoisyIrradiance>> estimates;  // narrow gap: gathered, photons
+  };
+  std::optional<GapTerm> Gap(const SurfacePoint& p) const;
+  // H's noise and its split from the first term (the photons', or the gap's) and the sum of all terms.
+  void SetNoise(SurfaceLight& light, uint32_t surface, float areaRatio, const GapTerm* gap,
+                const NoisyIrradiance& first, const IndependentSum& sum) const;
 
   const PreparedScene* scene_;
   PhotonIrradiance* photons_;
   std::vector<std::unique_ptr<IrradianceContribution>> contributions_;  // photons first
   std::unique_ptr<GapGather> gaps_;                                     // or null
   std::unique_ptr<ImportanceCache> guide_;                              // or null
+  std::vector<GapWeight> gapWeights_;                                   // per surface, or empty: alpha 1
 };
 
 // What the field is made of: the photons' estimator, and the terms computed at the points.
@@ -125,6 +144,11 @@ inline constexpr size_t kVertexChunk = 1024;
 // them out, baker/distribution.h); the others read 0.
 BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise = false,
                              const std::function<bool(size_t)>& owns = {});
+
+// Learns each surface's weight of its narrow gaps' gathered paths from `baked`'s vertices (their GapPairs, which it
+// empties), gives the field the weights, and mixes those vertices' light by them (IrradianceField::Remix): the bake's
+// vertices then read what the field says at the same points. Deterministic: the vertices are summed in order.
+void WeighGatheredPaths(IrradianceField& field, BakedMesh& baked);
 
 // The L1 SH of the light at every vertex of `baked` (BakedMesh::sh), each with its component along the vertex's
 // normal set to the vertex's H (ShProjection), and the noise of its direction (BakedMesh::directionNoise), in

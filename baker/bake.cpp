@@ -198,7 +198,7 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
   };
   gather(baked.irradiance), gather(baked.albedo), gather(baked.emitted);
   gather(baked.irradianceNoise), gather(baked.photonVarianceShare), gather(baked.sampledShare);
-  gather(baked.irradianceBias), gather(baked.gatheredVarianceShare);
+  gather(baked.irradianceBias), gather(baked.gatheredVarianceShare), gather(baked.gapPairs);
 }
 
 // Stage 3 from the round's photons at the vertices of `base`, with each vertex's noise and the bake's; with a
@@ -223,6 +223,7 @@ bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, 
   if (stopped) return false;
   lit.baked = std::move(baked);
   if (d != nullptr) clock.Time("estimate", [&] { GatherVertices(lit.baked, *d); });
+  if (d == nullptr || d->Root()) clock.Time("estimate", [&] { WeighGatheredPaths(*lit.field, lit.baked); });
   if (d == nullptr || d->Root())
     clock.Time("noise", [&] {
       lit.noise = BakeNoise(lit.baked), lit.error = PredictedError(lit.baked), lit.noiseParts = BakeNoiseParts(lit.baked);

@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "baker/3_gap_weights.h"
 #include "estimators/incident_moments.h"
 #include "mesh/color.h"
 #include "mesh/split_mesh.h"
@@ -33,6 +34,9 @@ struct BakedMesh {
   // (estimators/bandwidth.h, PredictedBias) over the vertex's H; 0 where paths are gathered. Filled with
   // irradianceNoise.
   std::vector<double> irradianceBias;
+  // Per vertex in a narrow gap, its two estimates of the scattered light (baker/3_gap_weights.h), from which
+  // WeighGatheredPaths learns each surface's weight and mixes them; emptied once it has. Filled with irradianceNoise.
+  std::vector<GapPair> gapPairs;
   // With --sh: per vertex, the L1 SH of its incident radiance per colour (estimators/incident_moments.h); else empty.
   std::vector<ShL1> sh;
   std::vector<double> directionNoise;  // with --sh: the standard error of each vertex's L1 direction [rad]
