@@ -17,7 +17,7 @@ GapWeight WeightOf(const GapSums& s) {
   const double gathered = s.gatheredVariance / s.count, photons = s.photonVariance / s.count;
   const double bias2 = std::max(s.squaredDifference / s.count - gathered - photons, 0.0);
   const double all = bias2 + photons + gathered;
-  return {all > 0 ? (bias2 + photons) / all : 1.0, std::sqrt(bias2)};
+  return {all > 0 ? (bias2 + photons) / all : 1.0, std::sqrt(bias2), uint32_t(s.count)};
 }
 
 }  // namespace

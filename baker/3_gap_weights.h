@@ -32,10 +32,11 @@ struct GapPair {
   bool Present() const { return surface != kNone; }
 };
 
-// Per surface: the weight of the gathered paths, and the photons' RMS bias at its narrow-gap vertices [W/m^2,
-// luminance] (what 1 - alpha of it leaves in H).
+// Per surface: the weight of the gathered paths, the photons' RMS bias at its narrow-gap vertices [W/m^2,
+// luminance] (what 1 - alpha of it leaves in H), and how many vertices it was learned from.
 struct GapWeight {
   double alpha = 1, bias = 0;
+  uint32_t vertices = 0;
 };
 
 // The weights of surfaces 0 .. surfaces - 1 from the narrow-gap vertices among `pairs` (any order; summed in

@@ -70,6 +70,7 @@ class IrradianceField {
   // (LearnGapWeights, from the vertices' GapPairs); before, or on a surface without one, the gathered light alone.
   void WeighGaps(std::vector<GapWeight> weights) { gapWeights_ = std::move(weights); }
   GapWeight GapWeightOf(uint32_t s) const { return s < gapWeights_.size() ? gapWeights_[s] : GapWeight{}; }
+  const std::vector<GapWeight>& GapWeights() const { return gapWeights_; }  // per surface; empty before WeighGaps
 
   Rgb Irradiance(const SurfacePoint& p) const;
   SurfaceLight Light(const SurfacePoint& p) const;

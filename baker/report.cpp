@@ -212,6 +212,17 @@ std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet
   return out;
 }
 
+BakeReport::NarrowGaps DescribeNarrowGaps(const std::vector<GapWeight>& weights) {
+  BakeReport::NarrowGaps g;
+  double weighted = 0;
+  for (const GapWeight& w : weights) {
+    if (w.vertices == 0) continue;
+    g.vertices += w.vertices, ++g.surfaces, weighted += w.alpha * w.vertices;
+  }
+  if (g.vertices > 0) g.meanWeight = weighted / double(g.vertices);
+  return g;
+}
+
 }  // namespace
 
 BakeReport DescribeBake(const BakeResults& r) {
@@ -238,11 +249,19 @@ BakeReport DescribeBake(const BakeResults& r) {
   report.noise = r.noise;
   report.error = r.error;
   report.noiseParts = r.noiseParts;
+  report.narrowGaps = DescribeNarrowGaps(r.field.GapWeights());
   report.directionNoise = BakeDirectionNoise(r.mesh);
   return report;
 }
 
 namespace {
+
+// "  gaps      ...", or "" where no vertex lies in a narrow gap.
+std::string NarrowGapsLine(const BakeReport::NarrowGaps& g) {
+  if (g.vertices == 0) return "";
+  return fmt::format("  gaps      {} vertices in narrow gaps on {} surfaces, their gathered light weighed against the "
+                     "photons': mean weight {:.3f} (1: the gathered light alone)\n", g.vertices, g.surfaces, g.meanWeight);
+}
 
 // "; alone: photons 2.10%, shadow rays 8.40%, gathered paths 60.30%", the sources that contribute; "" with one.
 std::string NoisePartsText(const BakeReport& r) {
@@ -287,6 +306,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   s += fmt::format("  noise     {:.2f}% predicted (95th percentile over the vertices, by luminance x area, of the "
                    "displayed light's relative standard error; smoothing bias not included){}\n", 100 * r.noise,
                    NoisePartsText(r));
+  s += NarrowGapsLine(r.narrowGaps);
   s += fmt::format("  error     {:.2f}% predicted (the RMS of H's error over the vertices, relative to their mean H): "
                    "noise {:.2f}%, smoothing bias {:.2f}%\n", 100 * r.error.Total(), 100 * r.error.noise, 100 * r.error.bias);
   if (r.options.sh)
@@ -368,6 +388,8 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
   j["noise"] = r.noise;
   j["predicted_error"] = {{"total", r.error.Total()}, {"noise", r.error.noise}, {"bias", r.error.bias}};
   j["noise_parts"] = {{"photons", r.noiseParts.photons}, {"points", r.noiseParts.points}, {"gathered", r.noiseParts.gathered}};
+  j["narrow_gaps"] = {{"vertices", r.narrowGaps.vertices}, {"surfaces", r.narrowGaps.surfaces},
+                      {"mean_weight", r.narrowGaps.meanWeight}};
   if (r.options.sh) j["direction_noise_deg"] = r.directionNoise * 180 / kPi;
   const std::vector<size_t> surfaces =
       Listed(r.surfaces, r.options.reportAll, [](const SurfaceReport& a, const SurfaceReport& b) { return a.area > b.area; });

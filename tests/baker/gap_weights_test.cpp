@@ -7,15 +7,18 @@
 //  - a surface with no narrow-gap vertex keeps the gathered light (weight 1), and a weight of 1 gives the gathered
 //    estimate bit for bit;
 //  - in a bake (the grey slab 3 mm over a floor, test::WriteGapScene), the vertices mixed after the estimate read
-//    what the field then says at the same points, bit for bit.
+//    what the field then says at the same points, bit for bit; the report counts the narrow-gap vertices and
+//    their surfaces, with their mean weight.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "baker/1_trace_photons.h"
+#include "baker/bake.h"
 #include "baker/2_bin_photons.h"
 #include "baker/3_gap_weights.h"
 #include "baker/3_irradiance_field.h"
@@ -144,6 +147,24 @@ TEST(GapWeights, MixedVerticesReadWhatTheFieldSays) {
     ASSERT_EQ(baked.irradiance[v].g, again.irradiance[v].g) << "vertex " << v;
     ASSERT_EQ(baked.irradiance[v].b, again.irradiance[v].b) << "vertex " << v;
   }
+}
+
+TEST(GapWeights, TheReportCountsTheNarrowGapsAndTheirWeight) {
+  const std::string dir = test::TempDirectory("gap-weights-report");
+  BakeOptions o;
+  o.scenePath = test::WriteGapScene(dir);
+  o.outputPath = dir + "/out.ply";
+  o.photons = 200'000;
+  o.estimator.bandwidth = 0.1f;
+  o.direct.samples = 16;
+  o.gaps.paths = 16;
+  o.quiet = true;
+  const BakeResult r = BakeMesh(o, Log(true));
+  const BakeReport::NarrowGaps& g = r.report.narrowGaps;
+  EXPECT_GT(g.vertices, 50u) << "the floor under the slab, the slab's underside, the ceiling over the light";
+  EXPECT_GE(g.surfaces, 3u);
+  EXPECT_GT(g.meanWeight, 0);
+  EXPECT_LE(g.meanWeight, 1);
 }
 
 }  // namespace
