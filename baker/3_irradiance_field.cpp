@@ -88,6 +88,16 @@ void IrradianceField::SetNoise(SurfaceLight& light, uint32_t surface, float area
   light.relativeBias = mean > 0 ? bias / mean : 0.0;
 }
 
+namespace {
+
+NoisyIrradiance Sum(const NoisyIrradiance& a, const NoisyIrradiance& b) {
+  IndependentSum sum(a);
+  sum.Add(b);
+  return sum.Total();
+}
+
+}  // namespace
+
 SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   // Independent contributions: their variances add (IndependentSum).
   const std::optional<GapTerm> gap = Gap(p);
@@ -97,9 +107,7 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   for (size_t i = 1; i < contributions_.size(); ++i) {
     const NoisyIrradiance term = contributions_[i]->WithNoise(p);
     sum.Add(term);
-    IndependentSum others(rest);
-    others.Add(term);
-    rest = i == 1 ? term : others.Total();
+    rest = i == 1 ? term : Sum(rest, term);
   }
   SurfaceLight light = LightWith(p, first.irradiance);
   SetNoise(light, p.surface, p.areaRatio, gap ? &*gap : nullptr, first, sum);

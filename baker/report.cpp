@@ -259,8 +259,9 @@ namespace {
 // "  gaps      ...", or "" where no vertex lies in a narrow gap.
 std::string NarrowGapsLine(const BakeReport::NarrowGaps& g) {
   if (g.vertices == 0) return "";
-  return fmt::format("  gaps      {} vertices in narrow gaps on {} surfaces, their gathered light weighed against the "
-                     "photons': mean weight {:.3f} (1: the gathered light alone)\n", g.vertices, g.surfaces, g.meanWeight);
+  return fmt::format("  gaps      {} vertices in narrow gaps on {} surface{}, their gathered light weighed against the "
+                     "photons': mean weight {:.3f} (1: the gathered light alone)\n", g.vertices, g.surfaces,
+                     g.surfaces == 1 ? "" : "s", g.meanWeight);
 }
 
 // "; alone: photons 2.10%, shadow rays 8.40%, gathered paths 60.30%", the sources that contribute; "" with one.
