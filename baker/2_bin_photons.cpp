@@ -237,4 +237,13 @@ SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, cons
   return bins;
 }
 
+void PoolSparseHits(const Scene& scene, const SurfaceSet& surfaces, const PhotonStore& store, SurfaceBins& bins) {
+  bins.pooled.clear(), bins.pooledTriangles.clear();
+  store.ForEach([&](const PhotonHit& hit, Rgb flux) {
+    if (!hit.OnFront() || !bins.Sparse(surfaces.surfaceOfTriangle[hit.Triangle()])) return;
+    bins.pooled.push_back({scene.PointAt(hit.Triangle(), hit.b1, hit.b2), hit.Wi(), flux, scene.FrontNormal(hit.Triangle())});
+    bins.pooledTriangles.push_back(hit.Triangle());
+  });
+}
+
 }  // namespace pb

@@ -29,6 +29,7 @@
 #include "estimators/binned_photons.h"
 #include "estimators/density_estimator.h"
 #include "estimators/incident_moments.h"
+#include "estimators/photon_map.h"
 
 namespace pb {
 
@@ -59,6 +60,10 @@ struct SurfaceTally {
 // A surface's node sums, per domain (open, covered), null where that domain is not binned.
 using DomainSums = std::array<std::unique_ptr<BinnedPhotons>, 2>;
 
+// Surfaces with fewer front hits than this are sparse: with --h auto they are estimated from photons pooled with
+// their sparse neighbours' (estimators/pooled_estimator.h), since their own could not read below 10% noise.
+inline constexpr uint64_t kPooledBelowHits = 100;
+
 struct SurfaceBins {
   std::vector<uint32_t> start;  // surface s owns entries [start[s], start[s+1]) of the stored hits
   std::vector<Point2> uv;       // chart position [m]
@@ -76,7 +81,13 @@ struct SurfaceBins {
   // With directions, the same for each of their weighted fluxes (estimators/incident_moments.h, MomentFluxes).
   std::array<std::vector<DomainSums>, kMomentFluxes> tracedMoments;
 
+  // The stored front hits of the sparse surfaces (PoolSparseHits), at their positions in the scene [m], with their
+  // side's normal and flux [W], in store order; empty until pooled.
+  std::vector<MapPhoton> pooled;
+  std::vector<uint32_t> pooledTriangles;  // the triangle each pooled hit lies on
+
   size_t SurfaceCount() const { return start.size() - 1; }
+  bool Sparse(size_t s) const { return FrontHits(s) < kPooledBelowHits; }
   uint64_t FrontHits(size_t s) const { return tally[s].frontHits; }
   uint64_t BackHits(size_t s) const { return tally[s].backHits; }
   std::span<const Point2> Uv(size_t s) const { return {uv.data() + start[s], start[s + 1] - start[s]}; }
@@ -130,5 +141,8 @@ SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, cons
 // sums and tallies when the photons were binned while traced (then `plan` is the binner's).
 SurfaceBins BinPhotons(const SurfaceSet& surfaces, const PhotonStore& hits, const Log& log, const BinningPlan& plan,
                        PhotonBinner* binner = nullptr, const Scene* directionsIn = nullptr);
+
+// Fills bins.pooled from the hits `store` holds on the front of sparse surfaces (SurfaceBins::Sparse).
+void PoolSparseHits(const Scene& scene, const SurfaceSet& surfaces, const PhotonStore& store, SurfaceBins& bins);
 
 }  // namespace pb

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <optional>
 
+#include "baker/photons/progressive.h"
 #include "estimators/bandwidth.h"
 
 namespace pb {
@@ -60,10 +61,51 @@ Symmetric3 PhotonCovariance(std::span<const std::unique_ptr<DensityEstimator>> a
 
 }  // namespace
 
+namespace {
+// Area samples per photon on the pooled surfaces: enough that the area within any r that holds the photons is
+// known to a few percent where the light is average, and PooledEstimator's floor of kMinAreaSamples keeps it so
+// where it is brighter.
+constexpr double kAreaSamplesPerPhoton = 4;
+
+// The area-weighted median of the surfaces' h that are not pooled [m]: the scale on which the photons say the light
+// changes, and so the farthest the pooled estimate reaches. The largest h when every surface is pooled.
+float PooledReach(const SurfaceSet& surfaces, const std::vector<bool>& pooled, const std::vector<float>& bandwidths) {
+  std::vector<double> h, area;
+  for (size_t s = 0; s < bandwidths.size(); ++s)
+    if (!pooled[s]) h.push_back(bandwidths[s]), area.push_back(surfaces.surfaces[s].area);
+  if (h.empty()) return *std::max_element(bandwidths.begin(), bandwidths.end());
+  return float(WeightedPercentile(h, area, 0.5));
+}
+}  // namespace
+
+void PhotonIrradiance::PoolSparseSurfaces(const PreparedScene& scene, const SurfaceBins& bins) {
+  pooledSurface_.assign(bins.SurfaceCount(), false);
+  std::vector<uint32_t> triangles;
+  double sparseArea = 0;
+  for (size_t s = 0; s < bins.SurfaceCount(); ++s) {
+    if (!bins.Sparse(s)) continue;
+    pooledSurface_[s] = true;
+    const Surface& surface = scene.surfaces.surfaces[s];
+    triangles.insert(triangles.end(), surface.triangles.begin(), surface.triangles.end());
+    sparseArea += surface.area;
+  }
+  if (bins.pooled.empty() || !(sparseArea > 0)) return pooledSurface_.clear();
+  const double density = double(bins.pooled.size()) / sparseArea;  // photons per m^2
+  PooledSettings settings{.maxRadius = PooledReach(scene.surfaces, pooledSurface_, bandwidths_)};
+  // Half the photons around a point face its way: twice the disc of `neighbours` at the mean density.
+  settings.startRadius = float(std::sqrt(2 * settings.neighbours / (kPi * density)));
+  AreaSamples area = SampleArea(scene.scene, triangles, kAreaSamplesPerPhoton * density);
+  std::vector<MapPhoton> photons = bins.pooled;
+  for (size_t i = 0; i < photons.size(); ++i) photons[i].normal = area.normalOf.at(bins.pooledTriangles[i]);
+  pooled_ = std::make_unique<PooledEstimator>(std::move(photons), std::move(area.samples), settings);
+}
+
 PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins,
-                                   const EstimatorSettings& settings, std::vector<float> bandwidths, const Log* log)
+                                   const EstimatorSettings& settings, std::vector<float> bandwidths, const Log* log,
+                                   bool pool)
     : settings_(settings), bandwidths_(std::move(bandwidths)), bias_(bins.SurfaceCount()),
       estimators_(bins.SurfaceCount()) {
+  if (pool) PoolSparseSurfaces(scene, bins);
   std::optional<Progress> progress;
   if (log != nullptr) progress.emplace(*log, "build estimators", bins.SurfaceCount());
   tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
@@ -105,6 +147,7 @@ void PhotonIrradiance::AddMoments(const SurfacePoint& p, IncidentMoments& moment
 }
 
 NoisyIrradiance PhotonIrradiance::WithNoise(const SurfacePoint& p) const {
+  if (Pooled(p.surface)) return pooled_->Estimate(p.position, p.normal);
   const NoisyIrradiance e = estimators_[p.surface]->EstimateWithNoise(p.uv);
   return {PerSurfaceArea(e.irradiance, p), e.relativeNoise};
 }

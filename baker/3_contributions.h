@@ -22,6 +22,7 @@
 #include "estimators/irradiance_gather.h"
 #include "estimators/light_sampler.h"
 #include "estimators/noisy_irradiance.h"
+#include "estimators/pooled_estimator.h"
 #include "mesh/errors.h"
 #include "mesh/split_mesh.h"
 
@@ -56,12 +57,19 @@ std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const Surfac
 // (F + D_m; each weight >= 0, so that no estimator sees a negative flux), c = max(cos, kGrazingCosine); D_m is their
 // difference. D's covariance comes from the estimators' own noise of the photons weighted phi |a . w| / c along six
 // axes (estimators/incident_moments.h).
+//
+// With `pool`, the sparse surfaces (SurfaceBins::Sparse, too few photons for an estimate of their own) are estimated
+// instead from the photons pooled across them (bins.pooled; estimators/pooled_estimator.h), within the area-weighted
+// median h of the other surfaces.
 class PhotonIrradiance final : public IrradianceContribution {
  public:
   PhotonIrradiance(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings,
-                   std::vector<float> bandwidths, const Log* log = nullptr);
+                   std::vector<float> bandwidths, const Log* log = nullptr, bool pool = false);
   std::string_view Name() const override { return "photons"; }
-  Rgb At(const SurfacePoint& p) const override { return PerSurfaceArea(ChartDensity(p.surface, p.uv), p); }
+  Rgb At(const SurfacePoint& p) const override {
+    return Pooled(p.surface) ? pooled_->Estimate(p.position, p.normal).irradiance
+                             : PerSurfaceArea(ChartDensity(p.surface, p.uv), p);
+  }
   NoisyIrradiance WithNoise(const SurfacePoint& p) const override;
   // The estimators of the photons' moments, from `bins` with directions (those this contribution was built from),
   // in parallel, with their progress on `log` when given; before AddMoments.
@@ -74,6 +82,13 @@ class PhotonIrradiance final : public IrradianceContribution {
     return estimators_[s]->Estimate(uv);
   }
   float Bandwidth(uint32_t s) const { return bandwidths_[s]; }
+  // Whether surface s is estimated from the pooled photons; and their estimate at a point of it [W/m^2].
+  bool Pooled(uint32_t s) const { return pooled_ && s < pooledSurface_.size() && pooledSurface_[s]; }
+  NoisyIrradiance PooledAt(Point3 position, Normal3 normal) const { return pooled_->Estimate(position, normal); }
+  // The pooled estimate's first reach [m] (PooledSettings::startRadius): a path's hit nearer than this to its last
+  // vertex would read light averaged over the path's own start.
+  float PooledRadius() const { return pooled_->Settings().startRadius; }
+  size_t PooledPhotons() const { return pooled_ ? pooled_->Photons() : 0; }
   // The smoothing bias predicted for surface s's estimate of H's luminance: its RMS over the surface [W/m^2 of
   // (u,v)] (estimators/bandwidth.h, PredictedBias).
   double Bias(uint32_t s) const { return bias_[s]; }
@@ -84,11 +99,15 @@ class PhotonIrradiance final : public IrradianceContribution {
 
  private:
   EstimatorSettings Own(size_t s) const;  // the settings with surface s's h
+  // Builds pooled_ over the sparse surfaces of `bins` (none when no photon reached them).
+  void PoolSparseSurfaces(const PreparedScene& scene, const SurfaceBins& bins);
 
   EstimatorSettings settings_;
   std::vector<float> bandwidths_;
   std::vector<double> bias_;
   std::vector<std::unique_ptr<DensityEstimator>> estimators_;
+  std::unique_ptr<PooledEstimator> pooled_;  // with `pool` and sparse surfaces lit; else null
+  std::vector<bool> pooledSurface_;          // per surface, when pooled_
   // Once built: per surface, the estimators of F, F + D_x, F + D_y, F + D_z and the six axes'; else empty.
   std::vector<std::array<std::unique_ptr<DensityEstimator>, kMomentFluxes>> moments_;
 };

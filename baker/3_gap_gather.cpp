@@ -80,7 +80,12 @@ NoisyIrradiance GapGather::Gathered(const SurfacePoint& p, const SurfacePoint& s
 
 std::optional<Rgb> GapGather::ScatteredAt(const RayHit& hit, bool onFront) const {
   const uint32_t s = scene_.surfaces.surfaceOfTriangle[hit.triangle];
-  if (!onFront || hit.t < photons_.Bandwidth(s) || SmallerThanKernel(s)) return std::nullopt;
+  if (!onFront || hit.t < photons_.Bandwidth(s)) return std::nullopt;
+  if (photons_.Pooled(s)) {  // read where the pooled photons' reach lies well within the path's last step
+    if (hit.t < photons_.PooledRadius()) return std::nullopt;
+    return photons_.PooledAt(scene_.scene.PointAt(hit.triangle, hit.b1, hit.b2), scene_.scene.FrontNormal(hit.triangle)).irradiance;
+  }
+  if (SmallerThanKernel(s)) return std::nullopt;
   // Per unit surface area: times the chart's area ratio on this triangle (1 on planar charts).
   const auto& c = scene_.surfaces.cornerUv[hit.triangle];
   const double area = scene_.scene.Area(hit.triangle);

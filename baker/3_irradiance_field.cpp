@@ -147,7 +147,7 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
                : settings.heldBandwidths;
   });
   IrradianceField field = clock.Time("estimators", [&] {
-    return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, estimator, std::move(bandwidths), log));
+    return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, estimator, std::move(bandwidths), log, settings.pool));
   });
   const bool gathers = settings.referencePaths > 0 || (settings.direct.mode == DirectLight::kSampled && settings.gaps.paths > 0);
   const ImportanceCache* guide =

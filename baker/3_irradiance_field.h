@@ -129,6 +129,8 @@ struct FieldSettings {
   // --guide-photons: photons traced (apart from the bake's, scattered light only) for the importance maps that
   // guide the first direction of --reference's and the gap gather's paths; 0: cosine directions.
   uint64_t guidePhotons = 0;
+  // The sparse surfaces estimated from their photons pooled (PhotonIrradiance; with --h auto).
+  bool pool = false;
 };
 
 // The field of the photons in `bins`: bandwidths ("bandwidth") and estimators ("estimators") timed on `clock`,

@@ -188,7 +188,7 @@ std::vector<bool> EstimatedSurfaces(const BakeOptions& o, const PreparedScene& s
 
 FieldSettings FieldSettingsOf(const BakeOptions& o, const PhotonRounds& rounds) {
   return {o.estimator,      o.autoBandwidth, rounds.HeldBandwidths(), rounds.Direct(), o.referencePaths,
-          o.seed,           rounds.Gaps(),   o.guidePhotons};
+          o.seed,           rounds.Gaps(),   o.guidePhotons, /*pool=*/o.autoBandwidth};
 }
 
 // Rank 0 takes every process's vertices (baker/distribution.h).

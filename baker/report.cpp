@@ -223,6 +223,14 @@ BakeReport::NarrowGaps DescribeNarrowGaps(const std::vector<GapWeight>& weights)
   return g;
 }
 
+BakeReport::Pooled DescribePooled(const PreparedScene& p, const PhotonIrradiance& photons) {
+  BakeReport::Pooled pooled;
+  for (uint32_t s = 0; s < p.surfaces.surfaces.size(); ++s)
+    if (photons.Pooled(s)) ++pooled.surfaces, pooled.area += p.surfaces.surfaces[s].area;
+  pooled.photons = photons.PooledPhotons();
+  return pooled;
+}
+
 }  // namespace
 
 BakeReport DescribeBake(const BakeResults& r) {
@@ -250,6 +258,7 @@ BakeReport DescribeBake(const BakeResults& r) {
   report.error = r.error;
   report.noiseParts = r.noiseParts;
   report.narrowGaps = DescribeNarrowGaps(r.field.GapWeights());
+  report.pooled = DescribePooled(p, r.field.Photons());
   report.directionNoise = BakeDirectionNoise(r.mesh);
   return report;
 }
@@ -262,6 +271,14 @@ std::string NarrowGapsLine(const BakeReport::NarrowGaps& g) {
   return fmt::format("  gaps      {} vertices in narrow gaps on {} surface{}, their gathered light weighed against the "
                      "photons': mean weight {:.3f} (1: the gathered light alone)\n", g.vertices, g.surfaces,
                      g.surfaces == 1 ? "" : "s", g.meanWeight);
+}
+
+// "  pooled    ...", or "" where no surface is pooled.
+std::string PooledLine(const BakeReport::Pooled& p) {
+  if (p.surfaces == 0) return "";
+  return fmt::format("  pooled    {} surface{} ({:.4g} m^2) with fewer than {} photons each, read from the {} photons "
+                     "pooled across them, near each point and turned its way\n", p.surfaces, p.surfaces == 1 ? "" : "s",
+                     p.area, kPooledBelowHits, p.photons);
 }
 
 // "; alone: photons 2.10%, shadow rays 8.40%, gathered paths 60.30%", the sources that contribute; "" with one.
@@ -308,6 +325,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
                    "displayed light's relative standard error; smoothing bias not included){}\n", 100 * r.noise,
                    NoisePartsText(r));
   s += NarrowGapsLine(r.narrowGaps);
+  s += PooledLine(r.pooled);
   s += fmt::format("  error     {:.2f}% predicted (the RMS of H's error over the vertices, relative to their mean H): "
                    "noise {:.2f}%, smoothing bias {:.2f}%\n", 100 * r.error.Total(), 100 * r.error.noise, 100 * r.error.bias);
   if (r.options.sh)
@@ -391,6 +409,7 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
   j["noise_parts"] = {{"photons", r.noiseParts.photons}, {"points", r.noiseParts.points}, {"gathered", r.noiseParts.gathered}};
   j["narrow_gaps"] = {{"vertices", r.narrowGaps.vertices}, {"surfaces", r.narrowGaps.surfaces},
                       {"mean_weight", r.narrowGaps.meanWeight}};
+  j["pooled"] = {{"surfaces", r.pooled.surfaces}, {"area_m2", r.pooled.area}, {"photons", r.pooled.photons}};
   if (r.options.sh) j["direction_noise_deg"] = r.directionNoise * 180 / kPi;
   const std::vector<size_t> surfaces =
       Listed(r.surfaces, r.options.reportAll, [](const SurfaceReport& a, const SurfaceReport& b) { return a.area > b.area; });

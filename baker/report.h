@@ -78,6 +78,13 @@ struct BakeReport {
     uint32_t surfaces = 0;
     double meanWeight = 1;
   } narrowGaps;
+  // The sparse surfaces read from their photons pooled with their neighbours' (with --h auto; baker/3_contributions.h,
+  // PhotonIrradiance), their area [m^2] and the photons pooled across them.
+  struct Pooled {
+    uint32_t surfaces = 0;
+    double area = 0;
+    uint64_t photons = 0;
+  } pooled;
   double directionNoise = 0;  // with --sh, BakeDirectionNoise of the written mesh [rad]
 
   double TotalSeconds() const;

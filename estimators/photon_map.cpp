@@ -43,4 +43,12 @@ size_t PhotonMap::Nearest(Point3 p, size_t n, std::vector<uint32_t>& indices, st
   return found;
 }
 
+size_t PhotonMap::Within(Point3 p, float radius, std::vector<std::pair<uint32_t, float>>& found) const {
+  found.clear();
+  if (photons_.empty() || !(radius > 0)) return 0;
+  const float query[3] = {p.x, p.y, p.z};
+  // L2_Simple_Adaptor measures squared distances, so the radius goes in squared; unsorted: the tree's own order.
+  return tree_->index.radiusSearch(query, radius * radius, found, nanoflann::SearchParams(32, 0, false));
+}
+
 }  // namespace pb

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "mesh/color.h"
@@ -30,6 +31,9 @@ class PhotonMap {
 
   // The (up to) n photons nearest to p, nearest first, into `indices`; returns how many were found.
   size_t Nearest(Point3 p, size_t n, std::vector<uint32_t>& indices, std::vector<float>& distance2) const;
+  // Every photon within `radius` [m] of p, as (index, squared distance [m^2]) in the tree's order (the same for the
+  // same photons on any thread), into `found`; returns how many.
+  size_t Within(Point3 p, float radius, std::vector<std::pair<uint32_t, float>>& found) const;
 
  private:
   struct Tree;

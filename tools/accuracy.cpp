@@ -16,7 +16,10 @@
 // RMSE and mean bias over its vertices, relative to its own mean true H) for every run, and in the table for the
 // most accurate run of each method.
 //
-// Usage: accuracy [--out DIR] [--quick] [--scene closed-form|box|office] [--threads T]. --quick runs a handful of
+// With --scene PATH, any scene file (a real interior, docs/real-assets.md), measured the same way one bake at a time:
+// --defaults (bake SCENE -o OUT as it is), --quality, --photons or --reference (the path tracer at a given time).
+//
+// Usage: accuracy [--out DIR] [--quick] [--scene closed-form|box|office|PATH] [--threads T]. --quick runs a handful of
 // small configurations (a smoke test); the full sweeps take minutes on 2 cores (docs/accuracy.md).
 #include <fmt/format.h>
 #include <sys/resource.h>
@@ -388,13 +391,15 @@ Truth ComputeSceneTruth(const std::string& scene, uint32_t paths, unsigned threa
 Bench ParseBench(const std::string& name) {
   if (name == "closed-form") return Bench::kClosedForm;
   if (name == "box") return Bench::kBox;
-  return Bench::kOffice;
+  if (name == "office") return Bench::kOffice;
+  return Bench::kScene;
 }
 
-std::string ScenePath(Bench bench, const std::string& out) {
+std::string ScenePath(Bench bench, const std::string& name, const std::string& out) {
   switch (bench) {
     case Bench::kBox: return PB_SOURCE_DIR "/data/box/box_25mm.obj";
     case Bench::kOffice: return PB_SOURCE_DIR "/data/office_books/office_books.obj";
+    case Bench::kScene: return name;
     default:
       return pb::test::WriteSquareLightOverFloor(out, kLightSide, kRadiance, kHeight, kFloorSide, kFloorCells);
   }
@@ -412,8 +417,10 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "folder for accuracy.csv, accuracy.svg and cheapest.md")->capture_default_str();
   app.add_flag("--quick", quick, "a handful of small runs, as a smoke test");
   app.add_option("--threads", threads, "worker threads per bake; 0 = all cores")->capture_default_str();
-  app.add_option("--scene", sceneName, "closed-form, or box / office: a bundled scene against a long path-traced bake")
-      ->check(CLI::IsMember({"closed-form", "box", "office"}))
+  app.add_option("--scene", sceneName,
+                 "closed-form, or box / office: a bundled scene against a long path-traced bake; or a scene file "
+                 "(OBJ, glTF), measured one bake at a time (--defaults, --quality, --photons or --reference)")
+      ->check(CLI::IsMember({"closed-form", "box", "office"}) | CLI::ExistingFile)
       ->capture_default_str();
   app.add_option("--truth-paths", truthPaths, "box, office: paths per vertex of the truth")->capture_default_str();
   std::string truthCache;
@@ -428,6 +435,8 @@ int main(int argc, char** argv) {
   app.add_option("--target-noise", one.targetNoise, "with --photons: rounds to this noise, the first of --photons (bake --target-noise)");
   app.add_option("--target-error", one.targetError,
                  "with --photons: rounds to this predicted error, the first of --photons (bake --target-error)");
+  bool defaults = false;
+  app.add_flag("--defaults", defaults, "box, office or a scene file: one bake at bake's defaults (bake SCENE -o OUT)");
   std::string quality;
   app.add_option("--quality", quality, "box, office: one bake of this preset, as bake --quality (" + pb::QualityNames() +
                                        "; h per surface unless --h)");
@@ -453,6 +462,8 @@ int main(int argc, char** argv) {
                  "many photons (bake --guide-photons)");
   const auto validate = [&] {  // with bake's ranges (baker/option_ranges.h)
     pb::RequireThreads(threads);
+    pb::RequireOption(!defaults || quality.empty(), "--defaults", "goes without --quality");
+    if (defaults) one.photons = pb::BakeOptions{}.photons, ApplyQuality("", {}, one);  // bake's first round
     if (!quality.empty())
       ApplyQuality(quality, {.bandwidth = app.count("--h") > 0, .photons = app.count("--photons") > 0,
                              .shadowRays = app.count("--direct-samples") + app.count("--direct-noise") > 0,
@@ -462,11 +473,13 @@ int main(int argc, char** argv) {
                       "must lie in [1, 10000000] paths per point");
     if (one.referencePaths > 0 && one.photons == 0) one.photons = 1;  // a reference traces none; the count is unused
     if (one.photons > 0) OptionsOf(sceneName, one, 1, threads).Validate();
+    pb::RequireOption(one.photons > 0 || ParseBench(sceneName) != Bench::kScene, "--scene",
+                      "a scene file is measured one bake at a time: give --defaults, --quality, --photons or --reference");
   };
   return pb::tools::RunTool(app, argc, argv, validate, [&] {
     std::filesystem::create_directories(out);
     const Bench bench = ParseBench(sceneName);
-    const std::string scene = ScenePath(bench, out);
+    const std::string scene = ScenePath(bench, sceneName, out);
     const bool closedForm = bench == Bench::kClosedForm;
     const Truth truth = closedForm ? Truth{} : SceneTruth(scene, quick ? 256 : truthPaths, threads, truthCache);
     std::vector<Run> runs;

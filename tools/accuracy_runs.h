@@ -24,7 +24,8 @@ constexpr float kLightSide = 0.13f, kRadiance = 50.0f, kHeight = 0.55f, kFloorSi
 constexpr int kFloorCells = 40;
 constexpr double kEdgeBand = 0.1 * kFloorSide;  // vertices this close to the boundary count as edge vertices
 
-enum class Bench { kClosedForm, kBox, kOffice };
+// kScene: any scene file (--scene PATH), measured one configuration at a time against its own long reference.
+enum class Bench { kClosedForm, kBox, kOffice, kScene };
 
 struct Config {
   pb::EstimatorSettings estimator;

@@ -109,7 +109,9 @@ void PhotonRounds::TraceRound() {
                                                         "what it has)", store_.stats.emitted));
   const Scene* directionsIn = options_.sh ? &scene_.scene : nullptr;
   bins_ = clock_.Time("bin", [&] {
-    return BinPhotons(scene_.surfaces, store_, log_, plan, binner ? &*binner : nullptr, directionsIn);
+    SurfaceBins bins = BinPhotons(scene_.surfaces, store_, log_, plan, binner ? &*binner : nullptr, directionsIn);
+    if (options_.autoBandwidth) PoolSparseHits(scene_.scene, scene_.surfaces, store_, bins);
+    return bins;
   });
 }
 
