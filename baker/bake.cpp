@@ -1,6 +1,7 @@
 #include "baker/bake.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <atomic>
@@ -205,9 +206,24 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
 // distribution, each process estimates its share of the vertices for rank 0. A later round's estimate (lit holds the round before's) stops at
 // Ctrl-C, on one process: lit then keeps the vertices of the round before, with the new round's field, and false
 // is returned.
+// The first round's estimate of every vertex foretold from a pilot over one vertex in kPilotStride, spread over
+// the whole mesh [s]: what its field costs on this scene, at this round's settings, on this machine.
+constexpr size_t kPilotStride = 64;
+double ForetoldEstimateSeconds(const IrradianceField& field, const SplitMesh& base, StageClock& clock) {
+  const double before = clock.Seconds("estimate");
+  const size_t piloted = (base.VertexCount() + kPilotStride - 1) / kPilotStride;
+  clock.Time("estimate", [&] {
+    tbb::parallel_for(size_t(0), piloted, [&](size_t k) { field.LightWithNoise(base.Point(k * kPilotStride)); });
+  });
+  return piloted > 0 ? (clock.Seconds("estimate") - before) * double(base.VertexCount()) / double(piloted) : 0.0;
+}
+
 bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, const BakeOptions& o,
-                   const PhotonRounds& rounds, const Distribution* d, StageClock& clock, const Log& log) {
+                   PhotonRounds& rounds, const Distribution* d, StageClock& clock, const Log& log) {
   lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock, &log));
+  const bool first = rounds.Report().rounds.empty() && d == nullptr && o.Rounds();
+  if (first && rounds.FitFirstEstimate(ForetoldEstimateSeconds(*lit.field, base, clock)))
+    lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock, &log));
   const bool mayStop = d == nullptr && lit.baked.mesh.VertexCount() > 0;
   std::atomic<bool> stopped{false};
   const auto owns = [&](size_t chunk) {

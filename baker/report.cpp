@@ -49,7 +49,8 @@ nlohmann::json ProgressiveJson(const ProgressiveReport& p) {
   return {{"resumed_from", p.resumedFrom}, {"resumed_photons", p.resumedPhotons}, {"saved_to", p.savedTo},
           {"interrupted", p.interrupted}, {"estimate_stopped", p.estimateStopped}, {"target_noise", p.target && !p.targetIsError ? nlohmann::json(*p.target) : nlohmann::json()},
           {"target_error", p.target && p.targetIsError ? nlohmann::json(*p.target) : nlohmann::json()},
-          {"target_met", p.TargetMet()}, {"stopped_by", p.stoppedBy}, {"rounds", rounds}};
+          {"target_met", p.TargetMet()}, {"stopped_by", p.stoppedBy}, {"rounds", rounds},
+          {"first_round_cut", p.firstRoundCut}, {"first_round_foretold_s", p.firstRoundForetold}};
 }
 
 // The rounds of --target-noise or --target-error, how they ended, and the options that repeat the bake's bytes
@@ -62,6 +63,10 @@ std::string RoundLines(const ProgressiveReport& p) {
   s += p.TargetMet() ? " met\n"
        : p.stoppedBy.empty() ? " NOT met\n"
                              : fmt::format(" NOT met: stopped by {}\n", p.stoppedBy);
+  if (p.firstRoundCut < 1)
+    s += fmt::format("  fitted    the first round's estimate, foretold at {:.0f} s, would have passed the time budget: its "
+                     "shadow rays and gathered paths were cut by {:.2f} (give --direct-samples and --gap-paths to "
+                     "choose them)\n", p.firstRoundForetold, p.firstRoundCut);
   if (p.stoppedBy.rfind("the time budget", 0) != 0) return s;
   return s + fmt::format("  repeat    the time budget, so this machine's speed, chose the last round: --max-rounds {} "
                          "gives these bytes on any machine\n", p.rounds.size());

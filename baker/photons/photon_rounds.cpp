@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "baker/distribution.h"
@@ -172,6 +173,24 @@ bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const BakeErro
                             const std::vector<float>& bandwidths) {
   if (!options_.Rounds() || LastRound(baked, noise, error)) return false;
   if (options_.autoBandwidth && heldBandwidths_.empty() && !bandwidthFollows_) heldBandwidths_ = bandwidths;
+  return true;
+}
+
+bool PhotonRounds::FitFirstEstimate(double estimateSeconds) {
+  if (!options_.Rounds() || !report_.rounds.empty() || distribution_ != nullptr) return false;
+  const double left = kFirstRoundShare * options_.maxSeconds - clock_.Elapsed();
+  if (estimateSeconds <= left) return false;
+  const double cut = std::max(left, 0.0) / estimateSeconds;
+  const auto fewer = [&](uint32_t n) { return std::max(std::min(n, kFewestCutSamples), uint32_t(std::floor(n * cut))); };
+  const bool rays = direct_.mode == DirectLight::kSampled && !direct_.fixedSamples && options_.referencePaths == 0;
+  const bool paths = gaps_.paths > 0 && !gaps_.fixedPaths;
+  if (!rays && !paths) return false;
+  if (rays) direct_.samples = fewer(direct_.samples);
+  if (paths) gaps_.paths = fewer(gaps_.paths);
+  report_.firstRoundCut = cut, report_.firstRoundForetold = estimateSeconds;
+  log_.Warning(fmt::format("the first round's estimate would take about {:.0f} s, past the time budget (--max-seconds "
+                           "{:g}): its shadow rays and gathered paths are cut to {} and {} a point",
+                           estimateSeconds, options_.maxSeconds, direct_.samples, gaps_.paths));
   return true;
 }
 

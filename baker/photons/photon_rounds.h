@@ -47,6 +47,14 @@ class PhotonRounds {
   // Ctrl-C stopped a later round's estimate: the rounds end, the bake keeping the round before's vertices (reported,
   // and warned about).
   void EstimateInterrupted();
+  // Before the first round's estimate, which nothing cuts short once it runs (a later round's falls back on the
+  // round before): with --target-noise or --target-error, where the estimate foretold to take `estimateSeconds` (a
+  // pilot's) would end the bake past kFirstRoundShare of --max-seconds, cuts the round's shadow rays and gathered
+  // paths (those not given) in proportion to what is left, to no fewer than kFewestCutSamples; reported. Whether it
+  // cut them (the field must then be built again).
+  bool FitFirstEstimate(double estimateSeconds);
+  static constexpr double kFirstRoundShare = 0.8;
+  static constexpr uint32_t kFewestCutSamples = 16;
   // Writes --save-photons, when given.
   void Save(OutputFiles& outputs);
 

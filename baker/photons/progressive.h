@@ -47,6 +47,9 @@ struct ProgressiveReport {
   bool targetIsError = false;
   std::vector<RoundReport> rounds;  // --target-noise's rounds, in order
   std::string stoppedBy;            // why the rounds ended short of the target (NextRound::stop), or ""
+  // Where the first round's estimate, foretold from a pilot, would have ended the bake past the time budget: the
+  // factor its shadow rays and gathered paths were cut by (1: not cut), and its foretold seconds at the full count.
+  double firstRoundCut = 1, firstRoundForetold = 0;
   double Measured(const RoundReport& r) const { return targetIsError ? r.error : r.noise; }  // what the target bounds
   bool TargetMet() const { return target && !rounds.empty() && Measured(rounds.back()) <= *target; }
 };

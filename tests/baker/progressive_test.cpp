@@ -18,6 +18,7 @@
 #include "baker/bake.h"
 #include "baker/files/atomic_file.h"
 #include "baker/files/photon_file.h"
+#include "baker/photons/photon_rounds.h"
 #include "baker/photons/progressive.h"
 #include "baker/runtime/interrupt.h"
 #include "mesh/errors.h"
@@ -341,6 +342,36 @@ TEST(RoundPlan, ForATargetErrorGrowsThePhotonsAsTheBandwidthAllowsAndNamesTheBia
 // target t (the defaults' 10^6 at 3%, or an error preset's own), within [250,000, 32,000,000]; --photons given,
 // or a noise target, keep theirs. The shadow rays grow as (t / E)^(4/3), to a square (stratified, their noise
 // falls as S^-0.75), the gathered paths as (t / E)^2, each unless given.
+// A first round whose estimate, foretold from its pilot, would end the bake past the time budget has its shadow rays
+// and gathered paths cut to fit it (a later round's estimate falls back on the round before; the first has nothing
+// to fall back on): the office with books at --quality production, whose first round gathers 1,024 paths at every
+// edge point (about 8 s of estimate), in a budget of 1 s. Given counts are kept; with room, nothing is cut (the box).
+TEST(Progressive, TheFirstRoundIsFittedToTheTimeBudget) {
+  const std::string dir = test::TempDirectory("first-round-fit");
+  const auto bake = [&](const char* scene, double maxSeconds, GivenOptions given) {
+    BakeOptions o;
+    o.scenePath = std::string(PB_SOURCE_DIR "/data/") + scene + "/" + scene + ".obj";
+    o.outputPath = dir + "/out.ply";
+    o.quiet = true;
+    o.maxSeconds = maxSeconds;
+    if (given.gapPaths) o.gaps.paths = 1024, o.gaps.fixedPaths = true;
+    ApplyDefaults(o, given, "production", true);
+    return Bake(o, Log(true));
+  };
+  const BakeReport cut = bake("office_books", 1, {});
+  ASSERT_FALSE(cut.progressive.rounds.empty());
+  EXPECT_LT(cut.progressive.firstRoundCut, 1.0);
+  EXPECT_GT(cut.progressive.firstRoundForetold, 1.0);
+  EXPECT_LT(cut.progressive.rounds[0].shadowRays, 256u);
+  EXPECT_GE(cut.progressive.rounds[0].shadowRays, PhotonRounds::kFewestCutSamples);
+  EXPECT_LT(cut.progressive.rounds[0].gapPaths, 1024u);
+  const BakeReport kept = bake("box", 1, {.gapPaths = true});
+  EXPECT_EQ(kept.progressive.rounds[0].gapPaths, 1024u) << "--gap-paths given";
+  const BakeReport roomy = bake("box", 60, {});
+  EXPECT_EQ(roomy.progressive.firstRoundCut, 1.0);
+  EXPECT_EQ(roomy.progressive.rounds[0].gapPaths, 1024u);
+}
+
 TEST(Progressive, AnErrorTargetsFirstRoundIsSizedForIt) {
   const auto bare = [](float target, GivenOptions given = {}) {
     BakeOptions o;
