@@ -10,8 +10,10 @@
 //   lit-copy:  a copy of the OBJ --from (a real asset that has no light of its own) with its material libraries
 //              named by absolute path, and one emissive quad added: as wide as the model's bounding box in x and z,
 //              facing down (y up) a tenth of the box's height above it, of radiance 10 W/(m^2 sr).
-// Usage: make-scene led-room|one-light|grid-room|lit-copy [--lamps N] [--triangles N] [--light-triangles N]
-// [--from OBJ] --out DIR;
+//   door-rooms: two rooms joined by a doorway whose door is left ajar by --gap m (12 cm), the only light in the
+//              first: the real interiors' room lit through a gap (docs/real-assets.md).
+// Usage: make-scene led-room|one-light|grid-room|lit-copy|door-rooms [--lamps N] [--triangles N]
+// [--light-triangles N] [--from OBJ] [--gap M] [--cell M] --out DIR;
 // prints the OBJ's path.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -23,6 +25,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -82,6 +85,62 @@ std::string Room() {
   return obj;
 }
 
+// door-rooms: two rooms side by side (x in [-4, 0] and [0, 4], z in [-2, 2], 2.5 m high, y up) through a 10 cm wall
+// whose 0.9 x 2.1 m doorway holds a 4 cm door hinged on room B's side and left ajar by `gap` [m] at its free edge;
+// one 0.5 m square light (radiance 30) under room A's ceiling. Room B is lit only through the gap. Faces are gridded
+// at `cell` [m]; walls white (Kd 0.75), floors grey (0.5), the door wood (0.45, 0.35, 0.25).
+struct Quad {
+  double corner[3], a[3], b[3];  // front: a x b
+};
+std::string DoorRooms(double gap, double cell, uint64_t& vertex) {
+  constexpr double kW = 4, kD = 2, kH = 2.5, kHalfWall = 0.05, kDoor = 0.9, kDoorH = 2.1, kDoorT = 0.04;
+  const double d = kDoor / 2;
+  std::string obj = "mtllib room.mtl\n";
+  const auto faces = [&](const char* material, const std::vector<Quad>& quads) {
+    obj += fmt::format("usemtl {}\n", material);
+    for (const Quad& q : quads) GridFace(obj, vertex, q.corner, q.a, q.b, cell);
+  };
+  faces("floor", {{{-kW, 0, -kD}, {0, 0, 2 * kD}, {kW - kHalfWall, 0, 0}},      // room A, facing up
+                  {{kHalfWall, 0, -kD}, {0, 0, 2 * kD}, {kW - kHalfWall, 0, 0}}});  // room B
+  std::vector<Quad> walls = {
+      {{-kW, kH, -kD}, {kW - kHalfWall, 0, 0}, {0, 0, 2 * kD}},  // ceilings, facing down
+      {{kHalfWall, kH, -kD}, {kW - kHalfWall, 0, 0}, {0, 0, 2 * kD}},
+      {{-kW, 0, -kD}, {0, kH, 0}, {0, 0, 2 * kD}},               // x = -4, facing +x
+      {{kW, 0, -kD}, {0, 0, 2 * kD}, {0, kH, 0}},                // x = +4, facing -x
+  };
+  for (double x0 : {-kW, kHalfWall}) {  // each room's z = -2 (facing +z) and z = +2 (facing -z) walls
+    walls.push_back({{x0, 0, -kD}, {kW - kHalfWall, 0, 0}, {0, kH, 0}});
+    walls.push_back({{x0, 0, kD}, {0, kH, 0}, {kW - kHalfWall, 0, 0}});
+  }
+  // The dividing wall's two sides around the doorway: room A's faces -x (a along z, b along y), room B's +x.
+  for (double z0 : {-kD, d}) {
+    walls.push_back({{-kHalfWall, 0, z0}, {0, 0, kD - d}, {0, kH, 0}});
+    walls.push_back({{kHalfWall, 0, z0}, {0, kH, 0}, {0, 0, kD - d}});
+  }
+  walls.push_back({{-kHalfWall, kDoorH, -d}, {0, 0, 2 * d}, {0, kH - kDoorH, 0}});
+  walls.push_back({{kHalfWall, kDoorH, -d}, {0, kH - kDoorH, 0}, {0, 0, 2 * d}});
+  // The doorway's jambs and head, facing into it.
+  walls.push_back({{-kHalfWall, 0, -d}, {2 * kHalfWall, 0, 0}, {0, kDoorH, 0}});
+  walls.push_back({{-kHalfWall, 0, d}, {0, kDoorH, 0}, {2 * kHalfWall, 0, 0}});
+  walls.push_back({{-kHalfWall, kDoorH, -d}, {2 * kHalfWall, 0, 0}, {0, 0, 2 * d}});
+  faces("white", walls);
+  // The door: hinged at (kHalfWall, y, d), turned into room B by the angle that leaves `gap` at its free edge.
+  const double t = std::asin(std::clamp(gap / kDoor, 0.0, 1.0)), s = std::sin(t), c = std::cos(t);
+  const double u[3] = {kDoor * s, 0, -kDoor * c}, n[3] = {kDoorT * c, 0, kDoorT * s}, up[3] = {0, kDoorH, 0};
+  const double hinge[3] = {kHalfWall, 0, d}, back[3] = {hinge[0] + n[0], 0, hinge[2] + n[2]};
+  const double freeEdge[3] = {hinge[0] + u[0], 0, hinge[2] + u[2]};
+  const double top[3] = {hinge[0], kDoorH, hinge[2]};
+  faces("wood", {{{hinge[0], 0, hinge[2]}, {up[0], up[1], up[2]}, {u[0], u[1], u[2]}},  // facing -n: room A's side
+                 {{back[0], 0, back[2]}, {u[0], u[1], u[2]}, {up[0], up[1], up[2]}},    // facing +n
+                 {{freeEdge[0], 0, freeEdge[2]}, {n[0], n[1], n[2]}, {up[0], up[1], up[2]}},  // the free edge
+                 {{top[0], top[1], top[2]}, {n[0], n[1], n[2]}, {u[0], u[1], u[2]}}});   // its top
+  const double l = 0.25, y = kH - 0.01;  // the light, facing down, counter-clockwise seen from below
+  obj += fmt::format("usemtl light\nv {0} {2} {1}\nv {3} {2} {1}\nv {3} {2} {4}\nv {0} {2} {4}\nf {5} {6} {7} {8}\n",
+                     -kW / 2 - l, -l, y, -kW / 2 + l, l, vertex, vertex + 1, vertex + 2, vertex + 3);
+  vertex += 4;
+  return obj;
+}
+
 void Write(const std::string& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
@@ -122,7 +181,10 @@ int main(int argc, char** argv) {
   uint64_t lamps = 100000;
   uint64_t triangles = 2'000'000;
   app.add_option("kind", kind, "led-room, one-light or grid-room")
-      ->check(CLI::IsMember({"led-room", "one-light", "grid-room", "lit-copy"}));
+      ->check(CLI::IsMember({"led-room", "one-light", "grid-room", "lit-copy", "door-rooms"}));
+  double gap = 0.12, cell = 0.1;
+  app.add_option("--gap", gap, "door-rooms: the door's opening at its free edge [m]")->capture_default_str();
+  app.add_option("--cell", cell, "door-rooms: the faces' grid [m]")->capture_default_str();
   app.add_option("--triangles", triangles, "grid-room: triangles of the room's faces")->capture_default_str();
   app.add_option("--lamps", lamps, "lamps of the LED ceiling (one-light: whose flux it carries)")->capture_default_str();
   uint64_t lightTriangles = 2;
@@ -141,6 +203,14 @@ int main(int argc, char** argv) {
     return 0;
   }
 
+  if (kind == "door-rooms") {
+    uint64_t vertex = 1;
+    Write(out + "/room.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl white\nKd 0.75 0.75 0.75\nnewmtl wood\n"
+                             "Kd 0.45 0.35 0.25\nnewmtl light\nKd 0 0 0\nKe 30 30 30\n");
+    Write(out + "/room.obj", DoorRooms(gap, cell, vertex));
+    fmt::print("{}/room.obj: two rooms, the second lit through a door ajar by {} m\n", out, gap);
+    return 0;
+  }
   std::string mtl = "newmtl grey\nKd 0.5 0.5 0.5\n";
   uint64_t first = kind == "grid-room" ? 1 : 9;  // the next vertex's index: the light's first
   std::string obj = kind == "grid-room" ? GridRoom(triangles, first) : Room();
