@@ -111,6 +111,7 @@ NoisyIrradiance PooledEstimator::Estimate(Point3 x, Normal3 n) const {
       r = float(r * std::sqrt(wanted / double(alike)));
       continue;
     }
+    if (alike == 0) return {};  // nothing of like orientation within reach: no light to divide, no area to count
     double area = 0, areaWeight = 0;
     area_.Within(x, r, within);
     for (const auto& [i, d2] : within) {
