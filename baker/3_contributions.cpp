@@ -66,8 +66,7 @@ namespace {
 // about as many samples as photons (stratified, so far better than their Poisson noise), and PooledEstimator's floor
 // of kMinAreaSamples keeps it so where it is brighter. The staircase read 18.0% at 1 and at 4 per photon; a query
 // costs the samples it finds (the sports car's bare estimate: 45 s at 4, 25 s at 1).
-constexpr double kAreaSamplesPerPhoton = 1;
-constexpr float kMostReach = 1.5f;
+constexpr double kAreaSamplesPerPhoton = 0.25;
 
 // The area-weighted median of the surfaces' h that are not pooled [m]: the scale on which the photons say the light
 // changes, and so the farthest the pooled estimate reaches. The largest h when every surface is pooled.
@@ -94,12 +93,12 @@ void PhotonIrradiance::PoolSparseSurfaces(const PreparedScene& scene, const Surf
   if (bins.pooled.empty() || !(sparseArea > 0)) return pooledSurface_.clear();
   const double density = double(bins.pooled.size()) / sparseArea;  // photons per m^2
   PooledSettings settings;
-  // Half the photons around a point face its way: twice the disc of `neighbours` at the mean density.
-  settings.startRadius = float(std::sqrt(2 * settings.neighbours / (kPi * density)));
-  // The reach at most: the other surfaces' median h, within kMostReach of the start (a query costs the points
-  // within its reach: the sports car's median h of 1.7 m, four times the start, made the pooled queries 40 times
-  // the rest of the estimate).
-  settings.maxRadius = std::min(PooledReach(scene.surfaces, pooledSurface_, bandwidths_), kMostReach * settings.startRadius);
+  // Half the photons around a point face its way: `neighbours` of them lie within the disc of twice as many at the
+  // mean density. That far at most, and no farther than the other surfaces' median h (a query costs the points within
+  // its reach: the sports car's median h of 1.7 m, four times this, made the pooled queries 40 times the rest of the
+  // estimate).
+  const auto reach = float(std::sqrt(2 * settings.neighbours / (kPi * density)));
+  settings.maxRadius = std::min(PooledReach(scene.surfaces, pooledSurface_, bandwidths_), reach);
   AreaSamples area = SampleArea(scene.scene, triangles, kAreaSamplesPerPhoton * density);
   std::vector<MapPhoton> photons = bins.pooled;
   for (size_t i = 0; i < photons.size(); ++i) photons[i].normal = area.normalOf.at(bins.pooledTriangles[i]);

@@ -85,9 +85,9 @@ class PhotonIrradiance final : public IrradianceContribution {
   // Whether surface s is estimated from the pooled photons; and their estimate at a point of it [W/m^2].
   bool Pooled(uint32_t s) const { return pooled_ && s < pooledSurface_.size() && pooledSurface_[s]; }
   NoisyIrradiance PooledAt(Point3 position, Normal3 normal) const { return pooled_->Estimate(position, normal); }
-  // The pooled estimate's first reach [m] (PooledSettings::startRadius): a path's hit nearer than this to its last
-  // vertex would read light averaged over the path's own start.
-  float PooledRadius() const { return pooled_->Settings().startRadius; }
+  // The pooled estimate's reach [m] (PooledSettings::maxRadius): a path's hit nearer than this to its last vertex
+  // would read light averaged over the path's own start.
+  float PooledRadius() const { return pooled_->Settings().maxRadius; }
   size_t PooledPhotons() const { return pooled_ ? pooled_->Photons() : 0; }
   // The smoothing bias predicted for surface s's estimate of H's luminance: its RMS over the surface [W/m^2 of
   // (u,v)] (estimators/bandwidth.h, PredictedBias).

@@ -72,58 +72,103 @@ AreaSamples SampleArea(const Scene& scene, const std::vector<uint32_t>& triangle
 }
 
 namespace {
-// Times the reach may grow beyond the nearest photons'.
-constexpr int kMostReaches = 4;
+// Times the reach may double for the area below the photons.
+constexpr int kMostDoublings = 3;
 
 // The weight of a side of normal m for a point of normal n: 1 when parallel, 0 beyond kPooledCosine.
 float Orientation(Normal3 m, Normal3 n) { return std::max(0.0f, (Dot(m, n) - kPooledCosine) / (1 - kPooledCosine)); }
+
+// The angle [rad] whose cosine is c, for c slightly outside [-1, 1] by rounding too.
+double Angle(double c) { return std::acos(std::clamp(c, -1.0, 1.0)); }
 }  // namespace
 
 PooledEstimator::PooledEstimator(std::vector<MapPhoton> photons, std::vector<MapPhoton> area, PooledSettings settings)
-    : photons_(std::move(photons)), area_(std::move(area)), settings_(settings) {}
+    : photonCount_(photons.size()), areaCount_(area.size()), settings_(settings) {
+  // Both kinds of point binned by the same normal grid, so a point's photons and their area are searched alike.
+  std::map<int64_t, std::pair<std::vector<MapPhoton>, std::vector<MapPhoton>>> cells;  // ordered: deterministic
+  for (MapPhoton& p : photons) cells[NormalBin(p.normal)].first.push_back(p);
+  for (MapPhoton& a : area) cells[NormalBin(a.normal)].second.push_back(a);
+  const double reach = Angle(kPooledCosine);
+  for (auto& [key, members] : cells) {
+    Vector3 sum{0, 0, 0};
+    for (const auto* list : {&members.first, &members.second})
+      for (const MapPhoton& p : *list) sum = sum + AsVector(p.normal);
+    const Normal3 axis = NormalFrom(sum);
+    double spread = 0;  // the widest angle of a member from the axis [rad]
+    for (const auto* list : {&members.first, &members.second})
+      for (const MapPhoton& p : *list) spread = std::max(spread, Angle(Dot(p.normal, axis)));
+    // A little slack (1e-3 rad) for the rounding of the dot products against the cone's edge.
+    const double widest = reach + spread + 1e-3;
+    const auto leastCosine = float(widest >= kPi ? -2.0 : std::cos(widest));
+    directions_.push_back({axis, leastCosine, PhotonMap(std::move(members.first)), PhotonMap(std::move(members.second))});
+  }
+}
+
+void PooledEstimator::Collect(const std::vector<const Direction*>& directions, PhotonMap Direction::*map, Point3 x,
+                              float radius, Normal3 n, std::vector<Near>& found) {
+  thread_local std::vector<std::pair<uint32_t, float>> within;
+  found.clear();
+  for (const Direction* d : directions) {
+    const PhotonMap& points = d->*map;
+    points.Within(x, radius, within);
+    for (const auto& [i, d2] : within)
+      if (const float o = Orientation(points[i].normal, n); o > 0) found.push_back({d2, o, &points[i]});
+  }
+}
+
+namespace {
+// The kernel of the estimate: 1 - d^2 / r^2 within r.
+double Falloff(float distance2, float r2) { return std::max(0.0, double(1 - distance2 / r2)); }
+}  // namespace
 
 NoisyIrradiance PooledEstimator::Estimate(Point3 x, Normal3 n) const {
-  thread_local std::vector<std::pair<uint32_t, float>> within;
-  const float most = settings_.maxRadius;
-  const double wanted = settings_.neighbours;
-  float r = std::min(settings_.startRadius, most);
-  for (int attempt = 0;; ++attempt) {
+  thread_local std::vector<const Direction*> facing;  // the directions that can hold a side within 60 degrees of n
+  thread_local std::vector<Near> photons, area;
+  facing.clear();
+  for (const Direction& d : directions_)
+    if (Dot(n, d.axis) >= d.leastCosine) facing.push_back(&d);
+  if (facing.empty()) return {};
+  const float r = Reach(facing, x, n, photons);
+  return r > 0 ? RatioWithin(facing, x, n, r, photons, area) : NoisyIrradiance{};
+}
+
+float PooledEstimator::Reach(const std::vector<const Direction*>& facing, Point3 x, Normal3 n,
+                             std::vector<Near>& photons) const {
+  const size_t wanted = settings_.neighbours;
+  Collect(facing, &Direction::photons, x, settings_.maxRadius, n, photons);
+  if (photons.empty()) return 0;  // nothing of like orientation within reach: no light to divide, no area to count
+  if (photons.size() < wanted) return settings_.maxRadius;
+  const auto nth = photons.begin() + std::ptrdiff_t(wanted - 1);
+  std::nth_element(photons.begin(), nth, photons.end(),
+                   [](const Near& a, const Near& b) { return a.distance2 < b.distance2; });
+  return std::sqrt(nth->distance2);
+}
+
+NoisyIrradiance PooledEstimator::RatioWithin(const std::vector<const Direction*>& facing, Point3 x, Normal3 n, float r,
+                                             std::vector<Near>& photons, std::vector<Near>& area) const {
+  for (int doubling = 0;; ++doubling) {
     const float r2 = r * r;
+    double areaSum = 0, areaWeight = 0;
+    Collect(facing, &Direction::area, x, r, n, area);
+    for (const Near& a : area) {
+      const double w = Falloff(a.distance2, r2) * a.orientation;
+      areaSum += double(a.point->flux.r) * w, areaWeight += w;
+    }
+    if (areaWeight < kMinAreaSamples && doubling < kMostDoublings) {  // the area is a sliver: reach further
+      r *= 2;
+      Collect(facing, &Direction::photons, x, r, n, photons);
+      continue;
+    }
+    if (!(areaSum > 0)) return {};
     double sum[3] = {0, 0, 0}, luminance = 0, luminance2 = 0;
-    size_t alike = 0;
-    photons_.Within(x, r, within);
-    for (const auto& [i, d2] : within) {
-      const double w = std::max(0.0, double(1 - d2 / r2)) * Orientation(photons_[i].normal, n);
-      if (!(w > 0)) continue;
-      const Rgb& phi = photons_[i].flux;
+    for (const Near& p : photons) {
+      const double w = Falloff(p.distance2, r2) * p.orientation;
+      const Rgb& phi = p.point->flux;
       sum[0] += phi.r * w, sum[1] += phi.g * w, sum[2] += phi.b * w;
       const double l = double(Luminance(phi)) * w;
-      luminance += l, luminance2 += l * l, ++alike;
+      luminance += l, luminance2 += l * l;
     }
-    const bool last = attempt == kMostReaches;
-    // Reach further while the photons of like orientation are fewer than half `neighbours` (up to `most`), nearer
-    // while they are over four times as many.
-    if (!last && 2 * double(alike) < wanted && r < most) {
-      r = std::min(float(r * std::clamp(std::sqrt(wanted / std::max<double>(double(alike), 1)), 1.5, 4.0)), most);
-      continue;
-    }
-    if (!last && double(alike) > 4 * wanted) {
-      r = float(r * std::sqrt(wanted / double(alike)));
-      continue;
-    }
-    if (alike == 0) return {};  // nothing of like orientation within reach: no light to divide, no area to count
-    double area = 0, areaWeight = 0;
-    area_.Within(x, r, within);
-    for (const auto& [i, d2] : within) {
-      const double w = std::max(0.0, double(1 - d2 / r2)) * Orientation(area_[i].normal, n);
-      area += double(area_[i].flux.r) * w, areaWeight += w;
-    }
-    if (!last && areaWeight < kMinAreaSamples) {  // the area below the photons is a sliver: reach further, past `most`
-      r *= 2;
-      continue;
-    }
-    if (!(area > 0)) return {};
-    const Rgb irradiance{float(sum[0] / area), float(sum[1] / area), float(sum[2] / area)};
+    const Rgb irradiance{float(sum[0] / areaSum), float(sum[1] / areaSum), float(sum[2] / areaSum)};
     return {irradiance, luminance > 0 ? std::sqrt(luminance2) / luminance : 0.0};
   }
 }

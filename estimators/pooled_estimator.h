@@ -11,13 +11,15 @@
 // c = kPooledCosine. Photons and area are weighed alike, so a constant irradiance is read exactly whatever the
 // pieces' shapes: a ratio estimator. (Jensen's photon map divides the flux by pi r^2 instead, which reads thin or
 // curved pieces, whose area within r is far less, too dark.) Where the light changes within r it is averaged over
-// r, as any kernel averages over h: the price of reading 100 photons where a piece holds 5.
+// r, as any kernel averages over h: the price of reading 200 photons where a piece holds 5.
 //
-// r starts at `startRadius` and is rescaled (a few times at most) while the photons of like orientation within it are
-// fewer than half `neighbours` (up to `maxRadius`) or more than four times as many, and doubled while the area
-// samples' weights sum to less than kMinAreaSamples (past `maxRadius`), so that the area below the sum is never a sliver. Each step
-// is a radius search, whose cost is the points it finds. The relative noise is the photons' sum's (their
-// arrivals Poisson): sqrt(sum (phi_j w_j)^2) / sum phi_j w_j, in luminance.
+// r reaches the `neighbours`-th nearest photon of like orientation, at most `maxRadius`, and doubles (a few times at
+// most) while the area samples' weights sum to less than kMinAreaSamples, so that the area below the sum is never a
+// sliver. A query costs the points its searches find (one for the photons, one for the area, where no doubling is
+// asked): photons and area samples are kept in one kd-tree per normal direction (about 25 degrees wide), and a point
+// searches only the trees that can hold a side within 60 degrees of its own, so a side facing away from the light
+// pays little for the lit ones around it. The relative noise is the photons' sum's (their arrivals Poisson):
+// sqrt(sum (phi_j w_j)^2) / sum phi_j w_j, in luminance.
 //
 // Shirley et al. 1995 estimate density per surface; Jensen 1996 ("Global illumination using photon maps") pools
 // photons in space. This is the second for the few surfaces where the first has nothing to say.
@@ -41,9 +43,9 @@ inline constexpr float kPooledCosine = 0.5f;
 inline constexpr double kMinAreaSamples = 16;
 
 struct PooledSettings {
-  uint32_t neighbours = 100;  // photons of like orientation within r: about 10% relative noise
-  float maxRadius = 0.5f;     // [m], r at most (unless the area samples ask for more)
-  float startRadius = 0.1f;   // [m], r first: where `neighbours` photons lie at the pooled photons' mean density
+  // Photons of like orientation within r: weighed by w, about as many as 100 of weight 1, so about 10% noise.
+  uint32_t neighbours = 200;
+  float maxRadius = 0.5f;  // [m], r at most (unless the area samples ask for more)
 };
 
 // Points covering `triangles` of `scene`, about `density` per m^2, each carrying the area it stands for [m^2] as its
@@ -69,12 +71,38 @@ class PooledEstimator {
   // within reach.
   NoisyIrradiance Estimate(Point3 x, Normal3 n) const;
 
-  size_t Photons() const { return photons_.Size(); }
+  size_t Photons() const { return photonCount_; }
   const PooledSettings& Settings() const { return settings_; }
-  size_t AreaSampleCount() const { return area_.Size(); }
+  size_t AreaSampleCount() const { return areaCount_; }
 
  private:
-  PhotonMap photons_, area_;
+  // The photons and area samples whose normals fall in one cell of the normal grid, and the cone holding them.
+  struct Direction {
+    Normal3 axis;        // their mean normal
+    float leastCosine;   // a point of normal n can share photons with them where Dot(n, axis) >= leastCosine
+    PhotonMap photons, area;
+  };
+  // A point of like orientation near x: its squared distance [m^2] and orientation weight, (n_j . n - c) / (1 - c).
+  struct Near {
+    float distance2;
+    float orientation;
+    const MapPhoton* point;
+  };
+  // Every point of `map` in `directions` within `radius` of x and of like orientation to n, into `found`, in the
+  // same order on every thread.
+  static void Collect(const std::vector<const Direction*>& directions, PhotonMap Direction::*map, Point3 x,
+                      float radius, Normal3 n, std::vector<Near>& found);
+
+  // r [m]: as far as the `neighbours`-th nearest photon of like orientation, or `maxRadius` where fewer lie within
+  // it; 0 where none does. `photons` holds those within `maxRadius`.
+  float Reach(const std::vector<const Direction*>& facing, Point3 x, Normal3 n, std::vector<Near>& photons) const;
+  // H within r of x (doubling r while the area samples' weights sum to less than kMinAreaSamples), from `photons`
+  // found within r (searched again as r doubles); `area` is scratch.
+  NoisyIrradiance RatioWithin(const std::vector<const Direction*>& facing, Point3 x, Normal3 n, float r,
+                              std::vector<Near>& photons, std::vector<Near>& area) const;
+
+  std::vector<Direction> directions_;
+  size_t photonCount_, areaCount_;
   PooledSettings settings_;
 };
 
