@@ -251,9 +251,11 @@ class GltfReader {
     if (texcoords)
       for (size_t i = 0; i < texcoords->count(); ++i)
         result_.scene.texcoords.push_back(use.albedoUv->Apply(texcoords->Get(i, 0), texcoords->Get(i, 1)));
-    uint32_t material = use.material;
+    // A textured base colour with no coordinates to read it: the colour times the image's mean, as in an OBJ.
+    uint32_t material = use.albedoUv && !texcoords ? UntexturedVariant(result_.scene, use.material, untextured_)
+                                                   : use.material;
     const std::vector<std::array<uint32_t, 3>> corners = Corners(primitive, positions.count(), where);
-    if (use.emissiveTexture >= 0) material = EmissiveVariant(primitive, use, where, first, corners);
+    if (use.emissiveTexture >= 0) material = EmissiveVariant(primitive, use, material, where, first, corners);
     for (std::array<uint32_t, 3> c : corners) {
       if (flip) std::swap(c[1], c[2]);
       Triangle t{{first + c[0], first + c[1], first + c[2]}, {kNoTexcoord, kNoTexcoord, kNoTexcoord}, material, object, 0};
@@ -282,7 +284,7 @@ class GltfReader {
     const auto it = primitive.attributes.find(name);
     if (it == primitive.attributes.end()) {
       Warn("no texcoords", where, "the material is textured but the primitive has no " + name +
-                                      "; the texture is not used");
+                                      "; the texture's mean is used instead");
       return std::nullopt;
     }
     Accessor a(model_, it->second, 2,
@@ -373,10 +375,18 @@ class GltfReader {
     const double origin[3] = {0, 0, 0}, ahead[3] = {0, 0, -1};
     Position at = Apply(world, origin);
     const Position tip = Apply(world, ahead);
-    const Vector3 d{float(tip[0] - at[0]), float(tip[1] - at[1]), float(tip[2] - at[2])};
-    if (!(Length(d) > 0) && light.kind != LightKind::kPoint) Fail(where, "the node's transform flattens the light's direction");
-    if (light.kind != LightKind::kPoint) light.direction = Normalize(d);
+    const double d[3] = {tip[0] - at[0], tip[1] - at[1], tip[2] - at[2]};
     for (double& x : at) x *= options_.scale;
+    // Within the bounds a lights file's positions keep (1e9 m): a light at 1e300, or under a transform that
+    // overflows, would reach the ray tracer as infinities.
+    if (!std::all_of(at.begin(), at.end(), [](double x) { return std::abs(x) <= SceneBuilder::kMaxSceneSize; }))
+      Fail(where, fmt::format("the light lies at ({:g}, {:g}, {:g}) m after the nodes' transforms: beyond {:g} m",
+                              at[0], at[1], at[2], SceneBuilder::kMaxSceneSize));
+    const double length = std::hypot(d[0], d[1], d[2]);
+    if (light.kind != LightKind::kPoint) {
+      if (!(length > 0 && std::isfinite(length))) Fail(where, "the node's transform flattens or overflows the light's direction");
+      light.direction = Normalize(Vector3{float(d[0] / length), float(d[1] / length), float(d[2] / length)});
+    }
     lights_.emplace_back(light, at);
   }
 
@@ -546,14 +556,21 @@ class GltfReader {
     return Folder(path_) + "/" + DecodeUri(uri);
   }
 
-  // An emissive texture's mean over the primitive (area-weighted, four points per triangle) folded into Ke: a copy
-  // of the material per primitive, since a light has one radiance.
-  uint32_t EmissiveVariant(const tg::Primitive& primitive, const MaterialUse& use, const std::string& where,
-                           uint32_t first, const std::vector<std::array<uint32_t, 3>>& corners) {
+  // An emissive texture's mean over the primitive (area-weighted, four points per triangle; the image's mean where
+  // the primitive has no coordinates for it) folded into the Ke of material `base`: a copy of it per primitive, since
+  // a light has one radiance.
+  uint32_t EmissiveVariant(const tg::Primitive& primitive, const MaterialUse& use, uint32_t base,
+                           const std::string& where, uint32_t first, const std::vector<std::array<uint32_t, 3>>& corners) {
     const size_t vertices = builder_.PositionCount() - first;
     std::optional<Accessor> uv = TexcoordAccessor(primitive, use.emissiveUv.texCoord, vertices, where);
-    if (!uv) return use.material;
     const Texture& texture = result_.scene.textures[size_t(use.emissiveTexture)];
+    Material m = result_.scene.materials[base];
+    Warn("emissive texture", where, "emissiveTexture is averaged over the primitive: a light has one radiance");
+    m.name += " (emissive texture averaged)";
+    if (!uv) {
+      m.emission = m.emission * texture.Mean();
+      return AppendMaterial(m);
+    }
     Rgb sum;
     double area = 0;
     constexpr double kPoints[4][2] = {{1.0 / 3, 1.0 / 3}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}, {1.0 / 6, 1.0 / 6}};
@@ -567,10 +584,7 @@ class GltfReader {
       }
       area += a;
     }
-    Material m = result_.scene.materials[use.material];
     m.emission = m.emission * (area > 0 ? sum * float(1 / area) : Rgb{});
-    m.name += " (emissive texture averaged)";
-    Warn("emissive texture", where, "emissiveTexture is averaged over the primitive: a light has one radiance");
     return AppendMaterial(m);
   }
   double TriangleArea(uint32_t a, uint32_t b, uint32_t c) const {
@@ -593,6 +607,7 @@ class GltfReader {
   std::unordered_map<int, MaterialUse> materials_;           // glTF material -> ours
   std::unordered_map<int, std::optional<int>> textureOfImage_;  // glTF image -> Scene::textures index
   std::unordered_map<int, uint32_t> objectOfNode_;           // glTF node -> Scene::objectNames index
+  std::unordered_map<uint32_t, uint32_t> untextured_;        // textured material -> UntexturedVariant
 };
 
 }  // namespace

@@ -119,9 +119,13 @@ void CheckHorizontalAngles(const std::vector<double>& c, NumberStream& numbers) 
                              "or 90 to 270", first, last));
 }
 
-void CheckIncreasing(const std::vector<double>& angles, const std::string& what, NumberStream& numbers) {
-  if (std::adjacent_find(angles.begin(), angles.end(), std::greater_equal<>()) != angles.end())
-    numbers.Fail(what + " must increase");
+void CheckIncreasing(const std::vector<double>& radians, const std::string& what, NumberStream& numbers) {
+  const auto at = std::adjacent_find(radians.begin(), radians.end(), std::greater_equal<>());
+  if (at == radians.end()) return;
+  const auto i = size_t(at - radians.begin());
+  numbers.Fail(fmt::format("{} must increase: angle {} ({:.17g} degrees) is not above angle {} ({:.17g} degrees) once "
+                           "converted to radians", what, i + 2, at[1] * 180 / std::numbers::pi, i + 1,
+                           at[0] * 180 / std::numbers::pi));
 }
 
 std::vector<double> Radians(std::vector<double> degrees) {
@@ -147,18 +151,20 @@ IntensityProfile LoadIesFile(const std::string& path) {
   numbers.Many(3, "luminous opening's width, length and height", -kMostCandela, kMostCandela);
   const std::vector<double> factors = numbers.Many(2, "ballast factor and ballast-lamp photometric factor", 0, 1e3);
   numbers.Next("input watts");
-  const std::vector<double> gamma = numbers.Many(vertical, "vertical angles", 0, 180);
+  // Checked as the profile holds them, in radians: two angles a rounding apart in degrees may be one in radians.
+  const std::vector<double> gamma = Radians(numbers.Many(vertical, "vertical angles", 0, 180));
   CheckIncreasing(gamma, "the vertical angles", numbers);
-  const std::vector<double> c = numbers.Many(horizontal, "horizontal angles", 0, 360);
+  const std::vector<double> degrees = numbers.Many(horizontal, "horizontal angles", 0, 360);
+  CheckHorizontalAngles(degrees, numbers);
+  const std::vector<double> c = Radians(degrees);
   CheckIncreasing(c, "the horizontal angles", numbers);
-  CheckHorizontalAngles(c, numbers);
   std::vector<double> candela = numbers.Many(vertical * horizontal, "candela values", 0, kMostCandela);
   const double scale = multiplier * factors[0] * factors[1];
   for (double& value : candela) value *= scale;
   if (std::any_of(candela.begin(), candela.end(), [](double v) { return !(v <= kMostCandela); }))
     numbers.Fail(fmt::format("the candela multiplier and factors ({:g}) take an intensity past {:g} cd", scale,
                              kMostCandela));
-  return IntensityProfile(path, Radians(gamma), Radians(c), std::move(candela));
+  return IntensityProfile(path, gamma, c, std::move(candela));
 }
 
 }  // namespace pb

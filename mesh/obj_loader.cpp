@@ -199,7 +199,7 @@ class ObjParser {
     CheckUnusedIndices(line, 2, normalCount_);
     uint32_t material = uint32_t(currentMaterial_);
     if (textured && std::count(texcoords.begin(), texcoords.end(), kNoTexcoord) > 0) {
-      material = UntexturedVariant(line, material);
+      material = Untextured(line, material);
       std::fill(texcoords.begin(), texcoords.end(), kNoTexcoord);
     }
     const auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
@@ -215,21 +215,13 @@ class ObjParser {
 
   // A face of a textured material without texture coordinates (Blender's exporter keeps the last usemtl for the
   // next object, which may have no UV map): it gets the material with its texture averaged, Kd x the image's mean.
-  uint32_t UntexturedVariant(const TextLine& line, uint32_t textured) {
+  uint32_t Untextured(const TextLine& line, uint32_t textured) {
     Scene& scene = result_.scene;
-    const auto [it, isNew] = untextured_.emplace(textured, uint32_t(scene.materials.size()));
-    if (isNew) {
-      Material m = scene.materials[textured];
-      m.albedo = m.albedo * scene.textures[size_t(m.albedoTexture)].Mean();
-      m.albedoTexture = -1;
-      m.textureScale = {1, 1}, m.textureOffset = {0, 0}, m.textureClamp = false;
-      m.name += " (untextured)";
-      scene.materials.push_back(m);
-    }
+    const uint32_t variant = UntexturedVariant(scene, textured, untextured_);
     warnings_.Add("no texcoords", line.Warning("material '" + scene.materials[textured].name +
                                                "' has a map_Kd texture, but the face has no texture coordinates "
                                                "(v/t): it gets Kd times the texture's mean"));
-    return it->second;
+    return variant;
   }
 
   // Normals are never used (surfaces are shaded from their charts), nor are texture coordinates without a

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -200,5 +201,22 @@ struct Scene {
     return double(Length(hi - lo));
   }
 };
+
+// Material `textured`'s variant for faces that have no texture coordinates to read its albedo texture with (an OBJ
+// face without v/t, a glTF primitive without the TEXCOORD_n its material names): Kd times the image's mean, with no
+// texture, named "<name> (untextured)". `variants` remembers those made (textured material -> variant), so each is
+// added to `scene` once.
+inline uint32_t UntexturedVariant(Scene& scene, uint32_t textured, std::unordered_map<uint32_t, uint32_t>& variants) {
+  const auto [it, isNew] = variants.emplace(textured, uint32_t(scene.materials.size()));
+  if (isNew) {
+    Material m = scene.materials[textured];
+    m.albedo = m.albedo * scene.textures[size_t(m.albedoTexture)].Mean();
+    m.albedoTexture = -1;
+    m.textureScale = {1, 1}, m.textureOffset = {0, 0}, m.textureClamp = false;
+    m.name += " (untextured)";
+    scene.materials.push_back(m);
+  }
+  return it->second;
+}
 
 }  // namespace pb

@@ -192,6 +192,41 @@ TEST(GltfLoader, TextureCoordinatesFollowKhrTextureTransform) {
   EXPECT_NEAR(scene.AlbedoAt(0, 0, 1).g, kMaxReflectance, 1e-5);
 }
 
+// A textured material on a primitive without the texture coordinates it names (no TEXCOORD_0 for the base colour,
+// no TEXCOORD_1 for an emissive texture read with texCoord 1) once crashed the bake, which read coordinates that did
+// not exist (issue 60). As in an OBJ, such a primitive takes the colour times the image's mean, with a warning, and
+// the bake runs through.
+TEST(GltfLoader, ATextureWithoutItsCoordinatesReadsTheImagesMean) {
+  const std::string dir = test::TempDirectory("gltf-no-texcoords");
+  test::WritePngRgb8(dir + "/rg.png", 2, 1, {255, 0, 0, 0, 255, 0});
+  GltfBuilder b;
+  b.json()["images"] = {{{"uri", "rg.png"}}};
+  b.json()["textures"] = {{{"source", 0}}};
+  b.AddMaterial(Json::parse(R"({"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1],
+      "baseColorTexture": {"index": 0}}})"));
+  b.AddMaterial(Json::parse(R"({"emissiveFactor": [4, 4, 4], "emissiveTexture": {"index": 0, "texCoord": 1}})"));
+  const int positions = b.AddPositions(kSquare), indices = b.AddIndices(kSquareIndices);
+  b.AddMesh(positions, indices, 0);
+  b.AddMesh(positions, indices, 1);
+  b.SetRoots({b.AddNode({{"mesh", 0}}), b.AddNode({{"mesh", 1}, {"translation", {0, 1, 0}}, {"rotation", {1, 0, 0, 0}}})});
+  const std::string file = b.WriteGltf(dir, "s");
+  const LoadedScene loaded = LoadGltf(file);
+  const Scene& scene = loaded.scene;
+  ASSERT_EQ(scene.triangles.size(), 4u);
+  const Material& floor = scene.MaterialOf(0);
+  EXPECT_EQ(floor.albedoTexture, -1);
+  EXPECT_NEAR(floor.albedo.r, 0.8f * 0.5f, 1e-5) << "the image's mean: half red, half green";
+  EXPECT_NEAR(floor.albedo.g, 0.8f * 0.5f, 1e-5);
+  EXPECT_NEAR(floor.albedo.b, 0.0f, 1e-6);
+  EXPECT_NEAR(scene.MaterialOf(2).emission.r, 4 * 0.5f, 1e-5);
+  std::string warnings;
+  for (const std::string& w : loaded.warnings) warnings += w + "\n";
+  // One warning of each kind, counting the rest: the base colour's and the emissive texture's.
+  EXPECT_NE(warnings.find("no TEXCOORD_0; the texture's mean is used instead (2 in all)"), std::string::npos) << warnings;
+  const test::ToolRun run = test::RunBake("'" + file + "' -o '" + dir + "/s.ply' --photons 20000 --h 0.2 --threads 2");
+  EXPECT_EQ(run.status, 0) << run.output;
+}
+
 // What the loader does not read is said, never dropped in silence (issue 39): vertex colours (a vertex-coloured
 // box baked grey), a double-sided light, a glass ior glass cannot have (read as 1.5); and Draco-compressed geometry is refused by
 // its extension's name, not as "accessor[0] invalid bufferView".
@@ -396,6 +431,36 @@ TEST(GltfLoader, PunctualLightsAreReadAndBaked) {
   // rays' start, baker/3_irradiance_field.h), which raises it by 3e-4 of itself here.
   for (size_t v = 0; v < ply.VertexCount(); ++v)
     EXPECT_NEAR(ply.vertex.at("irradiance_r")[v] / (1 / (3 * std::sqrt(3.0))), 1, 1e-3) << v;
+}
+
+// A light placed where the ray tracer cannot go (issue 60: Embree aborted on it): at 1e300 m, or under nodes whose
+// scales multiply past a double, is refused naming the node, as a lights file's position beyond 1e9 m is; a spot
+// under a huge but finite scale keeps its direction.
+TEST(GltfLoader, LightsBeyondTheSceneBoundsAreRefused) {
+  const std::string dir = test::TempDirectory("gltf-far-lights");
+  const auto withLight = [&](const std::string& name, const std::string& type, const std::vector<Json>& chain) {
+    GltfBuilder b = SquareMesh();
+    b.json()["extensionsUsed"] = {"KHR_lights_punctual"};
+    Json light = {{"type", type}, {"intensity", 10}};
+    if (type == "spot") light["spot"] = {{"outerConeAngle", 0.5}};
+    b.json()["extensions"]["KHR_lights_punctual"]["lights"] = {light};
+    int child = -1;
+    for (size_t k = chain.size(); k-- > 0;) {
+      Json node = chain[k];
+      if (child >= 0) node["children"] = {child};
+      if (k + 1 == chain.size()) node["extensions"] = {{"KHR_lights_punctual", {{"light", 0}}}};
+      child = b.AddNode(node);
+    }
+    b.SetRoots({b.AddNode({{"mesh", 0}}), child});
+    return b.WriteGltf(dir, name);
+  };
+  ExpectError(withLight("far", "point", {{{"translation", {0, 1e300, 0}}}}),
+              "KHR_lights_punctual/light: the light lies at (0, 1e+300, 0) m after the nodes' transforms");
+  const Json huge = {{"scale", {1e200, 1e200, 1e200}}};
+  ExpectError(withLight("overflow", "spot", {huge, huge, {{"translation", {0, 1, 0}}}}), "beyond 1e+09 m");
+  const LoadedScene scaled = LoadGltf(withLight("scaled", "spot", {huge, {{"scale", {1, 1e-200, 1}}}}));
+  ASSERT_EQ(scaled.scene.analyticLights.size(), 1u);
+  EXPECT_NEAR(scaled.scene.analyticLights[0].direction.z, -1.0f, 1e-6);
 }
 
 // Blender 3.4's glTF exporter writes the scene of tools/blender-export.py as a .glb (images inside) and as a

@@ -108,7 +108,9 @@ TEST(IesFile, FaultsNameTheLine) {
       {text.substr(0, text.rfind("\n", text.size() - 2) + 1), "lamp.ies:13: error: the file ends after 5 of its 6 candela values"},
       {replaceLine(5, "1 -1 1 3 2 2 2 0 0 0"), "lamp.ies:5: error: photometric type 2: only type C (1) is read"},
       {replaceLine(5, "1 -1 1 2000000000 2 1 2 0 0 0"), "lamp.ies:5: error: the vertical angle count must be a whole number in [2, "},
-      {replaceLine(7, "0 90 45"), "lamp.ies:7: error: the vertical angles must increase"},
+      {replaceLine(7, "0 90 45"), "lamp.ies:7: error: the vertical angles must increase: angle 3"},
+      // Two angles apart in degrees (100 and the next double) that are one in radians (issue 60: it aborted).
+      {replaceLine(7, "0 100 100.00000000000001"), "lamp.ies:7: error: the vertical angles must increase: angle 3"},
       {replaceLine(7, "0 45 190"), "lamp.ies:7: error: vertical angles must lie in [0, 180], not 190"},
       {replaceLine(8, "0 120"), "lamp.ies:8: error: horizontal angles from 0 to 120 degrees: LM-63 allows"},
       {replaceLine(6, "-1 1 10"), "lamp.ies:6: error: ballast factor and ballast-lamp photometric factor must lie in"},
