@@ -85,16 +85,17 @@ std::vector<std::pair<int, Matrix>> SceneNodes(const tg::Model& model, const std
   std::vector<Visit> stack;
   const std::vector<int> roots = Roots(model, file);
   for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, kIdentity, 0});
-  std::vector<int> path;  // the nodes from the root to the current one
+  std::vector<int> path;                             // the nodes from the root to the current one
+  std::vector<char> onPath(model.nodes.size(), 0);  // whether a node is on `path`: a chain 700,000 deep stays linear
   while (!stack.empty()) {
     const Visit v = stack.back();
     stack.pop_back();
-    path.resize(v.depth);
+    for (; path.size() > v.depth; path.pop_back()) onPath[size_t(path.back())] = 0;
     const std::string where = fmt::format("/nodes/{}", v.node);
     if (v.node < 0 || size_t(v.node) >= model.nodes.size())
       Fail(file, where, fmt::format("node {} does not exist ({} nodes)", v.node, model.nodes.size()));
-    if (std::find(path.begin(), path.end(), v.node) != path.end()) Fail(file, where, "the node is its own ancestor");
-    path.push_back(v.node);
+    if (onPath[size_t(v.node)]) Fail(file, where, "the node is its own ancestor");
+    path.push_back(v.node), onPath[size_t(v.node)] = 1;
     const tg::Node& n = model.nodes[size_t(v.node)];
     if (++visits > kMaxNodeVisits)
       Fail(file, where, fmt::format("the scene's hierarchy visits more than {} nodes (nodes shared by many parents)",

@@ -11,6 +11,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <string_view>
 #include <unordered_map>
 
 #include "mesh/errors.h"
@@ -51,6 +52,9 @@ struct UvTransform {
 };
 
 // What a primitive needs to know about its material beyond the index: which texture coordinates to read.
+// The deepest nesting of arrays and objects read (RefuseDeepNesting).
+constexpr size_t kMaxGltfNesting = 1000;
+
 struct MaterialUse {
   uint32_t material = 0;
   std::optional<UvTransform> albedoUv;  // when the albedo is textured
@@ -158,6 +162,7 @@ class GltfReader {
 
   void Parse() {
     const std::string bytes = ReadRegularFile(path_, "scene file");
+    RefuseDeepNesting(bytes);
     tg::TinyGLTF gltf;
     gltf.SetFsCallbacks({&RegularFileExists, &SamePath, &ReadWhole, &NoWrite, nullptr});
     gltf.SetImageLoader(&KeepImageBytes, &imageBytes_);
@@ -176,6 +181,36 @@ class GltfReader {
                                      (lines.empty() ? "tinygltf gave no reason" : lines.front()));
     }
   }
+  // tinygltf converts the JSON to its own values recursively: 100,000 nested arrays in `extras` overflow the stack.
+  // No glTF needs more than a few levels; the JSON (a .glb's first chunk) is refused past kMaxGltfNesting, naming the
+  // line where it goes deeper.
+  void RefuseDeepNesting(const std::string& bytes) const {
+    std::string_view json = bytes;
+    if (StartsWith(bytes, "glTF") && bytes.size() >= 20) {
+      uint32_t length = 0;
+      std::memcpy(&length, bytes.data() + 12, 4);  // the first chunk's length, little-endian as the file's byte order
+      json = json.substr(20, length);
+    }
+    int line = 1;
+    size_t depth = 0;
+    bool inString = false;
+    for (size_t i = 0; i < json.size(); ++i) {
+      const char c = json[i];
+      if (c == '\n') ++line;
+      if (inString) {
+        if (c == '\\') ++i;  // an escaped character, a quote among them
+        else if (c == '"') inString = false;
+      } else if (c == '"') {
+        inString = true;
+      } else if (c == '[' || c == '{') {
+        if (++depth > kMaxGltfNesting)
+          throw InputError(path_, line, fmt::format("the JSON nests arrays and objects deeper than {} levels", kMaxGltfNesting));
+      } else if ((c == ']' || c == '}') && depth > 0) {
+        --depth;
+      }
+    }
+  }
+
   static std::vector<std::string> SplitLines(const std::string& text) {
     std::vector<std::string> lines;
     size_t start = 0;

@@ -160,7 +160,8 @@ class LightReader {
 
 void AddLightsFile(Scene& scene, const std::string& named) {
   const std::string path = named.empty() ? LightsSidecarPath(scene.path) : named;
-  if (named.empty() && !std::filesystem::is_regular_file(path)) return;
+  std::error_code error;  // a sidecar whose name cannot exist (past the file system's limit) is simply absent
+  if (named.empty() && !std::filesystem::is_regular_file(path, error)) return;
   LightsFile file = LoadLightsFile(path, scene);
   for (AnalyticLight& light : file.lights) scene.analyticLights.push_back(std::move(light));
   scene.portals = std::move(file.portals);

@@ -162,8 +162,17 @@ void SayWhenMpirunEndsTheJob(bool root) {
   sigaction(SIGTERM, &action, nullptr);
 }
 
-// Runs this rank's part; 0, or 1 after an InputError, which only rank 0 prints unless rank 0 was ready and this
-// rank was not (a file that only this rank cannot read).
+// This rank's failure, said once: by rank 0, or by this rank when rank 0 was ready and this rank was not (a file
+// that only this rank cannot read). 1.
+int Failed(const std::string& message, const MpiDistribution& d) {
+  const bool mine = !d.Agreed();  // this rank failed before every rank said it was ready
+  const std::vector<bool> ready = mine ? d.Agree(false) : std::vector<bool>(d.Size(), true);
+  if (d.Root() || (mine && ready[0])) fmt::print(stderr, "{}{}\n", d.Root() ? "" : fmt::format("rank {}: ", d.Rank()), message);
+  return 1;
+}
+
+// Runs this rank's part; 0, or 1 after a failure, caught as `bake` catches it (tools/cli_options.h: RunTool), so
+// that the outputs' temporaries are removed as the stack unwinds and no rank ends in std::terminate.
 int Run(const tools::BakeCommandLine& c, const MpiDistribution& d) {
   const Log log(c.options.quiet || !d.Root());
   try {
@@ -173,10 +182,11 @@ int Run(const tools::BakeCommandLine& c, const MpiDistribution& d) {
       TraceShareOfBake(c.options, log, d);
     return 0;
   } catch (const InputError& e) {
-    const bool mine = !d.Agreed();  // this rank failed before every rank said it was ready
-    const std::vector<bool> ready = mine ? d.Agree(false) : std::vector<bool>(d.Size(), true);
-    if (d.Root() || (mine && ready[0])) fmt::print(stderr, "{}{}\n", d.Root() ? "" : fmt::format("rank {}: ", d.Rank()), e.what());
-    return 1;
+    return Failed(e.what(), d);
+  } catch (const std::bad_alloc&) {
+    return Failed("error: out of memory; nothing was written", d);
+  } catch (const std::exception& e) {  // a library's own exception that no stage turned into an InputError
+    return Failed(fmt::format("error: {}", e.what()), d);
   }
 }
 
@@ -200,6 +210,9 @@ int main(int argc, char** argv) {
     status = distribution.Root() ? (app.exit(e) == 0 ? 0 : 2) : (e.get_exit_code() == 0 ? 0 : 2);
   } catch (const pb::InputError& e) {  // a bad option value: every rank sees it, rank 0 says it
     if (distribution.Root()) fmt::print(stderr, "{}\n", e.what());
+    status = 2;
+  } catch (const std::exception& e) {
+    if (distribution.Root()) fmt::print(stderr, "error: {}\n", e.what());
     status = 2;
   }
   MPI_Finalize();

@@ -1,6 +1,7 @@
 #include "baker/files/atomic_file.h"
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -240,7 +241,18 @@ void RequireWritableLocation(const std::string& path) {
     if (!S_ISREG(st.st_mode))
       throw InputError(path, 0, "is not a regular file (a device, FIFO or socket); it would be replaced by one");
   }
-  if (::access(DirectoryOf(path).c_str(), W_OK) != 0) throw InputError(path, 0, "cannot write here: " + ErrnoText());
+  const std::string directory = DirectoryOf(path);
+  if (::access(directory.c_str(), W_OK) != 0) throw InputError(path, 0, "cannot write here: " + ErrnoText());
+  // The temporary's name must fit the folder's limit too (NAME_MAX, 255 on most file systems), or the bake would
+  // fail after all its work: its longest, with the largest pid and a counter of 9 digits.
+  const long most = ::pathconf(directory.c_str(), _PC_NAME_MAX);
+  const size_t slash = path.find_last_of('/');
+  const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  const size_t longest = TemporaryName(name, pid_t(4194304), 999'999'999).size();
+  if (most > 0 && longest > size_t(most))
+    throw InputError(path, 0, fmt::format("the file name is {} characters long: with its temporary's suffix ({}) "
+                                          "it passes this folder's limit of {}; choose a name of at most {}",
+                                          name.size(), longest - name.size(), most, size_t(most) - (longest - name.size())));
 }
 
 void RequireDistinctFiles(const std::vector<std::pair<std::string, std::string>>& outputs,

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -314,6 +315,42 @@ TEST(GltfLoader, HierarchiesThatMultiplyBeyondTheLimitsAreRefused) {
     ExpectError(b.WriteGltf(dir, "counts"), "/nodes/0/extensions/EXT_mesh_gpu_instancing/attributes: SCALE has 3 "
                                             "instances where the others have 2");
   }
+}
+
+// Depth that costs the stack or the clock (issue 60): `extras` nesting 100,000 arrays overflowed tinygltf's
+// recursive conversion (refused, .gltf and .glb alike, naming the line); a chain of 100,000 nodes is legal and is
+// walked in linear time (each visit once searched all its ancestors), composing every step.
+TEST(GltfLoader, DeepNestingIsRefusedAndDeepChainsLoad) {
+  const std::string dir = test::TempDirectory("gltf-deep");
+  {
+    GltfBuilder b = SquareMesh();
+    b.SetRoots({b.AddNode({{"mesh", 0}})});
+    b.json()["extras"] = "NESTED";
+    for (const bool binary : {false, true}) {
+      const std::string path = binary ? b.WriteGlb(dir, "nested") : b.WriteGltf(dir, "nested");
+      std::string text = test::ReadBytes(path);
+      const size_t at = text.find("\"NESTED\"");
+      ASSERT_NE(at, std::string::npos);
+      const std::string nested = std::string(100'000, '[') + std::string(100'000, ']');
+      text.replace(at, 8, nested);
+      if (binary) {  // the JSON chunk grows by a multiple of 4: its length and the file's are rewritten (little-endian)
+        uint32_t chunk = 0;
+        std::memcpy(&chunk, text.data() + 12, 4);
+        const uint32_t lengths[2] = {uint32_t(text.size()), uint32_t(chunk - 8 + nested.size())};
+        std::memcpy(text.data() + 8, lengths, 8);
+      }
+      test::WriteText(path, text);
+      ExpectError(path, "error: the JSON nests arrays and objects deeper than 1000 levels");
+    }
+  }
+  GltfBuilder b = SquareMesh();
+  int child = b.AddNode({{"mesh", 0}});
+  constexpr int kDepth = 100'000;
+  for (int depth = 0; depth < kDepth; ++depth) child = b.AddNode({{"children", {child}}, {"translation", {0, 1e-5, 0}}});
+  b.SetRoots({child});
+  const Scene scene = LoadGltf(b.WriteGltf(dir, "chain")).scene;
+  ASSERT_EQ(scene.triangles.size(), 2u);
+  EXPECT_NEAR(Centroid(scene, 0).y, kDepth * 1e-5, 1e-6) << "every node's translation composed";
 }
 
 TEST(GltfLoader, FaultsNameTheJsonPath) {

@@ -108,6 +108,11 @@ TEST(BakeMpi, BadInputAndUnsharedOptionsAreReportedOnce) {
   EXPECT_EQ(Count(saving.output, "bins its photons while they are traced"), 1u) << saving.output;
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.ply"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.photons"));
+  // An output whose temporary's name is too long (issue 60: std::terminate on every rank) is one clear error.
+  const test::ToolRun longName = test::RunTool(kMpirun, kBox + " -q -o " + dir + "/" + std::string(245, 'a') + ".ply");
+  EXPECT_NE(longName.status, 0);
+  EXPECT_EQ(Count(longName.output, "passes this folder's limit of 255"), 1u) << longName.output;
+  EXPECT_EQ(longName.output.find("terminate called"), std::string::npos) << longName.output;
 }
 
 // dir holds out.ply as it was ("earlier output") and nothing else.

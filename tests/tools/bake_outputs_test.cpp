@@ -123,6 +123,9 @@ TEST(BakeCli, CollidingOrNonRegularOutputsAreRefusedAtOnce) {
       {"-o " + dir, "is a directory"},
       {"-o " + dir + "/", "is a directory"},
       {"-o /dev/null", "is not a regular file"},
+      // A name that fits the folder but whose temporary would not: refused before the work (issue 60: it failed
+      // after the whole bake).
+      {"-o " + dir + "/" + std::string(245, 'a') + ".ply", "it passes this folder's limit of 255"},
   };
   for (const Case& c : cases) {
     const BakeRun run = RunBake(scene + " --photons 400000000 " + c.arguments);
@@ -131,6 +134,10 @@ TEST(BakeCli, CollidingOrNonRegularOutputsAreRefusedAtOnce) {
   }
   EXPECT_TRUE(test::ReadBytes(scene) == sceneBytes);
   EXPECT_TRUE(test::ReadBytes(dir + "/keep.ply") == keepBytes);
+  // A scene named as long as a name can be: its lights sidecar's name cannot exist, so it is simply absent.
+  const std::string longScene = dir + "/" + std::string(248, 's') + ".obj";
+  std::filesystem::copy_file(scene, longScene);
+  EXPECT_EQ(RunBake(longScene + " -q -o " + dir + "/long.ply --photons 2000").status, 0);
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.ply"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/y.ply"));
   // --save-photons may name the --resume file: the photons are read before the new file is written.
