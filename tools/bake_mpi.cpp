@@ -17,6 +17,7 @@
 
 #include "baker/bake.h"
 #include "baker/distribution.h"
+#include "baker/runtime/progress.h"
 #include "mesh/errors.h"
 #include "tools/bake_cli.h"
 #include "tools/cli_options.h"
@@ -167,7 +168,8 @@ void SayWhenMpirunEndsTheJob(bool root) {
 int Failed(const std::string& message, const MpiDistribution& d) {
   const bool mine = !d.Agreed();  // this rank failed before every rank said it was ready
   const std::vector<bool> ready = mine ? d.Agree(false) : std::vector<bool>(d.Size(), true);
-  if (d.Root() || (mine && ready[0])) fmt::print(stderr, "{}{}\n", d.Root() ? "" : fmt::format("rank {}: ", d.Rank()), message);
+  if (d.Root() || (mine && ready[0]))
+    fmt::print(stderr, "{}{}\n", d.Root() ? "" : fmt::format("rank {}: ", d.Rank()), TerminalSafe(message));
   return 1;
 }
 
@@ -209,10 +211,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     status = distribution.Root() ? (app.exit(e) == 0 ? 0 : 2) : (e.get_exit_code() == 0 ? 0 : 2);
   } catch (const pb::InputError& e) {  // a bad option value: every rank sees it, rank 0 says it
-    if (distribution.Root()) fmt::print(stderr, "{}\n", e.what());
+    if (distribution.Root()) fmt::print(stderr, "{}\n", pb::TerminalSafe(e.what()));
     status = 2;
   } catch (const std::exception& e) {
-    if (distribution.Root()) fmt::print(stderr, "error: {}\n", e.what());
+    if (distribution.Root()) fmt::print(stderr, "error: {}\n", pb::TerminalSafe(e.what()));
     status = 2;
   }
   MPI_Finalize();

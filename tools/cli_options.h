@@ -17,6 +17,7 @@
 #include <string>
 #include <string_view>
 
+#include "baker/runtime/progress.h"
 #include "mesh/errors.h"
 
 namespace pb::tools {
@@ -94,20 +95,20 @@ int RunTool(CLI::App& app, int argc, char** argv, Validate&& validate, Work&& wo
   try {
     validate();
   } catch (const InputError& e) {
-    fmt::print(stderr, "{}\n", e.what());
+    fmt::print(stderr, "{}\n", TerminalSafe(e.what()));
     return 2;
   }
   try {
     work();
     return 0;
   } catch (const InputError& e) {
-    fmt::print(stderr, "{}\n", e.what());
+    fmt::print(stderr, "{}\n", TerminalSafe(e.what()));
     return 1;
   } catch (const std::bad_alloc&) {  // caught, so that the outputs' temporaries are removed as the stack unwinds
     fmt::print(stderr, "error: out of memory; nothing was written\n");
     return 1;
   } catch (const std::exception& e) {  // a library's own exception that no stage turned into an InputError
-    fmt::print(stderr, "error: {}\n", e.what());
+    fmt::print(stderr, "error: {}\n", TerminalSafe(e.what()));
     return 1;
   }
 }

@@ -280,10 +280,10 @@ int main(int argc, char** argv) {
     pb::AddLightsFile(loaded.scene, lightsPath);
     for (const std::string& w : loaded.warnings) std::fprintf(stderr, "%s\n", w.c_str());
     const std::string folder = std::filesystem::path(outputPath).parent_path().string();
-    const tg::Model model =
+    tg::Model model =
         Converter(loaded.scene, {without.begin(), without.end()}, efficacy, folder.empty() ? "." : folder).Convert();
     pb::OutputFiles outputs;
-    pb::WriteGltfModel(outputs, outputPath, model);
+    pb::WriteGltfModel(outputs, outputPath, std::move(model));
     WriteSidecarLights(outputs, pb::LightsSidecarPath(outputPath), loaded.scene);
     outputs.Commit();
     std::printf("scene-to-gltf: %s -> %s (%zu meshes, %zu materials, %zu lights)\n", scenePath.c_str(),

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "baker/files/json_file.h"
 #include "mesh/errors.h"
 #include "mesh/scene_file.h"
 
@@ -62,7 +63,12 @@ int GltfBufferWriter::Append(const void* bytes, size_t size, int target, int com
   return int(model_.accessors.size() - 1);
 }
 
-void WriteGltfModel(OutputFiles& outputs, const std::string& path, const tg::Model& model) {
+void WriteGltfModel(OutputFiles& outputs, const std::string& path, tg::Model model) {
+  const auto valid = [](auto& named) {
+    for (auto& element : named) element.name = ValidUtf8(element.name);
+  };
+  valid(model.materials), valid(model.meshes), valid(model.nodes), valid(model.scenes), valid(model.lights);
+  valid(model.images), valid(model.textures), valid(model.cameras);
   const bool binary = IsBinaryGltfPath(path);
   outputs.Write(path, [&](std::ostream& out) {
     tg::TinyGLTF writer;

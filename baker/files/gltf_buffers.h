@@ -31,7 +31,8 @@ class GltfBufferWriter {
   tinygltf::Model& model_;
 };
 
-// Stages `model` as `path` in `outputs`.
-void WriteGltfModel(OutputFiles& outputs, const std::string& path, const tinygltf::Model& model);
+// Stages `model` as `path` in `outputs`, its names made valid UTF-8 (ValidUtf8: a Latin-1 name from a Windows
+// exporter would make the JSON writer throw after the bake).
+void WriteGltfModel(OutputFiles& outputs, const std::string& path, tinygltf::Model model);
 
 }  // namespace pb

@@ -12,14 +12,34 @@ namespace pb {
 Log::Log(bool quiet, std::function<void(const std::string&)> listener)
     : quiet_(quiet), interactive_(!quiet && isatty(STDERR_FILENO)), listener_(std::move(listener)) {}
 
+std::string TerminalSafe(const std::string& text) {
+  std::string safe;
+  safe.reserve(text.size());
+  for (size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const bool c1 = c == 0xC2 && i + 1 < text.size() && static_cast<unsigned char>(text[i + 1]) >= 0x80 &&
+                    static_cast<unsigned char>(text[i + 1]) <= 0x9F;
+    if ((c < 0x20 && c != '\n' && c != '\t') || c == 0x7F) {
+      safe += fmt::format("\\x{:02x}", c);
+    } else if (c1) {
+      safe += fmt::format("\\u{:04x}", static_cast<unsigned char>(text[++i]));
+    } else {
+      safe += char(c);
+    }
+  }
+  return safe;
+}
+
 void Log::Info(const std::string& line) const {
-  if (!quiet_) fmt::print(stderr, "{}\n", line);
-  Notify(line);
+  const std::string safe = TerminalSafe(line);
+  if (!quiet_) fmt::print(stderr, "{}\n", safe);
+  Notify(safe);
 }
 
 void Log::Warning(const std::string& line) const {
-  fmt::print(stderr, "{}\n", line);
-  Notify(line);
+  const std::string safe = TerminalSafe(line);
+  fmt::print(stderr, "{}\n", safe);
+  Notify(safe);
 }
 
 void Log::Warnings(const std::vector<std::string>& lines) const {

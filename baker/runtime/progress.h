@@ -27,7 +27,11 @@ std::string DurationText(double seconds);
 std::vector<std::string> LongWorkWarnings(const std::string& option, const std::string& what, double points,
                                           double secondsPerPoint, const std::function<std::string(double)>& remedy);
 
-// Info lines go to stderr unless quiet, warnings always; both also to `listener` when given (an application's own
+// `text` safe to print on a terminal: control characters other than a newline or tab (ESC, BEL, ...; C1's CSI as
+// UTF-8) written as \xNN or \uNNNN, so that a light named with escape codes cannot retitle or clear the terminal.
+std::string TerminalSafe(const std::string& text);
+
+// Info lines go to stderr unless quiet, warnings always, both TerminalSafe; both also to `listener` when given (an application's own
 // log, or a test that acts at a point of the bake), which hears "STAGE: done" too as each Progress ends.
 class Log {
  public:

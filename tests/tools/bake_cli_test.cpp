@@ -493,6 +493,27 @@ TEST(BakeCli, ANonUtf8NameIsReplacedInTheReport) {
   EXPECT_EQ(r.at("surfaces").at(0).at("material").get<std::string>(), "Terraind\xef\xbf\xbdk");
   EXPECT_EQ(r.at("surfaces").at(0).at("object").get<std::string>(), "Bygning\xef\xbf\xbd");
   EXPECT_NE(r.dump().find("sc\xef\xbf\xbdne.obj"), std::string::npos) << "the scene path, replaced";
+  // So in a glTF output (issue 60: the JSON writer threw after the bake), .gltf and .glb alike.
+  for (const char* name : {"/out.gltf", "/out.glb"}) {
+    const BakeRun gltf = RunBake(scene + " -q -o " + dir + name + " --photons 1000");
+    ASSERT_EQ(gltf.status, 0) << gltf.output;
+    EXPECT_NE(test::ReadBytes(dir + name).find("Bygning\xef\xbf\xbd"), std::string::npos) << name;
+  }
+}
+
+// A light named with terminal escape codes (issue 60: printed raw, they retitled and cleared the terminal) is
+// printed with its control characters written out, in the summary and in warnings alike.
+TEST(BakeCli, NamesWithControlCharactersArePrintedSafely) {
+  const std::string dir = test::TempDirectory("cli-escapes");
+  const std::string evil = "lamp\x1b]0;pwned\x07\x1b[2J";
+  test::WriteText(dir + "/m.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl " + evil + "\nKe 1 1 1\n");
+  test::WriteText(dir + "/s.obj", "mtllib m.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nusemtl floor\nf 1 4 3 2\n"
+                                  "v 0 1 0\nv 0.2 1 0\nv 0.2 1 0.2\nv 0 1 0.2\nusemtl " + evil + "\nf 5 6 7 8\n");
+  const BakeRun run = RunBake(dir + "/s.obj -o " + dir + "/out.ply --photons 1000");
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_EQ(run.output.find('\x1b'), std::string::npos);
+  EXPECT_EQ(run.output.find('\x07'), std::string::npos);
+  EXPECT_NE(run.output.find("lamp\\x1b]0;pwned\\x07\\x1b[2J"), std::string::npos) << run.output;
 }
 
 // A glTF scene that cannot be read is refused with its file and the JSON path of the fault, exit 1, and the
