@@ -39,8 +39,8 @@ namespace pb {
 // Sides whose normals differ by more than acos(kPooledCosine) = 60 degrees from the point's share no photon with it.
 inline constexpr float kPooledCosine = 0.5f;
 // The least weight of area samples r reaches (their weights w summed: as many samples at the centre, twice as many
-// half-way out), where there are that many within reach.
-inline constexpr double kMinAreaSamples = 16;
+// half-way out), where there are that many within reach: about half what r holds at the bake's sampling density.
+inline constexpr double kMinAreaSamples = 8;
 
 struct PooledSettings {
   // Photons of like orientation within r: weighed by w, about as many as 100 of weight 1, so about 10% noise.

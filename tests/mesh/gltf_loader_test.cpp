@@ -480,11 +480,11 @@ TEST(GltfLoader, LightsBeyondTheSceneBoundsAreRefused) {
     b.json()["extensionsUsed"] = {"KHR_lights_punctual"};
     Json light = {{"type", type}, {"intensity", 10}};
     if (type == "spot") light["spot"] = {{"outerConeAngle", 0.5}};
-    b.json()["extensions"]["KHR_lights_punctual"]["lights"] = {light};
+    b.json()["extensions"]["KHR_lights_punctual"]["lights"] = Json::array({light});  // {light} copies under clang
     int child = -1;
     for (size_t k = chain.size(); k-- > 0;) {
       Json node = chain[k];
-      if (child >= 0) node["children"] = {child};
+      if (child >= 0) node["children"] = Json::array({child});
       if (k + 1 == chain.size()) node["extensions"] = {{"KHR_lights_punctual", {{"light", 0}}}};
       child = b.AddNode(node);
     }
