@@ -337,11 +337,17 @@ std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& l
   else if (r.pointSamples > samples)
     remedies.push_back(fmt::format("{} {}", reference ? "--reference" : "--direct-samples",
                                    TwoDigits(1.05 * r.pointSamples)));
-  const std::string remedy = remedies.empty() ? "" : remedies.size() == 1 ? remedies[0] : remedies[0] + " and " + remedies[1];
+  // No count of photons or shadow rays brings it under: what is left is the paths gathered in narrow gaps, which
+  // neither lowers (RemedyForNoise leaves their noise as it is).
+  const std::string remedy =
+      remedies.empty()
+          ? fmt::format("no count of photons or shadow rays alone brings it under {:.0f}%: the paths gathered in "
+                        "narrow gaps hold it (raise --gap-paths)", 100 * kVisibleNoise)
+          : fmt::format("about {} would bring it under {:.0f}%{}",
+                        remedies.size() == 1 ? remedies[0] : remedies[0] + " and " + remedies[1], 100 * kVisibleNoise,
+                        reference ? "" : fmt::format(" (or --target-noise {} finds the photons itself)", kVisibleNoise));
   return {fmt::format("{}: warning: the bake's noise is {:.1f}% (the 95th percentile of the displayed light's "
-                      "predicted relative error), enough to show as blotches; about {} would bring it under {:.0f}%{}",
-                      o.scenePath, 100 * lit.noise, remedy, 100 * kVisibleNoise,
-                      reference ? "" : fmt::format(" (or --target-noise {} finds the photons itself)", kVisibleNoise))};
+                      "predicted relative error), enough to show as blotches; {}", o.scenePath, 100 * lit.noise, remedy)};
 }
 
 

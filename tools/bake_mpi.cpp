@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
+#include <fmt/ranges.h>
 
 #include <csignal>
 #include <cstring>
@@ -163,6 +164,27 @@ void SayWhenMpirunEndsTheJob(bool root) {
   sigaction(SIGTERM, &action, nullptr);
 }
 
+// The options a bake shared among processes cannot take yet: it bins its photons as they are traced, as node sums
+// of the kernel's wide lattices (PhotonRounds::RequireBinningWhileTracing). Refused before any work, naming them
+// (exit 2); whether the photons are enough for the scene's lattices is known once it is loaded.
+void RefuseUnsharedOptions(const BakeOptions& o) {
+  std::vector<std::string> refused;
+  if (o.estimator.kind != EstimatorKind::kKernel) refused.push_back("--estimator " + EstimatorName(o.estimator.kind));
+  else if (o.estimator.kernel == Kernel::kUniform || o.estimator.kernel == Kernel::kGaussian)
+    refused.push_back("--kernel " + KernelName(o.estimator.kernel));
+  if (!o.estimator.edgeCorrection) refused.push_back("--no-edge-correction");
+  if (o.autoBandwidth) refused.push_back("--h auto");
+  if (!o.savePhotonsPath.empty()) refused.push_back("--save-photons");
+  if (!o.resumePath.empty()) refused.push_back("--resume");
+  if (o.targetNoise) refused.push_back("--target-noise");
+  if (o.targetError) refused.push_back("--target-error");
+  if (refused.empty()) return;
+  throw InputError(refused.front().substr(0, refused.front().find(' ')), 0,
+                   fmt::format("bake-mpi cannot take {} yet: a bake shared among processes bins its photons as they "
+                               "are traced, with the kernel estimator at a fixed --h (docs/performance.md, 'Baking on "
+                               "many processes'); run bake for this one", fmt::join(refused, ", ")));
+}
+
 // This rank's failure, said once: by rank 0, or by this rank when rank 0 was ready and this rank was not (a file
 // that only this rank cannot read). 1.
 int Failed(const std::string& message, const MpiDistribution& d) {
@@ -207,6 +229,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     pb::tools::ApplyBakeCommandLine(app, c);
+    pb::RefuseUnsharedOptions(c.options);
     status = pb::Run(c, distribution);
   } catch (const CLI::ParseError& e) {
     status = distribution.Root() ? (app.exit(e) == 0 ? 0 : 2) : (e.get_exit_code() == 0 ? 0 : 2);
