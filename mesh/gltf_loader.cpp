@@ -18,6 +18,7 @@
 #include "mesh/gltf_accessor.h"
 #include "mesh/gltf_hierarchy.h"
 #include "mesh/input_file.h"
+#include "mesh/json_input.h"
 #include "mesh/mtl_loader.h"
 #include "mesh/scene_builder.h"
 #include "mesh/text_lines.h"
@@ -51,10 +52,10 @@ struct UvTransform {
   }
 };
 
-// What a primitive needs to know about its material beyond the index: which texture coordinates to read.
 // The deepest nesting of arrays and objects read (RefuseDeepNesting).
 constexpr size_t kMaxGltfNesting = 1000;
 
+// What a primitive needs to know about its material beyond the index: which texture coordinates to read.
 struct MaterialUse {
   uint32_t material = 0;
   std::optional<UvTransform> albedoUv;  // when the albedo is textured
@@ -191,24 +192,9 @@ class GltfReader {
       std::memcpy(&length, bytes.data() + 12, 4);  // the first chunk's length, little-endian as the file's byte order
       json = json.substr(20, length);
     }
-    int line = 1;
-    size_t depth = 0;
-    bool inString = false;
-    for (size_t i = 0; i < json.size(); ++i) {
-      const char c = json[i];
-      if (c == '\n') ++line;
-      if (inString) {
-        if (c == '\\') ++i;  // an escaped character, a quote among them
-        else if (c == '"') inString = false;
-      } else if (c == '"') {
-        inString = true;
-      } else if (c == '[' || c == '{') {
-        if (++depth > kMaxGltfNesting)
-          throw InputError(path_, line, fmt::format("the JSON nests arrays and objects deeper than {} levels", kMaxGltfNesting));
-      } else if ((c == ']' || c == '}') && depth > 0) {
-        --depth;
-      }
-    }
+    if (const int line = LineNestedDeeperThan(json, kMaxGltfNesting))
+      throw InputError(path_, line,
+                       fmt::format("the JSON nests arrays and objects deeper than {} levels", kMaxGltfNesting));
   }
 
   static std::vector<std::string> SplitLines(const std::string& text) {

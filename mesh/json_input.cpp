@@ -56,4 +56,25 @@ std::array<double, 3> ReadTriple(const JsonInput& in, const nlohmann::json& j, c
   return {x / length, y / length, z / length};
 }
 
+int LineNestedDeeperThan(std::string_view json, size_t most) {
+  int line = 1;
+  size_t depth = 0;
+  bool inString = false;
+  for (size_t i = 0; i < json.size(); ++i) {
+    const char c = json[i];
+    if (c == '\n') ++line;
+    if (inString) {
+      if (c == '\\') ++i;  // an escaped character, a quote among them
+      else if (c == '"') inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > most) return line;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return 0;
+}
+
 }  // namespace pb

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace pb {
 
@@ -23,6 +24,11 @@ struct JsonInput {
 
 // InputError "path:line: error: malformed JSON" (or naming `what` when the file cannot be read).
 JsonInput ReadJsonInput(const std::string& path, const std::string& what);
+
+// The line of `json` on which its arrays and objects first nest deeper than `most` (brackets inside strings
+// skipped), or 0 where they never do. For readers that recurse (tinygltf's overflows its stack at 100,000 levels);
+// this scan does not.
+int LineNestedDeeperThan(std::string_view json, size_t most);
 
 // Coordinates beyond this [m] are refused: float keeps their metres only to within 60 m, and lengths built from
 // them would overflow.
