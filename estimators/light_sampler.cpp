@@ -39,8 +39,8 @@ std::vector<uint32_t> Shuffled(uint32_t n, Rng& rng) {
 }  // namespace
 
 LightSampler::LightSampler(const Scene& scene, const std::vector<Light>& lights, const RayScene& rays,
-                           size_t treeFrom, double solidAngleFrom)
-    : scene_(scene), lights_(lights), rays_(rays), solidAngleFrom_(solidAngleFrom) {
+                           size_t treeFrom, double solidAngleFrom, float curvedSpread)
+    : scene_(scene), lights_(lights), rays_(rays), solidAngleFrom_(solidAngleFrom), curvedSpread_(curvedSpread) {
   for (uint32_t l = 0; l < lights.size(); ++l) (lights[l].IsArea() ? areas_ : others_).push_back(l);
   for (uint32_t l : areas_) {
     const Light& light = lights[l];
@@ -156,11 +156,54 @@ std::vector<double> LightSampler::SelectionCdf(Point3 p, Normal3 n) const {
 LightSampler::Arrival LightSampler::SampleOne(size_t area, Point3 p, Normal3 n, Point2 u, SubtendedCache& cache) const {
   const Light& light = lights_[areas_[area]];
   auto [entry, first] = cache.lights.try_emplace(uint32_t(area));
+  Seen& seen = entry->second;
   if (first) {
-    Subtended seen;
-    if (SubtendedAt(area, p, cache.triangles, seen)) entry->second = std::move(seen);
+    Subtended subtended;
+    Facing facing;
+    if (SubtendedAt(area, p, cache.triangles, subtended))
+      seen.subtended = std::move(subtended);
+    else if (FacingAt(area, p, std::max(kFacingTriangles, cache.triangles), facing))
+      seen.facing = std::move(facing);
   }
-  return entry->second ? SampleBySolidAngle(light, *entry->second, p, n, u) : SampleByArea(light, p, n, u);
+  if (seen.subtended) return SampleBySolidAngle(light, *seen.subtended, p, n, u);
+  return seen.facing ? SampleByFacing(light, *seen.facing, p, n, u) : SampleByArea(light, p, n, u);
+}
+
+bool LightSampler::FacingAt(size_t area, Point3 p, size_t triangles, Facing& facing) const {
+  const Light& light = lights_[areas_[area]];
+  if (!(shapes_[area].spread > curvedSpread_) || light.triangles.size() > triangles) return false;
+  facing.triangles.clear(), facing.cdf.clear(), facing.density.clear();
+  double total = 0;
+  for (uint32_t t : light.triangles) {
+    const Vector3 toP = p - scene_.PointAt(t, 1.0f / 3, 1.0f / 3);
+    const double d2 = LengthSquared(toP), height = Dot(toP, scene_.FrontNormal(t));
+    if (!(height > 0) || !(d2 > 0)) continue;
+    const double area = 0.5 * Length(scene_.AreaVector(t)), weight = area * height / (d2 * std::sqrt(d2));
+    if (!(weight > 0) || !std::isfinite(weight)) continue;
+    facing.triangles.push_back(t), facing.density.push_back(weight / area);
+    facing.cdf.push_back(total += weight);
+  }
+  for (double& c : facing.cdf) c /= total;
+  for (double& d : facing.density) d /= total;
+  if (!facing.cdf.empty()) facing.cdf.back() = 1;
+  return true;
+}
+
+// Ke V cos cos / d^2 over the density of y: a triangle in proportion to its projected solid angle, y uniform on it.
+LightSampler::Arrival LightSampler::SampleByFacing(const Light& light, const Facing& facing, Point3 p, Normal3 n,
+                                                   Point2 u) const {
+  const auto pick = SampleDiscreteCdf(facing.cdf, u.u);
+  if (!pick) return {};  // no triangle faces p
+  const uint32_t triangle = facing.triangles[pick->index];
+  const Barycentrics b = SampleUniformTriangle({pick->uRemapped, u.v});
+  const Point3 y = scene_.PointAt(triangle, b.b1, b.b2);
+  const Vector3 toLight = y - p;
+  const double d2 = LengthSquared(toLight);
+  const double cosY = -Dot(toLight, scene_.FrontNormal(triangle)) / std::sqrt(d2);
+  if (!(d2 > 0) || !(cosY > 0)) return {};
+  const double density = facing.density[pick->index];
+  return {Unoccluded(light, p, n, y) * float(cosY / (d2 * density)), toLight * float(1 / std::sqrt(d2)),
+          float(density * d2 / cosY)};
 }
 
 bool LightSampler::SubtendedAt(size_t area, Point3 p, size_t triangles, Subtended& seen) const {

@@ -1,9 +1,10 @@
 // LightSampler's one-sample path for a path tracer (estimators/light_sampler.h): next-event estimation with
 // multiple importance sampling (Veach and Guibas 1995, "Optimally combining sampling techniques for Monte Carlo
 // rendering"). A sample chooses its light with the probabilities Irradiance uses (the light tree's, or the
-// unoccluded guess's, here in two passes over the lights instead of a CDF), then a point by area or a direction by
-// solid angle, as Irradiance would at that point for one sample; the pdf of a direction is the light's
-// probability times that of the point's direction (d^2 / (A cos(theta_y))) or 1 / Omega. Nothing is allocated per
+// unoccluded guess's, here in two passes over the lights instead of a CDF), then a point by area (a curved light's
+// by projected solid angle) or a direction by solid angle, as Irradiance would at that point for one sample; the
+// pdf of a direction is the light's probability times that of the point's direction (d^2 / (A cos(theta_y)), or
+// the point's density per unit area times d^2 / cos(theta_y)) or 1 / Omega. Nothing is allocated per
 // call beyond the scratch's first use.
 #include <algorithm>
 #include <cmath>
@@ -65,6 +66,8 @@ LightSampler::AreaSample LightSampler::SampleAreaLights(Point3 p, Normal3 n, Rng
   const Light& light = lights_[areas_[pick->area]];
   const Arrival a = SubtendedAt(pick->area, p, kSolidAngleTriangles, scratch.seen)
                         ? SampleBySolidAngle(light, scratch.seen, p, n, u)
+                    : FacingAt(pick->area, p, kFacingTriangles, scratch.facing)
+                        ? SampleByFacing(light, scratch.facing, p, n, u)
                         : SampleByArea(light, p, n, u);
   return {a.irradiance * float(1 / pick->pmf), a.from, float(a.pdf * pick->pmf)};
 }
@@ -79,7 +82,14 @@ float LightSampler::AreaLightPdf(Point3 p, Normal3 n, uint32_t triangle, Point3 
   const double d2 = LengthSquared(toLight);
   const double cosY = -Dot(toLight, scene_.FrontNormal(triangle)) / std::sqrt(d2);
   if (!(d2 > 0) || !(cosY > 0)) return 0;
-  return float(pmf * d2 / (cosY * lights_[areas_[it->second]].area));
+  double density = 1 / lights_[areas_[it->second]].area;  // of y per unit area
+  if (FacingAt(it->second, p, kFacingTriangles, scratch.facing)) {
+    const auto& ts = scratch.facing.triangles;
+    const auto at = std::find(ts.begin(), ts.end(), triangle);
+    if (at == ts.end()) return 0;
+    density = scratch.facing.density[size_t(at - ts.begin())];
+  }
+  return float(pmf * density * d2 / cosY);
 }
 
 Rgb LightSampler::OtherIrradiance(Point3 p, Normal3 n, Rng& rng) const {

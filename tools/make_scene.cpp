@@ -12,13 +12,16 @@
 //              facing down (y up) a tenth of the box's height above it, of radiance 10 W/(m^2 sr).
 //   door-rooms: two rooms joined by a doorway whose door is left ajar by --gap m (12 cm), the only light in the
 //              first: the real interiors' room lit through a gap (docs/real-assets.md).
-// Usage: make-scene led-room|one-light|grid-room|lit-copy|door-rooms [--lamps N] [--triangles N]
+//   atrium:    a 12 x 12 x 8 m court of two storeys of galleries around an 8 x 8 m well open to the sky, lit only by
+//              a small sphere light 2 m above the opening: the real interiors' atrium (docs/real-assets.md).
+// Usage: make-scene led-room|one-light|grid-room|lit-copy|door-rooms|atrium [--lamps N] [--triangles N]
 // [--light-triangles N] [--from OBJ] [--gap M] [--cell M] --out DIR;
 // prints the OBJ's path.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -31,6 +34,7 @@ namespace {
 
 constexpr double kRoom = 10, kHeight = 3, kLeg = 0.02, kBelowCeiling = 0.01;
 constexpr int kLevels = 20;
+constexpr double kAtriumRadiance = 2000;  // the atrium's sphere light [W/(m^2 sr)]
 
 double LevelRadiance(int level) { return std::pow(10.0, 3.0 * level / (kLevels - 1)); }
 
@@ -141,6 +145,118 @@ std::string DoorRooms(double gap, double cell, uint64_t& vertex) {
   return obj;
 }
 
+// An axis-aligned box [lo, hi] as gridded faces, each facing out; `ends` false leaves out its two faces across y
+// (a pillar standing on one slab and carrying the next).
+void GridBox(std::string& obj, uint64_t& vertex, const double lo[3], const double hi[3], double cell, bool ends) {
+  const double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+  std::vector<Quad> quads = {
+      {{lo[0], lo[1], lo[2]}, {0, dy, 0}, {dx, 0, 0}},  // z = lo, facing -z
+      {{lo[0], lo[1], hi[2]}, {dx, 0, 0}, {0, dy, 0}},  // z = hi, facing +z
+      {{lo[0], lo[1], lo[2]}, {0, 0, dz}, {0, dy, 0}},  // x = lo, facing -x
+      {{hi[0], lo[1], lo[2]}, {0, dy, 0}, {0, 0, dz}},  // x = hi, facing +x
+  };
+  if (ends) {
+    quads.push_back({{lo[0], lo[1], lo[2]}, {dx, 0, 0}, {0, 0, dz}});  // y = lo, facing -y
+    quads.push_back({{lo[0], hi[1], lo[2]}, {0, 0, dz}, {dx, 0, 0}});  // y = hi, facing +y
+  }
+  for (const Quad& q : quads) GridFace(obj, vertex, q.corner, q.a, q.b, cell);
+}
+
+// A sphere of `radius` about `centre` as a twice-subdivided icosahedron (320 triangles), each facing out.
+void Sphere(std::string& obj, uint64_t& vertex, const double centre[3], double radius) {
+  using V = std::array<double, 3>;
+  const double g = (1 + std::sqrt(5.0)) / 2;
+  std::vector<V> points = {{-1, g, 0}, {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                           {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
+  std::vector<std::array<int, 3>> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                           {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                           {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                           {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int level = 0; level < 2; ++level) {
+    std::vector<std::array<int, 3>> finer;
+    const auto middle = [&](int a, int b) {
+      points.push_back({(points[a][0] + points[b][0]) / 2, (points[a][1] + points[b][1]) / 2,
+                        (points[a][2] + points[b][2]) / 2});
+      return int(points.size() - 1);
+    };
+    for (const auto& f : faces) {
+      const int ab = middle(f[0], f[1]), bc = middle(f[1], f[2]), ca = middle(f[2], f[0]);
+      finer.insert(finer.end(), {{f[0], ab, ca}, {f[1], bc, ab}, {f[2], ca, bc}, {ab, bc, ca}});
+    }
+    faces = finer;
+  }
+  for (const auto& f : faces)
+    for (int corner : f) {
+      const V& p = points[size_t(corner)];
+      const double scale = radius / std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+      obj += fmt::format("v {:.6f} {:.6f} {:.6f}\n", centre[0] + p[0] * scale, centre[1] + p[1] * scale,
+                         centre[2] + p[2] * scale);
+    }
+  for (size_t f = 0; f < faces.size(); ++f, vertex += 3) obj += fmt::format("f {} {} {}\n", vertex, vertex + 1, vertex + 2);
+}
+
+// atrium: y up; outer walls at x, z = +-6 (8 m high, facing in), a ground floor over all of it; galleries 2 m deep
+// around the 8 x 8 m well, their first floor a 20 cm slab at 3.8-4 m and their roof a slab at 8-8.2 m, both
+// bordering the well; 0.4 m pillars every 2 m along the well's edge on both storeys, a 1 m balustrade 10 cm thick
+// between the first floor's pillars, and four 1 x 3 m banners (2 cm thick) hanging into the well from the roof's
+// edge, one per side. The only light: a sphere of radius 0.15 m, radiance kAtriumRadiance, 2 m above the opening, half
+// of whose flux leaves upward. Faces gridded at `cell` [m]; stone (Kd 0.6, 0.55, 0.45), the floor 0.5, the banners
+// red, green, blue and white.
+std::string Atrium(double cell, uint64_t& vertex) {
+  constexpr double kOut = 6, kWell = 4, kTop = 8, kFirst = 4, kSlab = 0.2, kPillar = 0.2;
+  std::string obj = "mtllib room.mtl\nusemtl floor\n";
+  {
+    const double corner[3] = {-kOut, 0, -kOut}, a[3] = {0, 0, 2 * kOut}, b[3] = {2 * kOut, 0, 0};
+    GridFace(obj, vertex, corner, a, b, cell);
+  }
+  obj += "usemtl stone\n";
+  const std::vector<Quad> walls = {{{-kOut, 0, -kOut}, {2 * kOut, 0, 0}, {0, kTop, 0}},
+                                   {{kOut, 0, kOut}, {-2 * kOut, 0, 0}, {0, kTop, 0}},
+                                   {{-kOut, 0, kOut}, {0, 0, -2 * kOut}, {0, kTop, 0}},
+                                   {{kOut, 0, -kOut}, {0, 0, 2 * kOut}, {0, kTop, 0}}};
+  for (const Quad& q : walls) GridFace(obj, vertex, q.corner, q.a, q.b, cell);
+  // Each slab is four boxes around the well: two full-width strips across z, two strips between them across x.
+  for (double y0 : {kFirst - kSlab, kTop}) {
+    const double strips[4][4] = {{-kOut, kOut, kWell, kOut}, {-kOut, kOut, -kOut, -kWell},
+                                 {kWell, kOut, -kWell, kWell}, {-kOut, -kWell, -kWell, kWell}};
+    for (const auto& s : strips) {
+      const double lo[3] = {s[0], y0, s[2]}, hi[3] = {s[1], y0 + kSlab, s[3]};
+      GridBox(obj, vertex, lo, hi, cell, true);
+    }
+  }
+  for (int i = -2; i <= 2; ++i)  // pillars along the well's four edges, the corners shared
+    for (int side = 0; side < 4; ++side) {
+      if ((side >= 2) && (i == -2 || i == 2)) continue;
+      const double along = 2.0 * i, across = side % 2 == 0 ? kWell : -kWell;
+      const double x = side < 2 ? along : across, z = side < 2 ? across : along;
+      for (const auto& [y0, y1] : {std::pair{0.0, kFirst - kSlab}, std::pair{kFirst, kTop}}) {
+        const double lo[3] = {x - kPillar, y0, z - kPillar}, hi[3] = {x + kPillar, y1, z + kPillar};
+        GridBox(obj, vertex, lo, hi, cell, false);
+      }
+    }
+  for (int side = 0; side < 4; ++side) {  // the balustrade: 5 cm inside the slab's edge, pillar to pillar
+    const double across = side % 2 == 0 ? kWell - 0.15 : -kWell + 0.05;
+    for (int i = -2; i < 2; ++i) {
+      const double a0 = 2.0 * i + kPillar, a1 = 2.0 * (i + 1) - kPillar;
+      const double lo[3] = {side < 2 ? a0 : across, kFirst, side < 2 ? across : a0};
+      const double hi[3] = {side < 2 ? a1 : across + 0.1, kFirst + 1, side < 2 ? across + 0.1 : a1};
+      GridBox(obj, vertex, lo, hi, cell, true);
+    }
+  }
+  const char* banners[4] = {"red", "green", "blue", "white"};
+  for (int side = 0; side < 4; ++side) {  // centred between two pillars, 10 cm into the well
+    obj += fmt::format("usemtl {}\n", banners[side]);
+    const double across = side % 2 == 0 ? kWell - 0.12 : -kWell + 0.1;
+    const double lo[3] = {side < 2 ? -1.5 : across, kTop - 3, side < 2 ? across : -1.5};
+    const double hi[3] = {side < 2 ? -0.5 : across + 0.02, kTop, side < 2 ? across + 0.02 : -0.5};
+    GridBox(obj, vertex, lo, hi, cell, true);
+  }
+  obj += "usemtl light\n";
+  const double centre[3] = {0, kTop + kSlab + 2, 0};
+  Sphere(obj, vertex, centre, 0.15);
+  return obj;
+}
+
 void Write(const std::string& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
@@ -180,11 +296,13 @@ int main(int argc, char** argv) {
   std::string kind = "led-room", out = "out/scene";
   uint64_t lamps = 100000;
   uint64_t triangles = 2'000'000;
-  app.add_option("kind", kind, "led-room, one-light or grid-room")
-      ->check(CLI::IsMember({"led-room", "one-light", "grid-room", "lit-copy", "door-rooms"}));
+  app.add_option("kind", kind, "led-room, one-light, grid-room, lit-copy, door-rooms or atrium")
+      ->check(CLI::IsMember({"led-room", "one-light", "grid-room", "lit-copy", "door-rooms", "atrium"}));
   double gap = 0.12, cell = 0.1;
   app.add_option("--gap", gap, "door-rooms: the door's opening at its free edge [m]")->capture_default_str();
-  app.add_option("--cell", cell, "door-rooms: the faces' grid [m]")->capture_default_str();
+  const CLI::Option* cellGiven =
+      app.add_option("--cell", cell, "door-rooms, atrium: the faces' grid [m] (atrium: 0.2 unless given)")
+          ->capture_default_str();
   app.add_option("--triangles", triangles, "grid-room: triangles of the room's faces")->capture_default_str();
   app.add_option("--lamps", lamps, "lamps of the LED ceiling (one-light: whose flux it carries)")->capture_default_str();
   uint64_t lightTriangles = 2;
@@ -209,6 +327,16 @@ int main(int argc, char** argv) {
                              "Kd 0.45 0.35 0.25\nnewmtl light\nKd 0 0 0\nKe 30 30 30\n");
     Write(out + "/room.obj", DoorRooms(gap, cell, vertex));
     fmt::print("{}/room.obj: two rooms, the second lit through a door ajar by {} m\n", out, gap);
+    return 0;
+  }
+  if (kind == "atrium") {
+    uint64_t vertex = 1;
+    Write(out + "/room.mtl", fmt::format("newmtl floor\nKd 0.5 0.5 0.5\nnewmtl stone\nKd 0.6 0.55 0.45\n"
+                                         "newmtl red\nKd 0.6 0.1 0.1\nnewmtl green\nKd 0.1 0.5 0.15\n"
+                                         "newmtl blue\nKd 0.1 0.15 0.6\nnewmtl white\nKd 0.8 0.8 0.8\n"
+                                         "newmtl light\nKd 0 0 0\nKe {0} {0} {0}\n", kAtriumRadiance));
+    Write(out + "/room.obj", Atrium(cellGiven->count() > 0 ? cell : 0.2, vertex));
+    fmt::print("{}/room.obj: an atrium open to the sky, lit by a small sphere above the opening\n", out);
     return 0;
   }
   std::string mtl = "newmtl grey\nKd 0.5 0.5 0.5\n";

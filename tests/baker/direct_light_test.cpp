@@ -33,6 +33,7 @@
 #include "estimators/importance_cache.h"
 #include "estimators/irradiance_gather.h"
 #include "estimators/light_sampler.h"
+#include "tests/grid_error.h"
 #include "tests/lambert.h"
 #include "tests/ply_reader.h"
 #include "tests/staged_bake.h"
@@ -189,19 +190,9 @@ TEST(Direct, SolidAngleSamplingBeatsAreaSamplingUnderANearLight) {
   const auto rmsError = [&](double solidAngleFrom) {
     const LightSampler sampler(prepared.scene, prepared.lights, *prepared.rays, LightSampler::kTreeLights,
                                solidAngleFrom);
-    double squares = 0, errors = 0;
-    constexpr int kSide = 10;
-    for (int i = 0; i < kSide; ++i)
-      for (int j = 0; j < kSide; ++j) {
-        const double x = -0.45 + 0.9 * (i + 0.5) / kSide, z = -0.45 + 0.9 * (j + 0.5) / kSide;
-        Rng rng(11, uint64_t(i * kSide + j));
-        const double e = sampler.Irradiance({float(x), 0.9f, float(z)}, {0, 1, 0}, 16, rng).irradiance.g;
-        const double error = e / test::LambertPolygonIrradiance({x, 0.9, z}, {0, 1, 0}, light, 1.0) - 1;
-        squares += error * error, errors += error;
-      }
-    const double n = kSide * kSide, rms = std::sqrt(squares / n);
-    EXPECT_LE(std::fabs(errors / n), 5 * rms / std::sqrt(n)) << solidAngleFrom;
-    return rms;
+    return test::GridRmsError(sampler, 10, -0.45, 0.45, 0.9, 16, 11, [&](test::V3 x) {
+      return test::LambertPolygonIrradiance(x, {0, 1, 0}, light, 1.0);
+    });
   };
   const double bySolidAngle = rmsError(LightSampler::kSolidAngleFrom), byArea = rmsError(INFINITY);
   std::printf("under a near light: RMS relative error %.4f by solid angle, %.4f by area\n", bySolidAngle, byArea);
