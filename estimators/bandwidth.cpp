@@ -144,14 +144,15 @@ PilotIntegrals Integrate(const Pilot& p, double surfaceArea, Roughness kind, boo
 struct RoughnessMeasure {
   double value = 0;
   bool measured = false;
+  bool fits = false;  // a stencil fits at some level
 };
 RoughnessMeasure MeasuredRoughness(Pilot pilot, double surfaceArea, Roughness kind, bool relative = true) {
   double bound = INFINITY;
   for (;;) {
     const PilotIntegrals I = Integrate(pilot, surfaceArea, kind, relative);
-    if (I.Significant()) return {I.roughness, true};
+    if (I.Significant()) return {I.roughness, true, true};
     if (I.stencils > 0) bound = std::min(bound, std::max(I.roughness, 0.0) + kRoughnessSignificance * I.roughnessError);
-    if (pilot.n / 2 < 3) return {std::isfinite(bound) ? bound : 0, false};  // a stencil needs 3 cells per axis
+    if (pilot.n / 2 < 3) return {std::isfinite(bound) ? bound : 0, false, std::isfinite(bound)};  // 3 cells per axis
     pilot = Coarsen(pilot);
   }
 }
@@ -164,18 +165,22 @@ float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& re
                       std::span<const Rgb> flux) {
   const double area = std::max(region.Area(), 1e-30), n = double(uv.size());
   const double hMax = kMaxBandwidthOfSize * std::sqrt(area);
-  if (!PilotFits(n)) return float(std::min(hMax, std::sqrt(kFallbackPhotons * area / (M_PI * std::max(n, 1.0)))));
+  const double hFallback = std::min(hMax, std::sqrt(kFallbackPhotons * area / (M_PI * std::max(n, 1.0))));
+  if (!PilotFits(n)) return float(hFallback);
   const double hMin = std::sqrt(kMinPhotons * area / (M_PI * n));
   const Pilot pilot = BuildPilot(region, uv, flux);
   const double variance = VarianceIntegral(pilot);
+  const Roughness kindOfRoughness = kind == EstimatorKind::kHistogram ? Roughness::kGradient : Roughness::kLaplacian;
+  const RoughnessMeasure roughness = MeasuredRoughness(pilot, area, kindOfRoughness);
+  if (!roughness.fits) return float(std::clamp(pilot.side, hMin, std::max(hMin, hMax)));
   double h = hMax;
-  if (kind == EstimatorKind::kHistogram) {  // b^4 = 12 V / integral(|grad H / H|^2)
-    const double gradient = MeasuredRoughness(pilot, area, Roughness::kGradient).value;
-    if (gradient > 0) h = std::pow(12 * variance / gradient, 0.25);
-  } else {  // h^6 = 2 R V / (mu2^2 integral((lap H / H)^2))
-    const KernelMoments m = MomentsOf(kernel);
-    const double curvature = MeasuredRoughness(pilot, area, Roughness::kLaplacian).value;
-    if (curvature > 0) h = std::pow(2 * m.roughness * variance / (m.moment2 * m.moment2 * curvature), 1.0 / 6.0);
+  if (roughness.value > 0) {
+    if (kind == EstimatorKind::kHistogram) {  // b^4 = 12 V / integral(|grad H / H|^2)
+      h = std::pow(12 * variance / roughness.value, 0.25);
+    } else {  // h^6 = 2 R V / (mu2^2 integral((lap H / H)^2))
+      const KernelMoments m = MomentsOf(kernel);
+      h = std::pow(2 * m.roughness * variance / (m.moment2 * m.moment2 * roughness.value), 1.0 / 6.0);
+    }
   }
   return float(std::clamp(h, hMin, std::max(hMin, hMax)));
 }

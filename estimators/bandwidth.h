@@ -16,7 +16,11 @@
 // so fine cells of many photons measure only noise (the single pilot at 400 photons per cell did, and h came out
 // by luck). Each stencil's own noise variance is subtracted and the sum clipped at 0 only as a whole. Where no
 // level measures it, the least roughness no level can rule out (estimate plus 3 standard errors) sets an h no
-// wider than the photons vouch for. h is at most the surface's own size (the square root of its area); where
+// wider than the photons vouch for. Where no stencil fits at any level (a strip narrower than three cells, a ring,
+// a wall that a floor slab cuts across: the pilot's cells are square, on the surface's longer side), nothing is
+// measured, and h is the finest pilot's cell side, the scale it looked at (it was once the surface's size: the
+// atrium's 12 x 8 m walls, cut by their galleries' floor, took h = 9.7 m and read their ground floor 3.5% bright
+// and their first floor 2.5% dark). h is at most the surface's own size (the square root of its area); where
 // photons are too few for a pilot (under 3,600), h holds 1,000 photons on average (a noise of about 3%), up to that
 // size; it is never below the radius that holds 20 photons.
 #pragma once

@@ -359,7 +359,7 @@ TEST(BakeCli, QualityPresetsAreTargetsWithTheScenesH) {
     return nlohmann::json::parse(test::ReadBytes(dir + "/r.json"));
   };
   const nlohmann::json draft = report("--quality draft --direct photons --ascii");
-  EXPECT_EQ(draft.at("options").at("photons"), 250000);
+  EXPECT_EQ(draft.at("options").at("photons"), 160000);
   EXPECT_EQ(draft.at("options").at("h_m"), "auto");
   EXPECT_FLOAT_EQ(draft.at("options").at("target_error").get<float>(), 0.08f);
   const nlohmann::json& rounds = draft.at("progressive").at("rounds");
