@@ -15,6 +15,12 @@ IrradianceField::IrradianceField(const PreparedScene& scene, std::unique_ptr<Pho
   contributions_.push_back(std::move(photons));
 }
 
+std::unique_ptr<PhotonIrradiance> IrradianceField::TakePhotons() && {
+  std::unique_ptr<PhotonIrradiance> photons(static_cast<PhotonIrradiance*>(contributions_.front().release()));
+  contributions_.clear(), photons_ = nullptr;
+  return photons;
+}
+
 void IrradianceField::Add(std::unique_ptr<IrradianceContribution> contribution) {
   contributions_.push_back(std::move(contribution));
 }
@@ -138,17 +144,10 @@ std::unique_ptr<ImportanceCache> GuideMaps(const PreparedScene& scene, uint64_t 
 
 }  // namespace
 
-IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins, const FieldSettings& settings,
-                                     StageClock& clock, const Log* log) {
-  const EstimatorSettings& estimator = settings.estimator;
-  std::vector<float> bandwidths = clock.Time("bandwidth", [&] {
-    return settings.heldBandwidths.empty()
-               ? SurfaceBandwidths(scene.regions, bins, estimator, settings.automaticBandwidth, log)
-               : settings.heldBandwidths;
-  });
-  IrradianceField field = clock.Time("estimators", [&] {
-    return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, estimator, std::move(bandwidths), log, settings.pool));
-  });
+namespace {
+
+// Adds to `field` the terms at the points that `settings` asks for.
+void AddSampledTerms(IrradianceField& field, const PreparedScene& scene, const FieldSettings& settings, StageClock& clock) {
   const bool gathers = settings.referencePaths > 0 || (settings.direct.mode == DirectLight::kSampled && settings.gaps.paths > 0);
   const ImportanceCache* guide =
       gathers && settings.guidePhotons > 0
@@ -163,7 +162,30 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
     if (settings.gaps.paths > 0)
       field.GatherGaps(std::make_unique<GapGather>(scene, field.Photons(), lights, settings.gaps, settings.seed, guide));
   }
+}
+
+}  // namespace
+
+IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBins& bins, const FieldSettings& settings,
+                                     StageClock& clock, const Log* log) {
+  const EstimatorSettings& estimator = settings.estimator;
+  std::vector<float> bandwidths = clock.Time("bandwidth", [&] {
+    return settings.heldBandwidths.empty()
+               ? SurfaceBandwidths(scene.regions, bins, estimator, settings.automaticBandwidth, log)
+               : settings.heldBandwidths;
+  });
+  IrradianceField field = clock.Time("estimators", [&] {
+    return IrradianceField(scene, std::make_unique<PhotonIrradiance>(scene, bins, estimator, std::move(bandwidths), log, settings.pool));
+  });
+  AddSampledTerms(field, scene, settings, clock);
   return field;
+}
+
+IrradianceField WithSampledTerms(IrradianceField field, const PreparedScene& scene, const FieldSettings& settings,
+                                 StageClock& clock) {
+  IrradianceField rebuilt(scene, std::move(field).TakePhotons());
+  AddSampledTerms(rebuilt, scene, settings, clock);
+  return rebuilt;
 }
 
 namespace {

@@ -202,10 +202,6 @@ void GatherVertices(BakedMesh& baked, const Distribution& d) {
   gather(baked.irradianceBias), gather(baked.gatheredVarianceShare), gather(baked.gapPairs);
 }
 
-// Stage 3 from the round's photons at the vertices of `base`, with each vertex's noise and the bake's; with a
-// distribution, each process estimates its share of the vertices for rank 0. A later round's estimate (lit holds the round before's) stops at
-// Ctrl-C, on one process: lit then keeps the vertices of the round before, with the new round's field, and false
-// is returned.
 // The first round's estimate of every vertex foretold from a pilot over one vertex in kPilotStride, spread over
 // the whole mesh [s]: what its field costs on this scene, at this round's settings, on this machine.
 constexpr size_t kPilotStride = 64;
@@ -218,26 +214,79 @@ double ForetoldEstimateSeconds(const IrradianceField& field, const SplitMesh& ba
   return piloted > 0 ? (clock.Seconds("estimate") - before) * double(base.VertexCount()) / double(piloted) : 0.0;
 }
 
+// Copies into `into` the vertices of every chunk (kVertexChunk vertices) that `taken` leaves 0, from `from`.
+void TakeUntakenChunks(BakedMesh& into, const BakedMesh& from, const std::vector<char>& taken) {
+  const auto take = [&](auto& to, const auto& source) {
+    for (size_t c = 0; c < taken.size(); ++c) {
+      if (taken[c] != 0) continue;
+      const size_t begin = c * kVertexChunk, end = std::min(to.size(), begin + kVertexChunk);
+      std::copy(source.begin() + ptrdiff_t(begin), source.begin() + ptrdiff_t(end), to.begin() + ptrdiff_t(begin));
+    }
+  };
+  take(into.irradiance, from.irradiance), take(into.albedo, from.albedo), take(into.emitted, from.emitted);
+  take(into.irradianceNoise, from.irradianceNoise), take(into.photonVarianceShare, from.photonVarianceShare);
+  take(into.sampledShare, from.sampledShare), take(into.irradianceBias, from.irradianceBias);
+  take(into.gatheredVarianceShare, from.gatheredVarianceShare), take(into.gapPairs, from.gapPairs);
+}
+
+// The round's estimate at the vertices of `base`, each with its noise; with a distribution, this process's chunks
+// of them. On one process it takes no more chunks once Ctrl-C comes or the rounds' deadline passes
+// (PhotonRounds::EstimateDeadline): a later round then ends there (nullopt; lit keeps the round before's vertices,
+// with the new round's field), and the first round estimates the chunks left at the fewest samples, with a field
+// built for them (PhotonRounds::FinishFirstEstimate), so that the bake ends within its budget with valid outputs.
+std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& scene, const SplitMesh& base,
+                                              const BakeOptions& o, PhotonRounds& rounds, const Distribution* d,
+                                              StageClock& clock, const Log& log) {
+  const bool mayStop = d == nullptr && base.VertexCount() > 0;
+  const double deadline = rounds.EstimateDeadline();
+  std::vector<char> taken((base.VertexCount() + kVertexChunk - 1) / kVertexChunk, 0);
+  std::atomic<bool> stopped{false};
+  const auto owns = [&](size_t chunk) {
+    if (mayStop && (stopped || InterruptRequested() || clock.Elapsed() > deadline)) {
+      stopped = true;
+      return false;
+    }
+    if (d != nullptr) return d->TakesChunk(chunk);
+    taken[chunk] = 1;
+    return true;
+  };
+  BakedMesh baked = clock.Time("estimate", [&] {
+    return EstimateIrradiance(*lit.field, base, log, /*withNoise=*/true, owns);
+  });
+  if (!stopped) return baked;
+  const bool interrupted = InterruptRequested();
+  if (lit.baked.mesh.VertexCount() > 0) {
+    rounds.EstimateInterrupted(interrupted);
+    return std::nullopt;
+  }
+  uint64_t done = 0;
+  for (size_t c = 0; c < taken.size(); ++c)
+    if (taken[c] != 0) done += std::min<uint64_t>(kVertexChunk, base.VertexCount() - c * kVertexChunk);
+  FieldSettings fewest = FieldSettingsOf(o, rounds);
+  if (fewest.direct.mode == DirectLight::kSampled)
+    fewest.direct.samples = std::min(fewest.direct.samples, PhotonRounds::kFinishSamples), fewest.direct.noise = 0;
+  fewest.gaps.paths = std::min(fewest.gaps.paths, PhotonRounds::kFinishSamples);
+  rounds.FinishFirstEstimate(done, base.VertexCount(), interrupted, fewest.direct.samples, fewest.gaps.paths);
+  lit.field.emplace(WithSampledTerms(*std::move(lit.field), scene, fewest, clock));
+  const BakedMesh rest = clock.Time("estimate", [&] {
+    return EstimateIrradiance(*lit.field, base, log, /*withNoise=*/true, [&](size_t c) { return taken[c] == 0; });
+  });
+  TakeUntakenChunks(baked, rest, taken);
+  return baked;
+}
+
+// Stage 3 from the round's photons at the vertices of `base`, with each vertex's noise and the bake's; with a
+// distribution, each process estimates its share of the vertices for rank 0. False where a later round's estimate
+// stopped (EstimateUntilStopped): lit then keeps the round before's vertices.
 bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, const BakeOptions& o,
                    PhotonRounds& rounds, const Distribution* d, StageClock& clock, const Log& log) {
   lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock, &log));
   const bool first = rounds.Report().rounds.empty() && d == nullptr && o.Rounds();
   if (first && rounds.FitFirstEstimate(ForetoldEstimateSeconds(*lit.field, base, clock)))
-    lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock, &log));
-  const bool mayStop = d == nullptr && lit.baked.mesh.VertexCount() > 0;
-  std::atomic<bool> stopped{false};
-  const auto owns = [&](size_t chunk) {
-    if (mayStop && InterruptRequested()) {
-      stopped = true;
-      return false;
-    }
-    return d == nullptr || d->TakesChunk(chunk);
-  };
-  BakedMesh baked = clock.Time("estimate", [&] {
-    return EstimateIrradiance(*lit.field, base, log, /*withNoise=*/true, owns);
-  });
-  if (stopped) return false;
-  lit.baked = std::move(baked);
+    lit.field.emplace(WithSampledTerms(*std::move(lit.field), scene, FieldSettingsOf(o, rounds), clock));
+  std::optional<BakedMesh> baked = EstimateUntilStopped(lit, scene, base, o, rounds, d, clock, log);
+  if (!baked) return false;
+  lit.baked = std::move(*baked);
   if (d != nullptr) clock.Time("estimate", [&] { GatherVertices(lit.baked, *d); });
   if (d == nullptr || d->Root()) clock.Time("estimate", [&] { WeighGatheredPaths(*lit.field, lit.baked); });
   if (d == nullptr || d->Root())
@@ -360,8 +409,9 @@ double SecondsPerPoint(const Lit& lit, const PhotonRounds& rounds, const StageCl
 
 // Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/photons/photon_rounds.h); then
 // --save-photons. Ctrl-C ends the rounds: in the first round's tracing, the bake goes on with the photons it has;
-// in a later round, that round's estimate stops (at once, when the Ctrl-C came while it traced) and the bake keeps
-// the vertices of the round before.
+// in the first round's estimate, the vertices left read the fewest samples; in a later round, that round's estimate
+// stops (at once, when the Ctrl-C came while it traced) and the bake keeps the vertices of the round before. The
+// rounds' deadline stops an estimate alike.
 Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs,
                      const Distribution* distribution, StageClock& clock, const Log& log) {
   const InterruptScope interrupt;
@@ -371,10 +421,7 @@ Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const Bak
   Lit lit;
   do {
     rounds.TraceRound();
-    if (!EstimateLight(lit, scene, base, o, rounds, distribution, clock, log)) {
-      rounds.EstimateInterrupted();
-      break;
-    }
+    if (!EstimateLight(lit, scene, base, o, rounds, distribution, clock, log)) break;
   } while (rounds.Continue(lit.baked, lit.noise, lit.error, lit.field->Photons().Bandwidths()));
   rounds.Save(outputs);
   return lit;

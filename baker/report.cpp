@@ -47,7 +47,8 @@ nlohmann::json ProgressiveJson(const ProgressiveReport& p) {
     rounds.push_back({{"requested", r.requested}, {"photons", r.photons}, {"shadow_rays", r.shadowRays},
                       {"direct_noise", r.directNoise}, {"noise", r.noise}, {"error", r.error}, {"seconds", r.seconds}});
   return {{"resumed_from", p.resumedFrom}, {"resumed_photons", p.resumedPhotons}, {"saved_to", p.savedTo},
-          {"interrupted", p.interrupted}, {"estimate_stopped", p.estimateStopped}, {"target_noise", p.target && !p.targetIsError ? nlohmann::json(*p.target) : nlohmann::json()},
+          {"interrupted", p.interrupted}, {"estimate_stopped", p.estimateStopped},
+          {"finished_at_fewest_samples_vertices", p.finishedVertices}, {"target_noise", p.target && !p.targetIsError ? nlohmann::json(*p.target) : nlohmann::json()},
           {"target_error", p.target && p.targetIsError ? nlohmann::json(*p.target) : nlohmann::json()},
           {"target_met", p.TargetMet()}, {"stopped_by", p.stoppedBy}, {"rounds", rounds},
           {"first_round_cut", p.firstRoundCut}, {"first_round_foretold_s", p.firstRoundForetold}};
@@ -79,9 +80,12 @@ std::string ProgressiveLines(const ProgressiveReport& p, uint64_t emitted) {
     s += fmt::format("  resumed   {} photons from {}; {} traced now\n", p.resumedPhotons, p.resumedFrom,
                      emitted - p.resumedPhotons);
   if (p.target) s += RoundLines(p);
-  if (p.estimateStopped)
-    s += fmt::format("  INTERRUPTED: Ctrl-C stopped round {}; the vertices are round {}'s, of {} photons (the photons "
-                     "line counts every one traced); the outputs are valid\n", p.rounds.size() + 1, p.rounds.size(),
+  if (p.finishedVertices > 0)
+    s += fmt::format("  {}: {}; the outputs are valid\n", p.interrupted ? "INTERRUPTED" : "STOPPED", p.stoppedBy);
+  else if (p.estimateStopped)
+    s += fmt::format("  {}: {} stopped round {}; the vertices are round {}'s, of {} photons (the photons line counts "
+                     "every one traced); the outputs are valid\n", p.interrupted ? "INTERRUPTED" : "STOPPED",
+                     p.interrupted ? "Ctrl-C" : "the estimate's deadline", p.rounds.size() + 1, p.rounds.size(),
                      p.rounds.back().photons);
   else if (p.interrupted)
     s += "  INTERRUPTED: Ctrl-C stopped the tracing early; the outputs are valid, with fewer photons\n";

@@ -150,7 +150,8 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise, const BakeErr
                                    : fmt::format("noise {:.4f} (target {:.4f})", noise, target);
   log_.Info(fmt::format("round {}: {} photons{}, {}, {:.1f} s", report_.rounds.size(), store_.stats.emitted,
                         rays.empty() ? "" : ", " + rays, measured, state.elapsed));
-  if (report_.Measured(report_.rounds.back()) <= target || report_.interrupted) return true;
+  if (report_.Measured(report_.rounds.back()) <= target || report_.interrupted || report_.finishedVertices > 0)
+    return true;
   if (options_.maxRounds > 0 && report_.rounds.size() >= options_.maxRounds) {
     report_.stoppedBy = fmt::format("--max-rounds {}", options_.maxRounds);
     return true;
@@ -194,14 +195,39 @@ bool PhotonRounds::FitFirstEstimate(double estimateSeconds) {
   return true;
 }
 
-void PhotonRounds::EstimateInterrupted() {
+double PhotonRounds::EstimateDeadline() const {
+  return options_.Rounds() ? kEstimateDeadlineShare * options_.maxSeconds : INFINITY;
+}
+
+// What stopped an estimate, for the report: "Ctrl-C" or the deadline.
+std::string PhotonRounds::Stopper(bool interrupted) const {
+  return interrupted ? std::string("Ctrl-C")
+                     : fmt::format("the estimate's deadline ({:.0f}% of --max-seconds {:g})",
+                                   100 * kEstimateDeadlineShare, options_.maxSeconds);
+}
+
+void PhotonRounds::EstimateInterrupted(bool interrupted) {
   const RoundReport& kept = report_.rounds.back();
-  report_.interrupted = report_.estimateStopped = true;
-  report_.stoppedBy = fmt::format("Ctrl-C during round {}, whose estimate stopped: the vertices are round {}'s",
-                                  report_.rounds.size() + 1, report_.rounds.size());
-  log_.Warning(fmt::format("interrupted: round {}'s estimate stopped; the vertices are round {}'s ({} photons, noise "
-                           "{:.4f}); maps and refinement read all {} photons", report_.rounds.size() + 1,
-                           report_.rounds.size(), kept.photons, kept.noise, store_.stats.emitted));
+  report_.interrupted |= interrupted;
+  report_.estimateStopped = true;
+  report_.stoppedBy = fmt::format("{} during round {}, whose estimate stopped: the vertices are round {}'s",
+                                  Stopper(interrupted), report_.rounds.size() + 1, report_.rounds.size());
+  log_.Warning(fmt::format("{}: round {}'s estimate stopped; the vertices are round {}'s ({} photons, noise "
+                           "{:.4f}); maps and refinement read all {} photons", interrupted ? "interrupted" : "time budget",
+                           report_.rounds.size() + 1, report_.rounds.size(), kept.photons, kept.noise,
+                           store_.stats.emitted));
+}
+
+void PhotonRounds::FinishFirstEstimate(uint64_t done, uint64_t vertices, bool interrupted, uint32_t shadowRays,
+                                       uint32_t gapPaths) {
+  report_.interrupted |= interrupted;
+  report_.finishedVertices = vertices - done;
+  report_.stoppedBy = fmt::format("{} during round 1's estimate, {} of {} vertices in: the rest read {} shadow rays "
+                                  "and {} gathered paths a point", Stopper(interrupted), done, vertices,
+                                  shadowRays, gapPaths);
+  log_.Warning(fmt::format("{}: stopped by {}; the vertices left are estimated at the fewest samples, and the "
+                           "predicted noise says what that costs", interrupted ? "interrupted" : "time budget",
+                           report_.stoppedBy));
 }
 
 void PhotonRounds::Save(OutputFiles& outputs) {

@@ -44,9 +44,20 @@ class PhotonRounds {
   // came, or a limit ends the rounds. `bandwidths` are the round's h per surface: with --h auto, the first round's
   // are held from then on (unless BandwidthFollows).
   bool Continue(const BakedMesh& baked, double noise, const BakeError& error, const std::vector<float>& bandwidths);
-  // Ctrl-C stopped a later round's estimate: the rounds end, the bake keeping the round before's vertices (reported,
-  // and warned about).
-  void EstimateInterrupted();
+  // Ctrl-C (`interrupted`) or the deadline stopped a later round's estimate: the rounds end, the bake keeping the
+  // round before's vertices (reported, and warned about).
+  void EstimateInterrupted(bool interrupted);
+  // The time [s since the bake began] after which a round's estimate takes no more vertices: kEstimateDeadlineShare
+  // of --max-seconds with rounds, else none (infinity); Ctrl-C stops it too. The first round's pilot foretells its
+  // estimate (FitFirstEstimate), and is off by 2-3x on some scenes: this bounds the bake whatever it foretold.
+  double EstimateDeadline() const;
+  static constexpr double kEstimateDeadlineShare = 0.9;
+  // Ctrl-C (`interrupted`) or the deadline stopped the first round's estimate after `done` of `vertices` vertices,
+  // the rest estimated at `shadowRays` and `gapPaths` a point (no more than kFinishSamples, given counts too: the
+  // budget and Ctrl-C bound the bake): the rounds end there (reported, and warned about). The round's report keeps
+  // its own counts, those of the vertices done.
+  void FinishFirstEstimate(uint64_t done, uint64_t vertices, bool interrupted, uint32_t shadowRays, uint32_t gapPaths);
+  static constexpr uint32_t kFinishSamples = 4;
   // Before the first round's estimate, which nothing cuts short once it runs (a later round's falls back on the
   // round before): with --target-noise or --target-error, where the estimate foretold to take `estimateSeconds` (a
   // pilot's) would end the bake past kFirstRoundShare of --max-seconds, cuts the round's shadow rays and gathered
@@ -73,6 +84,7 @@ class PhotonRounds {
   bool BinsWhileTracing(const BinningPlan& plan) const;
   void RequireBinningWhileTracing(const BinningPlan& plan) const;
   bool Grow(const HitSink* sink);
+  std::string Stopper(bool interrupted) const;
   RoundState StateAfterRound() const;
   // With --h auto, h is held at the first round's choice, so that the noise falls as 1 / sqrt(photons); with
   // --target-error, where the first round's predicted smoothing bias passes half the target, h is chosen again

@@ -42,7 +42,10 @@ struct ProgressiveReport {
   uint64_t resumedPhotons = 0;  // photons it held
   std::string savedTo;          // --save-photons' file, or ""
   bool interrupted = false;     // Ctrl-C stopped tracing early
-  bool estimateStopped = false; // ... and a later round's estimate: the vertices are the last round's in `rounds`
+  bool estimateStopped = false; // a later round's estimate stopped (Ctrl-C or its deadline): the vertices are the
+                                // last round's in `rounds`
+  // Vertices of the first round's estimate that Ctrl-C or its deadline left to the fewest samples (0: none).
+  uint64_t finishedVertices = 0;
   std::optional<float> target;  // --target-noise, or --target-error when targetIsError
   bool targetIsError = false;
   std::vector<RoundReport> rounds;  // --target-noise's rounds, in order
