@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include "baker/runtime/progress.h"
+#include "estimators/warps.h"
 #include "mesh/errors.h"
 #include "mesh/color.h"
 
@@ -108,6 +109,37 @@ WorkProgress Show(const Log* log, const char* stage, std::unique_ptr<Progress>& 
   };
 }
 
+// Turns each portal to face into the scene. From a point just off each side of its centre, kPortalProbes fixed
+// directions about that side's normal (CosineSpiralDirection): the side whose probes meet more geometry is its inside
+// (a window's room closes round it; its outside opens to the sky). A portal whose corners ran the other way is
+// turned (u and v swapped: the same parallelogram), with a warning naming the lights file: wound clockwise seen
+// from inside, the daylight office read -6.7% of its mean H and 81% of its photons escaped (issue 60).
+constexpr int kPortalProbes = 16;
+std::vector<std::string> OrientPortals(Scene& scene, const RayScene& rays) {
+  std::vector<std::string> warnings;
+  for (size_t i = 0; i < scene.portals.size(); ++i) {
+    Portal& portal = scene.portals[i];
+    const Point3 centre = portal.origin + (portal.u + portal.v) * 0.5f;
+    const float offset = 1e-4f * (Length(portal.u) + Length(portal.v));
+    const auto met = [&](Vector3 side) {
+      const Frame frame = Frame::FromNormal(NormalFrom(side));
+      int n = 0;
+      for (int k = 0; k < kPortalProbes; ++k)
+        n += rays.Occluded(centre + side * offset, frame.ToWorld(CosineSpiralDirection(k, kPortalProbes)));
+      return n;
+    };
+    const Vector3 in = AsVector(portal.Inward());
+    const int front = met(in), back = met(in * -1.0f);
+    if (front >= back) continue;
+    std::swap(portal.u, portal.v);
+    warnings.push_back(fmt::format("{}: warning: portal {} faced out of the scene (its corners ran clockwise seen from "
+                                   "inside: {} of {} probes met geometry in front of it, {} behind); it is turned to "
+                                   "face in", scene.lightsFile.empty() ? scene.path : scene.lightsFile, i, front,
+                                   kPortalProbes, back));
+  }
+  return warnings;
+}
+
 }  // namespace
 
 PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClock& clock, const CoverSettings& cover,
@@ -121,10 +153,13 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
     std::unique_ptr<Progress> progress;
     return BuildSurfaces(p.scene, {}, Show(log, "surfaces (triangle passes)", progress));
   });
+  p.rays = clock.Time("bvh", [&] { return std::make_unique<RayScene>(p.scene); });
+  const std::vector<std::string> turned = OrientPortals(p.scene, *p.rays);
+  if (p.warningsShown) log->Warnings(turned);
+  p.warnings.insert(p.warnings.end(), turned.begin(), turned.end());
   p.lights = clock.Time("lights", [&] { return CollectLights(p.scene, p.surfaces); });
   RequireLight(p.scene, p.lights);
   p.plan = clock.Time("plan", [&] { return PlanTransport(p.scene, p.surfaces, p.lights, effects); });
-  p.rays = clock.Time("bvh", [&] { return std::make_unique<RayScene>(p.scene); });
   p.covers = clock.Time("covers", [&] {
     std::unique_ptr<Progress> progress;
     return FindCovers(p.scene, p.surfaces, *p.rays, cover, Show(log, "find covers", progress));

@@ -61,7 +61,7 @@ struct GapSettings {
 // chosen per surface from the photons (--h auto) and the shadow rays and gathered paths by the rounds, so a preset
 // suits a scene of any size; options given explicitly win (docs/bake.md, "Quality presets", has what each reaches
 // on the box and the office).
-//   draft       error 8%, first round   250,000 photons, 32 shadow rays and 32 gathered paths a point
+//   draft       error 8%, first round   160,000 photons, 32 shadow rays and 32 gathered paths a point
 //   medium      noise 3%, first round 1,000,000 photons (the defaults)
 //   high        error 3%, first round 2,000,000 photons
 //   production  error 2%, first round 2,000,000 photons, and the edges gathered (--gap-edges, 1,024 paths to start)

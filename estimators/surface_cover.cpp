@@ -13,6 +13,7 @@
 #include <unordered_map>
 
 #include "estimators/surface_region.h"
+#include "estimators/warps.h"
 
 namespace pb {
 namespace {
@@ -22,11 +23,7 @@ constexpr int kBisections = 10;  // the contact line to s / 1024
 // kCoverRays directions about +z, cosine-weighted on a golden-angle spiral: the same for every point.
 std::array<Vector3, kCoverRays> HemisphereSpiral() {
   std::array<Vector3, kCoverRays> d;
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int k = 0; k < kCoverRays; ++k) {
-    const double u = (k + 0.5) / kCoverRays, r = std::sqrt(u), phi = k * golden;
-    d[k] = {float(r * std::cos(phi)), float(r * std::sin(phi)), float(std::sqrt(1.0 - u))};
-  }
+  for (int k = 0; k < kCoverRays; ++k) d[k] = CosineSpiralDirection(k, kCoverRays);
   return d;
 }
 

@@ -54,6 +54,7 @@ Vector3 AtHeight(float z, float v) {
   const float r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * float(kPi) * v;
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
+
 }  // namespace
 
 DirectionSample SampleUniformSphere(Point2 u) { return {AtHeight(1.0f - 2.0f * u.u, u.v), float(0.25 * kInvPi)}; }
@@ -150,6 +151,12 @@ std::optional<DiscreteSample> SampleDiscreteCdf(std::span<const double> cdf, flo
   const double pmf = cdf[index] - lo;
   const float remapped = pmf > 0 ? float((double(u) - lo) / pmf) : 0.0f;
   return DiscreteSample{index, pmf, std::clamp(remapped, 0.0f, 0x1.fffffep-1f)};  // the float below 1
+}
+
+Vector3 CosineSpiralDirection(int k, int n) {
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  const double u = (k + 0.5) / n, r = std::sqrt(u), phi = k * golden;
+  return {float(r * std::cos(phi)), float(r * std::sin(phi)), float(std::sqrt(1.0 - u))};
 }
 
 }  // namespace pb

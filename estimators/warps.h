@@ -26,6 +26,9 @@ struct DirectionSample {
 DirectionSample SampleCosineHemisphere(Point2 u);
 inline float CosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0.0f; }
 Point2 InvertCosineHemisphere(Vector3 localDirection);
+// Direction k of n fixed ones about +z, cosine-weighted on a golden-angle spiral (u = (k + 1/2) / n, r = sqrt(u),
+// phi = k pi (3 - sqrt 5)): probes that are the same for every caller (covers, portals), not random samples.
+Vector3 CosineSpiralDirection(int k, int n);
 
 // Uniform directions over the unit sphere (pdf 1/(4 pi) [1/sr]) and over the hemisphere z >= 0 (pdf 1/(2 pi)),
 // by Archimedes' hat-box theorem: z is uniform.

@@ -78,6 +78,8 @@ class PhotonRounds {
   const PhotonStore& Store() const { return store_; }
   const SurfaceBins& Bins() const { return bins_; }
   const ProgressiveReport& Report() const { return report_; }
+  // Whether the work is shared among processes (bake-mpi), which have no rounds.
+  bool Distributed() const { return distribution_ != nullptr; }
 
  private:
   PhotonOrigin Origin() const;

@@ -130,6 +130,24 @@ Scene WithPortal(Scene scene) {
   return scene;
 }
 
+// A portal wound the other way (clockwise seen from inside, its normal out to the sky) is turned to face the room,
+// with a warning naming it: the sun's photons still enter through it, every one (E A_window on the floor).
+TEST(AnalyticLights, APortalWoundTheOtherWayIsTurnedIn) {
+  Scene scene = FloorScene("portal-reversed", true);
+  scene.portals.push_back({{-0.25f, 1, -0.25f}, {0, 0, 0.5f}, {0.5f, 0, 0}});
+  ASSERT_GT(scene.portals[0].Inward().y, 0) << "wound to face out";
+  const test::TracedScene s = WithLight(std::move(scene), Sun({0, -1, 0}, 3));
+  EXPECT_LT(s.scene.portals[0].Inward().y, 0);
+  bool warned = false;
+  for (const std::string& w : s.warnings)
+    warned |= w.find("warning: portal 0 faced out of the scene (its corners ran clockwise seen from inside: 0 of 16 "
+                     "probes met geometry in front of it, 16 behind)") != std::string::npos;
+  EXPECT_TRUE(warned);
+  ExpectFloorFlux(s, 3 * 0.25, 200'000, 1);
+  const test::TracedScene right = WithLight(WithPortal(FloorScene("portal-right", true)), Sun({0, -1, 0}, 3));
+  for (const std::string& w : right.warnings) EXPECT_EQ(w.find("portal"), std::string::npos) << w;
+}
+
 TEST(AnalyticLights, PowerIsTheIntegralOfTheirEmission) {
   EXPECT_NEAR(SpotSolidAngle(1, -1), 4 * kPi / 3, 1e-9) << "inner 0, outer 180: the ramp integrates to a third";
   EXPECT_NEAR(SpotSolidAngle(0.5f, 0.5f), 2 * kPi * 0.5, 1e-6) << "a hard cone of half-angle 60 degrees";
