@@ -28,16 +28,22 @@ std::string RecentringNote(const Scene& scene) {
                      scene.path, scene.origin[0], scene.origin[1], scene.origin[2]);
 }
 
-// A hint when the scene's size suggests it was modelled in other units than metres: over 500 m or under 5 mm
-// across (the diagonal of its box), with the --scale that millimetres, centimetres or inches would need. Empty
-// when its size is plausible in metres.
+// A hint when the scene's size suggests it was modelled in other units than metres: over 500 m across (the
+// diagonal of its box), with the --scale that millimetres, centimetres or inches would need; under 5 mm, with the
+// power of ten that brings it to metres (a scene shrunk on export). Empty when its size is plausible in metres.
 std::string UnitsNote(const Scene& scene) {
   const double across = scene.Diagonal();
-  if (!(across > 500 || (across > 0 && across < 5e-3))) return {};
+  if (across > 500)
+    return fmt::format("{}: warning: the scene is {:.3g} m across; lengths are read as metres (and --h is in metres): "
+                       "if it was modelled in millimetres, centimetres or inches, bake with --scale 0.001, 0.01 or "
+                       "0.0254 (it would be {:.3g}, {:.3g} or {:.3g} m across)",
+                       scene.path, across, across * 1e-3, across * 1e-2, across * 0.0254);
+  if (!(across > 0 && across < 5e-3)) return {};
+  const double up = std::pow(10.0, std::ceil(-std::log10(across)));
   return fmt::format("{}: warning: the scene is {:.3g} m across; lengths are read as metres (and --h is in metres): "
-                     "if it was modelled in millimetres, centimetres or inches, bake with --scale 0.001, 0.01 or "
-                     "0.0254 (it would be {:.3g}, {:.3g} or {:.3g} m across)",
-                     scene.path, across, across * 1e-3, across * 1e-2, across * 0.0254);
+                     "if it was shrunk on export or modelled in larger units, bake with --scale {:g} (it would be "
+                     "{:.3g} m across); in a scene this small a triangle under about 1e-19 m^2 is lost to float and "
+                     "skipped", scene.path, across, up, across * up);
 }
 
 // Largest flux of one light [W]: float ends at 3.4e38, and fluxes are summed over lights and multiplied by
@@ -47,7 +53,11 @@ constexpr double kMaxLightFlux = 1e30, kMinLightFlux = 1e-30;
 
 void RequireLight(const Scene& scene, const std::vector<Light>& lights) {
   if (lights.empty())
-    throw InputError(scene.path, 0, "scene has no light: no face uses a material with Ke > 0, and no light is declared");
+    throw InputError(scene.path, 0, fmt::format("scene has no light: no face uses a material with Ke > 0, and no light "
+                                                "is declared{}", scene.degenerateTrianglesSkipped == 0 ? ""
+                                                : fmt::format(" (of its faces, {} were skipped as zero-area, in a scene "
+                                                              "{:.3g} m across: a light among them is lost with them)",
+                                                              scene.degenerateTrianglesSkipped, scene.Diagonal())));
   const auto flux = [](const Light& light) { return double(light.Power().Max()); };
   if (std::none_of(lights.begin(), lights.end(), [&](const Light& light) { return flux(light) >= kMinLightFlux; }))
     throw InputError(scene.path, 0, fmt::format("the scene's lights emit nothing: each of its {} emits less than {:.0e} "

@@ -7,11 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "baker/0_prepare_scene.h"
 #include "baker/bake.h"
 #include "baker/files/image_io.h"
+#include "mesh/errors.h"
 #include "tests/test_scenes.h"
 
 namespace pb {
@@ -153,15 +155,42 @@ TEST(Scale, AFaintAndABlindingLightReadTheSameRelativeNoise) {
   }
 }
 
-// A scene far from a room's size in metres (the box at --scale 1e3 is 1.7 km across, at 1e-3 1.7 mm) is told
-// which --scale millimetres, centimetres or inches would need; at 1 it is not.
+// A scene far from a room's size in metres is told about units: the box at --scale 1e3, 1.7 km across, which --scale
+// millimetres, centimetres or inches would need; at 1e-3 (1.7 mm) and 1e-6, the power of ten that brings it back
+// (it once suggested shrinking it further); at 1 nothing.
 TEST(Scale, AKilometreOrAMillimetreAcrossIsToldAboutUnits) {
-  for (const float scale : {1e-3f, 1.0f, 1e3f}) {
+  const std::map<float, std::string> hints = {{1e-6f, "bake with --scale 1e+06 (it would be 1.74 m across)"},
+                                              {1e-3f, "bake with --scale 1000 (it would be 1.74 m across)"},
+                                              {1.0f, ""},
+                                              {1e3f, "--scale 0.001, 0.01 or 0.0254"}};
+  for (const auto& [scale, hint] : hints) {
     StageClock clock;
     const PreparedScene p = PrepareScene(SceneSettings{PB_SOURCE_DIR "/data/box/box.obj", scale, {}}, clock);
-    bool told = false;
-    for (const std::string& w : p.warnings) told |= w.find("--scale 0.001, 0.01 or 0.0254") != std::string::npos;
-    EXPECT_EQ(told, scale != 1.0f) << scale;
+    bool units = false, told = false;
+    for (const std::string& w : p.warnings)
+      units |= w.find("lengths are read as metres") != std::string::npos,
+          told |= !hint.empty() && w.find(hint) != std::string::npos;
+    EXPECT_EQ(units, !hint.empty()) << scale;
+    EXPECT_EQ(told, !hint.empty()) << scale;
+  }
+}
+
+// A scene so small that its lamp's area underflows float loses the lamp with its other zero-area faces: the error
+// that it has no light says so, with its size (it said only that no face used Ke > 0).
+TEST(Scale, ALampLostToFloatIsNamedInTheNoLightError) {
+  const std::string dir = test::TempDirectory("scale-tiny-lamp");
+  test::WriteText(dir + "/tiny.mtl", "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
+  test::WriteText(dir + "/tiny.obj", "mtllib tiny.mtl\nv 0 0 0\nv 1e-9 0 0\nv 1e-9 0 -1e-9\nv 0 0 -1e-9\n"
+                                     "v 0 1e-10 0\nv 0 1e-10 -1e-10\nv 1e-10 1e-10 0\n"
+                                     "usemtl grey\nf 1 2 3 4\nusemtl lamp\nf 5 6 7\n");
+  StageClock clock;
+  try {
+    PrepareScene(SceneSettings{dir + "/tiny.obj", 1, {}}, clock);
+    FAIL() << "a scene without its lamp baked";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no face uses a material with Ke > 0, and no light is declared (of its faces, "
+                                         "1 were skipped as zero-area, in a scene 1.42e-09 m across"),
+              std::string::npos) << e.what();
   }
 }
 
