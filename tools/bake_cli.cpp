@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "baker/runtime/interrupt.h"
 #include "baker/0_plan_transport.h"
 #include "baker/bake.h"
 #include "estimators/enum_names.h"
@@ -257,6 +258,7 @@ int RunBake(int argc, char** argv) {
   BakeCommandLine c;
   DefineBakeCommandLine(app, c);
   return RunTool(app, argc, argv, [&] { ApplyBakeCommandLine(app, c); }, [&] {
+    pb::RemoveTemporariesOnTermination();
     const Log log(c.options.quiet);
     PrintSummary(Bake(c.options, log), log);
   });

@@ -16,6 +16,7 @@
 
 #include <unistd.h>
 
+#include "baker/runtime/interrupt.h"
 #include "baker/bake.h"
 #include "baker/distribution.h"
 #include "baker/runtime/progress.h"
@@ -154,6 +155,7 @@ constexpr char kEnded[] =
     "bake-mpi: stopped by mpirun (Ctrl-C, or another rank failed): no output written, any earlier output is left as "
     "it was\n";
 void EndedByMpirun(int) {
+  pb::RemoveHeldTemporaries();
   [[maybe_unused]] const ssize_t written = write(STDERR_FILENO, kEnded, sizeof kEnded - 1);
   _exit(1);
 }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cerrno>
 #include <cstdlib>
 #include <cstdio>
@@ -17,8 +18,10 @@
 #include <streambuf>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <unordered_map>
 
+#include "baker/runtime/interrupt.h"
 #include "mesh/errors.h"
 
 namespace pb {
@@ -30,6 +33,13 @@ std::string ErrnoText() { return std::strerror(errno); }
 int64_t WriteLimit() {
   const char* limit = std::getenv("PB_FAIL_WRITES_AFTER");
   return limit ? std::max<int64_t>(std::strtoll(limit, nullptr, 10), 0) : int64_t(-1);
+}
+
+// PB_PAUSE_BEFORE_COMMIT_MS: how long Commit holds the staged outputs before it renames them (tests send signals
+// then); 0 when unset.
+void PauseBeforeCommit() {
+  const char* pause = std::getenv("PB_PAUSE_BEFORE_COMMIT_MS");
+  if (pause != nullptr) std::this_thread::sleep_for(std::chrono::milliseconds(std::max(std::atoll(pause), 0LL)));
 }
 
 // ::write, failing with ENOSPC once the process has written PB_FAIL_WRITES_AFTER bytes.
@@ -135,7 +145,7 @@ FileIdentity IdentityOf(const std::string& path) {
 }  // namespace
 
 OutputFiles::~OutputFiles() {
-  for (const Staged& s : staged_) std::remove(s.temporary.c_str());
+  for (const Staged& s : staged_) std::remove(s.temporary.c_str()), ReleaseTemporary(s.held);
   // Innermost first; rmdir leaves a folder that is not empty (something else was put there).
   for (auto d = createdDirectories_.rbegin(); d != createdDirectories_.rend(); ++d) ::rmdir(d->c_str());
 }
@@ -160,6 +170,7 @@ void OutputFiles::MakeDirectory(const std::string& path) {
 
 void OutputFiles::Write(const std::string& path, const std::function<void(std::ostream&)>& write) {
   const auto [temporary, fd] = CreateTemporary(path);
+  const int held = HoldTemporary(temporary);
   try {
     {
       DescriptorBuffer buffer(fd);
@@ -173,17 +184,20 @@ void OutputFiles::Write(const std::string& path, const std::function<void(std::o
   } catch (...) {
     ::close(fd);
     std::remove(temporary.c_str());
+    ReleaseTemporary(held);
     throw;
   }
   const std::lock_guard lock(mutex_);
-  staged_.push_back({temporary, path});
+  staged_.push_back({temporary, path, held});
 }
 
 void OutputFiles::Commit() {
+  PauseBeforeCommit();
   std::vector<std::string> directories;
   for (const Staged& s : staged_) {
     if (std::rename(s.temporary.c_str(), s.path.c_str()) != 0)
       throw InputError(s.path, 0, "cannot move output into place: " + ErrnoText());
+    ReleaseTemporary(s.held);
     directories.push_back(DirectoryOf(s.path));
   }
   staged_.clear();

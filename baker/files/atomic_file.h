@@ -7,13 +7,15 @@
 // over its path, in the order staged, once all of them are complete, and syncs their directories. A process killed
 // between two renames (microseconds) leaves the outputs staged before new and the rest old; the bake stages its
 // photon file, maps, preview, then -o, then --report, so a new report (or, without one, a new -o) means all are
-// new. The next run removes the temporaries a killed run left (RemoveStaleTemporaries) and says so. Destroying
+// new. SIGTERM and a second Ctrl-C remove the temporaries before the process ends (HoldTemporary); the next run
+// removes those a killed run left (RemoveStaleTemporaries) and says so. Destroying
 // an OutputFiles that was not committed removes its temporaries, and the folders MakeDirectory created that are
 // still empty. An InputError names the path that failed.
 //
 // Fault injection (tests/tools/full_disk_test.cpp): with the environment variable PB_FAIL_WRITES_AFTER=BYTES, the
 // process's output writes fail with ENOSPC ("No space left on device") once BYTES have been written in all, as a
-// disk that fills at that byte would.
+// disk that fills at that byte would; with PB_PAUSE_BEFORE_COMMIT_MS=MS, Commit waits that long with every output
+// staged before it renames them (tests/tools/full_disk_test.cpp sends SIGTERM then).
 #pragma once
 
 #include <functional>
@@ -42,6 +44,7 @@ class OutputFiles {
  private:
   struct Staged {
     std::string temporary, path;
+    int held = -1;  // its slot among the temporaries a signal removes (baker/runtime/interrupt.h)
   };
   std::mutex mutex_;
   std::vector<Staged> staged_;

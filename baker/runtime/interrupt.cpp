@@ -10,20 +10,58 @@ namespace {
 
 std::atomic<bool> requested{false};
 
+// The held temporaries: a thread claims a slot, writes its path, then sets `holding`, which the handler reads.
+constexpr size_t kSlotBytes = 4096;
+char held[kMaxHeld][kSlotBytes];
+std::atomic<bool> claimed[kMaxHeld], holding[kMaxHeld];
+
+extern "C" void EndWithoutTemporaries(int signal) {
+  RemoveHeldTemporaries();
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
 // Said at once, so that a Ctrl-C during a stage that does not stop early (the estimate, the outputs) is not taken
 // for ignored. write(2) is async-signal-safe; its result is of no use here.
 constexpr char kSaid[] =
-    "\nCtrl-C: tracing stops and the bake finishes with the photons it has (estimate and outputs; in a later round "
-    "of --target-noise, with the round before's estimate); Ctrl-C again stops at once and leaves any earlier output "
-    "as it was\n";
+    "\nCtrl-C: tracing and the estimate stop, and the bake finishes with what it has (the vertices left at the fewest "
+    "samples; in a later round, the round before's estimate); Ctrl-C again stops at once, removes what it was "
+    "writing and leaves any earlier output as it was\n";
 
 extern "C" void OnInterrupt(int) {
   requested.store(true, std::memory_order_relaxed);
-  std::signal(SIGINT, SIG_DFL);  // the second Ctrl-C is the user's emergency exit
+  std::signal(SIGINT, EndWithoutTemporaries);  // the second Ctrl-C is the user's emergency exit
   [[maybe_unused]] const ssize_t written = write(STDERR_FILENO, kSaid, sizeof(kSaid) - 1);
 }
 
 }  // namespace
+
+int HoldTemporary(const std::string& path) {
+  if (path.size() >= kSlotBytes) return -1;
+  for (int slot = 0; slot < kMaxHeld; ++slot) {
+    bool expected = false;
+    if (!claimed[slot].compare_exchange_strong(expected, true)) continue;
+    path.copy(held[slot], path.size());
+    held[slot][path.size()] = '\0';
+    holding[slot].store(true);
+    return slot;
+  }
+  return -1;
+}
+
+void ReleaseTemporary(int slot) {
+  if (slot >= 0 && slot < kMaxHeld) holding[slot].store(false), claimed[slot].store(false);
+}
+
+void RemoveHeldTemporaries() {
+  for (int slot = 0; slot < kMaxHeld; ++slot)
+    if (holding[slot].load()) ::unlink(held[slot]);
+}
+
+void RemoveTemporariesOnTermination() {
+  std::signal(SIGTERM, EndWithoutTemporaries);
+  std::signal(SIGINT, EndWithoutTemporaries);  // outside an InterruptScope, Ctrl-C ends the process at once
+}
 
 bool InterruptRequested() { return requested.load(std::memory_order_relaxed); }
 void RequestInterrupt() { requested.store(true, std::memory_order_relaxed); }

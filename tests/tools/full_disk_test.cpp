@@ -75,5 +75,28 @@ TEST(FullDisk, TheTemporariesOfAKilledRunAreRemovedByTheNext) {
   for (const std::string& f : kept) EXPECT_TRUE(fs::exists(f)) << f;
 }
 
+// SIGTERM (what timeout, systemd and CI send) while every output is staged, and a second Ctrl-C alike: the bake
+// removes its temporaries and ends by the signal, and the earlier run's outputs keep their bytes. The outputs are
+// held staged by PB_PAUSE_BEFORE_COMMIT_MS (baker/files/atomic_file.h) while the signal is sent. Before, SIGTERM
+// left every temporary behind for the next run to find.
+TEST(FullDisk, ASignalWhileTheOutputsAreStagedLeavesNoTemporary) {
+  const std::string dir = test::TempDirectory("signalled-run");
+  const std::string bake = PB_BAKE_EXE " " PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/box.ply --maps " + dir +
+                           "/maps --texel 0.05 --report " + dir + "/report.json --photons 20000 --h 0.05 "
+                           "--direct-samples 16 -q";
+  ASSERT_EQ(test::RunTool(bake, "--seed 1").status, 0);
+  const std::map<std::string, std::string> before = Snapshot(dir);
+  for (const char* signal : {"TERM", "INT"}) {
+    // The shell's own job runs in the background, so it is sent the signal by pid; "status" is what wait saw.
+    const test::ToolRun run = test::RunTool(
+        "PB_PAUSE_BEFORE_COMMIT_MS=20000 " + bake,
+        std::string("--seed 2 & pid=$!; while ! ls ") + dir + "/box.ply.tmp-* >/dev/null 2>&1; do sleep 0.1; done; "
+            "sleep 0.5; kill -" + signal + " $pid; wait $pid; echo \"status $?\"");
+    EXPECT_NE(run.output.find(std::string("status ") + (signal == std::string("TERM") ? "143" : "130")),
+              std::string::npos) << signal << ": " << run.output;
+    EXPECT_TRUE(Snapshot(dir) == before) << signal << ": an output changed or a temporary is left";
+  }
+}
+
 }  // namespace
 }  // namespace pb
