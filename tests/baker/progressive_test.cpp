@@ -168,7 +168,7 @@ TEST(Progressive, CtrlCInTheFirstRoundsEstimateFinishesAtTheFewestSamples) {
   o.outputPath = dir + "/full.ply", o.targetNoise.reset();
   Bake(o, Log(true));
   const auto meanH = [](const std::string& path) {
-    const std::vector<double>& h = test::ReadPly(path).vertex.at("irradiance_g");
+    const std::vector<double> h = test::ReadPly(path).vertex.at("irradiance_g");  // a copy: the PlyData is a temporary
     double sum = 0;
     for (double v : h) {
       EXPECT_TRUE(std::isfinite(v));
