@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The corpus's big real assets at a short budget (issue 38): bakes each and fails when a stage's time per triangle
 # jumps past its ceiling, three times what it measured when the ceiling was set (docs/real-assets.md, "A guard in
-# CI"). A stall such as the covers' lattice over Lost Empire (no result in 5 min) trips it; a noisy machine does not.
+# CI"). A stall such as the covers' lattice over Lost Empire (no result in 5 min) trips it; a noisy machine does not:
+# a scene over a ceiling is baked again, and fails only when it is over a ceiling twice.
 #   Lost Empire         112k faces, its own lava lights
 #   Sports car          155k faces, its own 374 LED lamps
 #   Conference room     331k faces, lit by make-scene lit-copy's quad above it
@@ -32,7 +33,7 @@ ceilings() {
 }
 
 failed=0
-judge() {  # name, summary file
+judge() {  # name, summary file; fails when a stage passed its ceiling
   local name=$1 summary=$2 triangles seconds
   triangles=$(awk '$1 == "scene" { print $2; exit }' "$summary")
   seconds=$(awk '$1 == "seconds" { sub(/^ *seconds +/, ""); sub(/ *\|? *total.*/, ""); print; exit }' "$summary")
@@ -49,16 +50,22 @@ judge() {  # name, summary file
         if (verdict != "") bad = 1
       }
       exit bad }'; then
-    failed=1
+    return 1
   fi
 }
 
+# A scene over a ceiling is baked once more and judged again: a stall repeats, a noisy moment does not (the sports
+# car's estimate read 19-35 us per triangle over five clean-clone runs of the same code, 2026-12-06).
 bake() {  # name, obj, extra options
-  local name=$1 obj=$2
+  local name=$1 obj=$2 attempt
   shift 2
-  "$build/bake" "$obj" -o "$out/$name.ply" --photons 200000 --direct-samples 16 --gap-paths 16 --threads 2 "$@" \
-    > "$out/$name.txt" 2>&1 || { echo "corpus-stages: $name failed:"; tail -20 "$out/$name.txt"; exit 1; }
-  judge "$name" "$out/$name.txt"
+  for attempt in 1 2; do
+    "$build/bake" "$obj" -o "$out/$name.ply" --photons 200000 --direct-samples 16 --gap-paths 16 --threads 2 "$@" \
+      > "$out/$name.txt" 2>&1 || { echo "corpus-stages: $name failed:"; tail -20 "$out/$name.txt"; exit 1; }
+    judge "$name" "$out/$name.txt" && return 0
+    [ "$attempt" = 1 ] && echo "corpus-stages: $name once more (a stall repeats, a noisy moment does not)"
+  done
+  failed=1
 }
 
 bake lost_empire "$corpus/zips/Lost_Empire/lost_empire.obj"
