@@ -229,6 +229,27 @@ void TakeUntakenChunks(BakedMesh& into, const BakedMesh& from, const std::vector
   take(into.gatheredVarianceShare, from.gatheredVarianceShare), take(into.gapPairs, from.gapPairs);
 }
 
+// The first round's chunks that a stopped estimate did not take (`taken` 0), estimated into `baked` at no more than
+// PhotonRounds::kFinishSamples shadow rays and gathered paths a point, from the round's photon estimators with
+// those terms built anew; lit's field becomes that field, and the rounds report it.
+void FinishAtTheFewestSamples(BakedMesh& baked, Lit& lit, const PreparedScene& scene, const SplitMesh& base,
+                              const BakeOptions& o, PhotonRounds& rounds, const std::vector<char>& taken,
+                              bool interrupted, StageClock& clock, const Log& log) {
+  uint64_t done = 0;
+  for (size_t c = 0; c < taken.size(); ++c)
+    if (taken[c] != 0) done += std::min<uint64_t>(kVertexChunk, base.VertexCount() - c * kVertexChunk);
+  FieldSettings fewest = FieldSettingsOf(o, rounds);
+  if (fewest.direct.mode == DirectLight::kSampled)
+    fewest.direct.samples = std::min(fewest.direct.samples, PhotonRounds::kFinishSamples), fewest.direct.noise = 0;
+  fewest.gaps.paths = std::min(fewest.gaps.paths, PhotonRounds::kFinishSamples);
+  rounds.FinishFirstEstimate(done, base.VertexCount(), interrupted, fewest.direct.samples, fewest.gaps.paths);
+  lit.field.emplace(WithSampledTerms(*std::move(lit.field), scene, fewest, clock));
+  const BakedMesh rest = clock.Time("estimate", [&] {
+    return EstimateIrradiance(*lit.field, base, log, /*withNoise=*/true, [&](size_t c) { return taken[c] == 0; });
+  });
+  TakeUntakenChunks(baked, rest, taken);
+}
+
 // The round's estimate at the vertices of `base`, each with its noise; with a distribution, this process's chunks
 // of them. On one process it takes no more chunks once Ctrl-C comes or the rounds' deadline passes
 // (PhotonRounds::EstimateDeadline): a later round then ends there (nullopt; lit keeps the round before's vertices,
@@ -259,19 +280,7 @@ std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& sce
     rounds.EstimateInterrupted(interrupted);
     return std::nullopt;
   }
-  uint64_t done = 0;
-  for (size_t c = 0; c < taken.size(); ++c)
-    if (taken[c] != 0) done += std::min<uint64_t>(kVertexChunk, base.VertexCount() - c * kVertexChunk);
-  FieldSettings fewest = FieldSettingsOf(o, rounds);
-  if (fewest.direct.mode == DirectLight::kSampled)
-    fewest.direct.samples = std::min(fewest.direct.samples, PhotonRounds::kFinishSamples), fewest.direct.noise = 0;
-  fewest.gaps.paths = std::min(fewest.gaps.paths, PhotonRounds::kFinishSamples);
-  rounds.FinishFirstEstimate(done, base.VertexCount(), interrupted, fewest.direct.samples, fewest.gaps.paths);
-  lit.field.emplace(WithSampledTerms(*std::move(lit.field), scene, fewest, clock));
-  const BakedMesh rest = clock.Time("estimate", [&] {
-    return EstimateIrradiance(*lit.field, base, log, /*withNoise=*/true, [&](size_t c) { return taken[c] == 0; });
-  });
-  TakeUntakenChunks(baked, rest, taken);
+  FinishAtTheFewestSamples(baked, lit, scene, base, o, rounds, taken, interrupted, clock, log);
   return baked;
 }
 
