@@ -162,5 +162,6 @@ def write(folder, stem, with_furniture):
     open(os.path.join(folder, stem + ".mtl"), "w").write(materials)
 
 
-write(os.curdir, "office_empty", False)
-write(os.path.join(os.pardir, "office_books"), "office_books", True)
+if __name__ == "__main__":
+    write(os.curdir, "office_empty", False)
+    write(os.path.join(os.pardir, "office_books"), "office_books", True)
