@@ -295,7 +295,6 @@ bool ExtendPhotons(PhotonStore& store, const Scene& scene, const std::vector<Lig
     return TraceWork(tracer, lights, work, blocks, settings.seed, settings.sink, settings.share, log);
   };
   const bool bounce = plan.On(Effect::kInterreflection), specular = plan.NeedsSpecularKernel();
-  PB_CHECK(settings.share == nullptr || store.blocks.empty(), "only a new store is shared among processes");
   std::vector<bool> done = specular ? (bounce ? run.template operator()<true, true>()
                                                     : run.template operator()<false, true>())
                                           : (bounce ? run.template operator()<true, false>()

@@ -56,7 +56,8 @@ struct TracedBlock {
 
 // A trace shared among processes (bake-mpi, tools/bake_mpi.cpp): each process traces the work items it Takes,
 // given the light of each item in the order the items are claimed, then every process calls Gather once with its blocks, which returns every process's blocks. Every store then
-// holds the same bytes as one traced by one process. Only a new store is shared.
+// holds the same bytes as one traced by one process. A store that every process holds alike (the rounds', --resume's)
+// grows alike.
 class TraceShare {
  public:
   virtual ~TraceShare() = default;

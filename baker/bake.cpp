@@ -376,7 +376,7 @@ std::vector<std::string> BackLitWarnings(const PreparedScene& scene, const Surfa
 
 // Warns when the bake's noise is visible, naming what would bring it under kVisibleNoise (RemedyForNoise): more
 // photons, and more shadow rays (or --reference paths) where the points' own noise is most of it, and the rounds
-// that find them (not in bake-mpi, which has none). None when the user chose a --target-noise or --target-error.
+// that find them. None when the user chose a --target-noise or --target-error.
 std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& lit, const PhotonRounds& rounds) {
   if (lit.noise <= kVisibleNoise || o.Rounds()) return {};
   const bool reference = o.referencePaths > 0;
@@ -403,7 +403,7 @@ std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& l
                         "narrow gaps hold it (raise --gap-paths)", 100 * kVisibleNoise)
           : fmt::format("about {} would bring it under {:.0f}%{}",
                         remedies.size() == 1 ? remedies[0] : remedies[0] + " and " + remedies[1], 100 * kVisibleNoise,
-                        reference || rounds.Distributed()
+                        reference
                             ? ""
                             : fmt::format(" (or --target-noise {} finds the photons itself)", kVisibleNoise));
   return {fmt::format("{}: warning: the bake's noise is {:.1f}% (the 95th percentile of the displayed light's "

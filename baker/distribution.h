@@ -1,9 +1,13 @@
 // A bake shared among processes (`mpirun -np N bake-mpi ...`; tools/bake_mpi.cpp is the only file that includes
-// MPI). Every process prepares the scene; each traces its turns of every light's work items (TraceShare), bins its hits while it traces them (baker/2_bin_photons.h), and shares its blocks'
-// stats and the few hits it kept; the node sums, exact integers, are summed over the processes. Every process then
-// holds the same irradiance field and estimates its share of the vertices, in chunks (kVertexChunk,
-// baker/3_irradiance_field.h), which rank 0 gathers; rank 0 alone refines, writes maps and writes the outputs. The
-// photons are exactly those of a single-process bake, so its bytes are too, for any N and --threads.
+// MPI). Every process prepares the scene; each traces its turns of every light's work items (TraceShare). Where a
+// single-process bake would bin its photons while tracing them (a fixed h, no rounds: baker/2_bin_photons.h), each
+// process does so and shares its blocks' stats and the few hits it kept, and the node sums, exact integers, are
+// summed over the processes; otherwise (the defaults: h chosen per surface, rounds to a target) every process
+// takes every process's blocks and holds the whole store, as one process would. Every process then holds the same
+// irradiance field and estimates its share of the vertices, in chunks (kVertexChunk, baker/3_irradiance_field.h),
+// which rank 0 gathers; rank 0 decides whether another round follows and broadcasts its plan; rank 0 alone
+// refines, writes maps and writes the outputs. The photons are exactly those of a single-process bake, so its bytes
+// are too, for any N and --threads.
 //
 // Before any photon is traced, every process says whether it is ready (Agree): a process that failed to read the
 // scene or refused the options says so instead of leaving the others waiting, and every process then stops.
@@ -46,6 +50,9 @@ class Distribution : public TraceShare {
   bool Agreed() const { return agreed_; }
   // Sums `values` over the processes, into every process's. Exact: integers.
   virtual void SumOnAll(std::span<int64_t> values) const = 0;
+  // Rank 0's `bytes` into every process's (the same length on each): what rank 0 alone decides, such as whether
+  // another round follows and its plan, so that every process traces and estimates it together.
+  virtual void Broadcast(std::span<std::byte> bytes) const = 0;
   // `items` is an array of items of `itemBytes` each, in chunks of `chunk` items; each process filled the chunks c
   // it TakesChunk(c). Afterwards rank 0's holds every chunk (the others' are left as they were).
   virtual void GatherChunks(std::span<std::byte> items, size_t itemBytes, size_t chunk) const = 0;

@@ -164,9 +164,9 @@ void ApplyGapDefaults(BakeOptions& o, const GivenOptions& given) {
   o.gaps.smallArea = kDefaultSmallArea, o.gaps.smallShare = kDefaultSmallShare;
 }
 
-void ApplyDefaults(BakeOptions& o, GivenOptions given, std::string_view quality, bool sceneDefaults) {
+void ApplyDefaults(BakeOptions& o, GivenOptions given, std::string_view quality) {
   if (!quality.empty()) ApplyQuality(quality, given, o), given.photons = true;
-  if (sceneDefaults) ApplySceneDefaults(o, given);
+  ApplySceneDefaults(o, given);
   ApplyGapDefaults(o, given);
 }
 

@@ -197,8 +197,8 @@ void ApplyGapDefaults(BakeOptions& o, const GivenOptions& given);
 // place of an error preset's, SizeFirstRoundForError from the preset's) and its gathered edges. Before
 // ApplySceneDefaults, whose `given.photons` it then implies. An InputError naming --quality for an unknown name.
 void ApplyQuality(std::string_view name, const GivenOptions& given, BakeOptions& o);
-// All that bake's command line applies for what was not given, in order: --quality `quality` (when not empty), the
-// scene's defaults (with `sceneDefaults`: bake, not bake-mpi, which has no rounds) and the gathering's.
-void ApplyDefaults(BakeOptions& o, GivenOptions given, std::string_view quality, bool sceneDefaults);
+// All that bake's (and bake-mpi's) command line applies for what was not given, in order: --quality `quality`
+// (when not empty), the scene's defaults and the gathering's.
+void ApplyDefaults(BakeOptions& o, GivenOptions given, std::string_view quality);
 
 }  // namespace pb

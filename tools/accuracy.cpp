@@ -257,7 +257,7 @@ struct SceneSweep {
 // round, h per surface unless --h, and the smallest surfaces gathered.
 void ApplyQuality(const std::string& name, const pb::GivenOptions& given, Config& c) {
   pb::BakeOptions o = OptionsOf("", c, 1, 0);
-  pb::ApplyDefaults(o, given, name, true);
+  pb::ApplyDefaults(o, given, name);
   c.photons = o.photons, c.targetNoise = o.targetNoise, c.targetError = o.targetError, c.gaps = o.gaps, c.direct = o.direct;
   c.autoBandwidth = o.autoBandwidth;
 }

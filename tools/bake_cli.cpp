@@ -18,7 +18,7 @@ namespace pb::tools {
 namespace {
 
 
-void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& automatic, bool sceneDefaults) {
+void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& automatic) {
   pb::tools::AddNamedOption(app, "--estimator", e.kind, pb::ParseEstimator, pb::EstimatorName, pb::EstimatorNames(), "estimator",
                  "density estimator (the paper's three classes)");
   pb::tools::AddNamedOption(app, "--kernel", e.kernel, pb::ParseKernel, pb::KernelName, pb::KernelNames(), "kernel",
@@ -39,7 +39,7 @@ void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& autom
                                                                             : "expects a length in metres or 'auto'";
           },
           "FLOAT|auto", "length"))
-      ->default_str(sceneDefaults ? "auto" : fmt::format("{}", e.bandwidth));
+      ->default_str("auto");
   app.add_option("--k", e.neighbours, "photons per estimate of --estimator knn; range 2-1e6, typical 20-200")
       ->capture_default_str();
   app.add_flag("!--renormalise-edges", e.localLinear,
@@ -66,16 +66,14 @@ void DefineSceneOptions(CLI::App& app, pb::BakeOptions& o) {
       ->capture_default_str();
 }
 
-void DefinePhotonOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
+void DefinePhotonOptions(CLI::App& app, pb::BakeOptions& o) {
   app.option_defaults()->group("Photons");
   app.add_option("--photons", o.photons,
                  fmt::format("photons emitted over all lights, split by power (N_i = n Phi_i / Phi); range 1 to 2^40, "
-                             "typical 1e6-1e7{}",
-                             sceneDefaults ? fmt::format("; default: rounds from {} until the noise is {:g}% "
-                                                         "(--target-noise {:g}), within --max-seconds",
-                                                         o.photons, 100 * pb::kDefaultTargetNoise, pb::kDefaultTargetNoise)
-                                           : ""))
-      ->default_str(sceneDefaults ? "auto" : std::to_string(o.photons));
+                             "typical 1e6-1e7; default: rounds from {} until the noise is {:g}% (--target-noise {:g}), "
+                             "within --max-seconds",
+                             o.photons, 100 * pb::kDefaultTargetNoise, pb::kDefaultTargetNoise))
+      ->default_str("auto");
   pb::tools::AddSeedOption(app, o.seed, "random seed, 0 to 2^64 - 1. Same seed, same bytes, for any --threads");
   app.add_option("--effects", o.effectsText,
                  "light transport to simulate: 'auto' (what the scene's materials call for), 'all', or a list such as "
@@ -216,12 +214,12 @@ void DefineRunOptions(CLI::App& app, pb::BakeOptions& o) {
   app.add_option("--threads", o.threads, "worker threads; 0 = all cores; range 0-1024")->capture_default_str();
   app.add_flag("-q,--quiet", o.quiet, "no progress or summary (errors and warnings still print)");
 }
-void DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
+void DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   DefineSceneOptions(app, o);
-  DefinePhotonOptions(app, o, sceneDefaults);
+  DefinePhotonOptions(app, o);
   DefineRoundOptions(app, o);
   app.option_defaults()->group("Density estimation");
-  DefineEstimatorOptions(app, o.estimator, o.autoBandwidth, sceneDefaults);
+  DefineEstimatorOptions(app, o.estimator, o.autoBandwidth);
   app.add_flag("!--no-cover", o.findCovers, "do not find where other geometry covers a surface (a block on a floor); "
                                            "light then bleeds under objects and is lost beside them");
   DefineDirectOptions(app, o);
@@ -233,10 +231,9 @@ void DefineOptions(CLI::App& app, pb::BakeOptions& o, bool sceneDefaults) {
 }  // namespace
 
 void DefineBakeCommandLine(CLI::App& app, BakeCommandLine& c) {
-  DefineOptions(app, c.options, c.sceneDefaults);
+  DefineOptions(app, c.options);
   app.option_defaults()->group("Photons");
-  if (c.sceneDefaults)  // a preset is a noise target, met in rounds, which bake-mpi does not trace
-    app.add_option("--quality", c.quality, "a target and the first round's photons, with h and shadow rays chosen "
+  app.add_option("--quality", c.quality, "a target and the first round's photons, with h and shadow rays chosen "
                                            "for the scene: " + pb::QualityNames() + " (error 8%, the defaults' noise "
                                            "3%, error 3%, error 2%; docs/bake.md, 'Quality presets'; production also "
                                            "gathers the edges); options given explicitly win");
@@ -249,7 +246,7 @@ void ApplyBakeCommandLine(const CLI::App& app, BakeCommandLine& c) {
                          .shadowRays = app.count("--direct-samples") + app.count("--direct-noise") > 0,
                          .gapPaths = app.count("--gap-paths") > 0,
                          .smallArea = app.count("--gap-small-area") > 0};
-  pb::ApplyDefaults(c.options, given, c.quality, c.sceneDefaults);  // bake-mpi has no rounds, whose rays it fixes
+  pb::ApplyDefaults(c.options, given, c.quality);
   c.options.Validate();
 }
 

@@ -19,14 +19,12 @@ int RunBake(int argc, char** argv);
 
 struct BakeCommandLine {
   BakeOptions options;
-  std::string quality;  // --quality, or empty (bake only)
-  // Options not given take the defaults that suit the scene (pb::ApplySceneDefaults); bake-mpi, which needs a
-  // fixed h and photon count, keeps BakeOptions' own.
-  bool sceneDefaults = true;
+  std::string quality;  // --quality, or empty
 };
 
 void DefineBakeCommandLine(CLI::App& app, BakeCommandLine& c);
-// After parsing: applies --quality and the scene's defaults, and validates every option's range (InputError: a bad command line).
+// After parsing: applies --quality and the scene's defaults (options not given take the defaults that suit the
+// scene, pb::ApplySceneDefaults), and validates every option's range (InputError: a bad command line).
 void ApplyBakeCommandLine(const CLI::App& app, BakeCommandLine& c);
 
 }  // namespace pb::tools

@@ -8,7 +8,6 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
-#include <fmt/ranges.h>
 
 #include <csignal>
 #include <cstring>
@@ -108,6 +107,11 @@ class MpiDistribution final : public Distribution {
     }
   }
 
+  void Broadcast(std::span<std::byte> bytes) const override {
+    for (size_t at = 0; at < bytes.size(); at += kChunk)
+      MPI_Bcast(bytes.data() + at, int(std::min<size_t>(kChunk, bytes.size() - at)), MPI_BYTE, 0, MPI_COMM_WORLD);
+  }
+
   // Rank r > 0 sends the chunks it TakesChunk, in order; rank 0 puts them in place.
   void GatherChunks(std::span<std::byte> items, size_t itemBytes, size_t chunk) const override {
     const size_t chunkBytes = itemBytes * chunk, chunks = (items.size() + chunkBytes - 1) / chunkBytes;
@@ -166,27 +170,6 @@ void SayWhenMpirunEndsTheJob(bool root) {
   sigaction(SIGTERM, &action, nullptr);
 }
 
-// The options a bake shared among processes cannot take yet: it bins its photons as they are traced, as node sums
-// of the kernel's wide lattices (PhotonRounds::RequireBinningWhileTracing). Refused before any work, naming them
-// (exit 2); whether the photons are enough for the scene's lattices is known once it is loaded.
-void RefuseUnsharedOptions(const BakeOptions& o) {
-  std::vector<std::string> refused;
-  if (o.estimator.kind != EstimatorKind::kKernel) refused.push_back("--estimator " + EstimatorName(o.estimator.kind));
-  else if (o.estimator.kernel == Kernel::kUniform || o.estimator.kernel == Kernel::kGaussian)
-    refused.push_back("--kernel " + KernelName(o.estimator.kernel));
-  if (!o.estimator.edgeCorrection) refused.push_back("--no-edge-correction");
-  if (o.autoBandwidth) refused.push_back("--h auto");
-  if (!o.savePhotonsPath.empty()) refused.push_back("--save-photons");
-  if (!o.resumePath.empty()) refused.push_back("--resume");
-  if (o.targetNoise) refused.push_back("--target-noise");
-  if (o.targetError) refused.push_back("--target-error");
-  if (refused.empty()) return;
-  throw InputError(refused.front().substr(0, refused.front().find(' ')), 0,
-                   fmt::format("bake-mpi cannot take {} yet: a bake shared among processes bins its photons as they "
-                               "are traced, with the kernel estimator at a fixed --h (docs/performance.md, 'Baking on "
-                               "many processes'); run bake for this one", fmt::join(refused, ", ")));
-}
-
 // This rank's failure, said once: by rank 0, or by this rank when rank 0 was ready and this rank was not (a file
 // that only this rank cannot read). 1.
 int Failed(const std::string& message, const MpiDistribution& d) {
@@ -225,13 +208,11 @@ int main(int argc, char** argv) {
   pb::SayWhenMpirunEndsTheJob(distribution.Root());
   CLI::App app{"bake-mpi: bake, shared among the processes of mpirun (photonbake)"};
   pb::tools::BakeCommandLine c;
-  c.sceneDefaults = false;
   pb::tools::DefineBakeCommandLine(app, c);
   int status = 0;
   try {
     app.parse(argc, argv);
     pb::tools::ApplyBakeCommandLine(app, c);
-    pb::RefuseUnsharedOptions(c.options);
     status = pb::Run(c, distribution);
   } catch (const CLI::ParseError& e) {
     status = distribution.Root() ? (app.exit(e) == 0 ? 0 : 2) : (e.get_exit_code() == 0 ? 0 : 2);

@@ -68,16 +68,6 @@ bool PhotonRounds::BinsWhileTracing(const BinningPlan& plan) const {
   return plan.wide && options_.savePhotonsPath.empty() && options_.resumePath.empty() && !options_.Rounds();
 }
 
-// A distributed bake brings its processes' photons together as node sums, so it bins them while tracing.
-void PhotonRounds::RequireBinningWhileTracing(const BinningPlan& plan) const {
-  if (BinsWhileTracing(plan)) return;
-  throw InputError(options_.scenePath, 0, "a bake shared among processes bins its photons while they are traced, which "
-                                          "needs the kernel estimator with a fixed --h, a kernel other than uniform or "
-                                          "gaussian, no --save-photons, --resume or --target-noise, and photons enough "
-                                          "for the surfaces' node lattices (docs/performance.md, 'Baking on many "
-                                          "processes'); run bake for this one");
-}
-
 // Grows the store to photons_ over all lights (counts never shrink). Hits go to `sink` when given; the work is
 // shared when the bake is. Returns whether tracing completed; without a sink an interruption is noted and warned
 // about, with one the caller refuses it.
@@ -95,13 +85,13 @@ bool PhotonRounds::Grow(const HitSink* sink) {
 void PhotonRounds::TraceRound() {
   roundStart_ = ReadClock();
   const BinningPlan plan = PlanBinning(scene_, options_.estimator, options_.autoBandwidth, photons_);
-  if (distribution_ != nullptr) RequireBinningWhileTracing(plan), RequireAllReady(*distribution_);
+  if (distribution_ != nullptr && !distribution_->Agreed()) RequireAllReady(*distribution_);  // once, before any photon
   std::optional<PhotonBinner> binner;
   if (BinsWhileTracing(plan)) binner.emplace(scene_, plan, options_.sh);
   const PhotonBinner* sink = binner ? &*binner : nullptr;
   bool complete = true;
   clock_.Time("trace", [&] { complete = Grow(sink); });
-  if (distribution_ != nullptr)
+  if (distribution_ != nullptr && binner)  // else every process took every process's blocks (baker/distribution.h)
     clock_.Time("trace", [&] { binner->SumWith([&](std::span<int64_t> v) { distribution_->SumOnAll(v); }); });
   if (binner && !complete)  // the photons' flux Phi_l / N_l was binned for the N_l planned
     throw InputError(options_.scenePath, 0, fmt::format("interrupted after {} photons: nothing was written, since photons "
@@ -172,9 +162,27 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise, const BakeErr
 
 bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const BakeError& error,
                             const std::vector<float>& bandwidths) {
-  if (!options_.Rounds() || LastRound(baked, noise, error)) return false;
+  if (!options_.Rounds()) return false;
+  const bool decides = distribution_ == nullptr || distribution_->Root();  // the others hold their own vertices only
+  bool more = decides && !LastRound(baked, noise, error);
+  if (distribution_ != nullptr) ShareThePlan(more);
+  if (!more) return false;
   if (options_.autoBandwidth && heldBandwidths_.empty() && !bandwidthFollows_) heldBandwidths_ = bandwidths;
   return true;
+}
+
+// Rank 0's decision after a round, and the next round's plan, into every process's (baker/distribution.h). The
+// bandwidths to hold are every process's own: the same field, from the same photons.
+void PhotonRounds::ShareThePlan(bool& more) {
+  struct Plan {
+    uint64_t photons;
+    double directNoise;
+    uint32_t shadowRays, gapPaths;
+    uint8_t more, bandwidthFollows;
+  } plan{photons_, direct_.noise, direct_.samples, gaps_.paths, more, bandwidthFollows_};
+  distribution_->Broadcast(std::as_writable_bytes(std::span(&plan, 1)));
+  photons_ = plan.photons, direct_.samples = plan.shadowRays, gaps_.paths = plan.gapPaths;
+  direct_.noise = plan.directNoise, more = plan.more != 0, bandwidthFollows_ = plan.bandwidthFollows != 0;
 }
 
 bool PhotonRounds::FitFirstEstimate(double estimateSeconds) {
@@ -232,7 +240,7 @@ void PhotonRounds::FinishFirstEstimate(uint64_t done, uint64_t vertices, bool in
 
 void PhotonRounds::Save(OutputFiles& outputs) {
   clock_.Time("save photons", [&] {
-    if (options_.savePhotonsPath.empty()) return;
+    if (options_.savePhotonsPath.empty() || (distribution_ != nullptr && !distribution_->Root())) return;
     WritePhotonFile(outputs, options_.savePhotonsPath, store_, Origin());
     report_.savedTo = options_.savePhotonsPath;
   });

@@ -78,13 +78,11 @@ class PhotonRounds {
   const PhotonStore& Store() const { return store_; }
   const SurfaceBins& Bins() const { return bins_; }
   const ProgressiveReport& Report() const { return report_; }
-  // Whether the work is shared among processes (bake-mpi), which have no rounds.
-  bool Distributed() const { return distribution_ != nullptr; }
 
  private:
   PhotonOrigin Origin() const;
   bool BinsWhileTracing(const BinningPlan& plan) const;
-  void RequireBinningWhileTracing(const BinningPlan& plan) const;
+  void ShareThePlan(bool& more);
   bool Grow(const HitSink* sink);
   std::string Stopper(bool interrupted) const;
   RoundState StateAfterRound() const;

@@ -21,6 +21,7 @@ class Process final : public Distribution {
   unsigned Size() const override { return size_; }
   std::vector<bool> Agree(bool) const override { return {}; }
   void SumOnAll(std::span<int64_t>) const override {}
+  void Broadcast(std::span<std::byte>) const override {}
   void GatherChunks(std::span<std::byte>, size_t, size_t) const override {}
   std::vector<TracedBlock> Gather(std::vector<TracedBlock> mine) const override { return mine; }
 

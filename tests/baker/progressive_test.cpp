@@ -412,7 +412,7 @@ TEST(Progressive, TheFirstRoundIsFittedToTheTimeBudget) {
     o.quiet = true;
     o.maxSeconds = maxSeconds;
     if (given.gapPaths) o.gaps.paths = 1024, o.gaps.fixedPaths = true;
-    ApplyDefaults(o, given, "production", true);
+    ApplyDefaults(o, given, "production");
     return Bake(o, Log(true));
   };
   const BakeReport cut = bake("office_books", 1, {});
