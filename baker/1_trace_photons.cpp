@@ -22,9 +22,6 @@ struct Block {
   TraceStats stats;
 };
 
-// Hits reserved per photon before tracing: ~2.5 in a box, so that growth copies are rare.
-constexpr uint64_t kReservedHitsPerPhoton = 3;
-
 // The photon loop. kInterreflect: diffuse surfaces scatter (else a photon ends at its first diffuse surface).
 // kSpecular: materials of every class are sampled, with mirror and glass events (else every surface is
 // treated as the diffuse class, which the plan guarantees it is).

@@ -36,6 +36,10 @@
 
 namespace pb {
 
+// Hits reserved per photon before tracing: ~2.5 in a box, so that growth copies are rare (memory mapped, not yet
+// touched, which a `ulimit -v` counts).
+inline constexpr uint64_t kReservedHitsPerPhoton = 3;
+
 // Receives each block's new hits, hits[from, end), on the thread that traced them, as soon as the block is done
 // (the bake's PhotonBinner bins them while tracing goes on). It may remove the hits it takes, keeping the others in
 // their order; the block's stats still count every hit. Called from many threads at once.

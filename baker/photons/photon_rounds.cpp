@@ -15,8 +15,8 @@
 namespace pb {
 namespace {
 
-// The photon store may take this share of the machine's memory: the estimate needs about as much again.
-constexpr double kStoreMemoryShare = 0.4;
+// A bake may grow to this share of the memory the process may use (MemoryLimitBytes).
+constexpr double kUsableMemoryShare = 0.8;
 
 // Every process is ready, or this one stops (rank 0 names those that are not).
 void RequireAllReady(const Distribution& d) {
@@ -39,6 +39,7 @@ PhotonRounds::PhotonRounds(const PreparedScene& scene, const BakeOptions& option
       distribution_(distribution),
       clock_(clock),
       log_(log),
+      baseline_(MemoryInUseBytes()),
       // --reference traces none: the field gathers all of H at the points.
       photons_(options.referencePaths > 0 ? 0 : options.photons) {
   report_.target = options.targetError ? options.targetError : options.targetNoise;
@@ -52,6 +53,29 @@ PhotonRounds::PhotonRounds(const PreparedScene& scene, const BakeOptions& option
     return store;
   });
   if (options.referencePaths == 0) photons_ = std::max(photons_, report_.resumedPhotons);
+  if (options.Rounds() && options.resumePath.empty()) HoldFirstRoundToMemory();
+}
+
+// What a round may add to the memory the bake held before its first photon [bytes].
+double PhotonRounds::MemoryForRounds() const {
+  return std::max(kUsableMemoryShare * MemoryLimitBytes() - baseline_, 0.0);
+}
+
+// The first round is sized before any photon is traced (--target-error's from the target, up to 32M photons), so
+// it is held to the memory for rounds at the most a photon may need: a hit a scattering, whose mean number Russian
+// roulette by the largest albedo bounds by 1 / (1 - Kd) (at most kMostHitsPerPhoton; the blocks reserve
+// kReservedHitsPerPhoton at least), and as much again for the estimate. The later rounds are held by what a photon
+// took (StateAfterRound).
+void PhotonRounds::HoldFirstRoundToMemory() {
+  const double albedo = std::clamp(double(scene_.plan.largestAlbedo), 0.0, 1.0);
+  const double hits = albedo < 1 ? std::min(kMostHitsPerPhoton, 1 / (1 - albedo)) : kMostHitsPerPhoton;
+  const double perPhoton = 2 * std::max(hits, double(kReservedHitsPerPhoton)) * sizeof(PhotonHit);
+  const double most = MemoryForRounds() / perPhoton;
+  if (MemoryLimitBytes() <= 0 || double(photons_) <= most) return;
+  photons_ = std::max<uint64_t>(uint64_t(most), 1);
+  log_.Warning(fmt::format("the first round is held to {} photons: at up to {:.0f} bytes a photon (largest Kd {:.2f}) "
+                           "more would pass {:.0f}% of {} {:.1f} GB of memory", photons_, perPhoton, albedo,
+                           100 * kUsableMemoryShare, MemoryLimitName(), MemoryLimitBytes() / 1e9));
 }
 
 // What a photon file must have been traced with to continue: the scene, the seed, the bounces and the effects the
@@ -122,7 +146,7 @@ RoundState PhotonRounds::StateAfterRound() const {
           .traceSeconds = now.traced,
           .binSeconds = now.binned - start.binned,
           .estimateSeconds = now.elapsed - start.elapsed - (now.traced - start.traced) - (now.binned - start.binned),
-          .bytesPerPhoton = double(store_.StoredHits() * sizeof(PhotonHit)) / emitted};
+          .bytesPerPhoton = std::max(double(store_.StoredHits() * sizeof(PhotonHit)), PeakMemoryBytes() - baseline_) / emitted};
 }
 
 // Ends the rounds (true) when the target is met, Ctrl-C came or the next round cannot help or fit; else sets the
@@ -152,7 +176,7 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise, const BakeErr
     return true;
   }
   const NextRound next = PlanNextRound(baked, state, {target, options_.maxPhotons, options_.maxSeconds,
-                                                      kStoreMemoryShare * PhysicalMemoryBytes(), report_.targetIsError});
+                                                      MemoryForRounds(), report_.targetIsError});
   report_.stoppedBy = next.stop;
   if (!next.stop.empty()) return true;
   photons_ = next.photons, direct_.samples = std::max(next.shadowRays, 1u), direct_.noise = next.directNoise;

@@ -83,6 +83,9 @@ class PhotonRounds {
   PhotonOrigin Origin() const;
   bool BinsWhileTracing(const BinningPlan& plan) const;
   void ShareThePlan(bool& more);
+  double MemoryForRounds() const;
+  void HoldFirstRoundToMemory();
+  static constexpr double kMostHitsPerPhoton = 64;
   bool Grow(const HitSink* sink);
   std::string Stopper(bool interrupted) const;
   RoundState StateAfterRound() const;
@@ -104,6 +107,7 @@ class PhotonRounds {
   const Distribution* distribution_;
   StageClock& clock_;
   const Log& log_;
+  const double baseline_;  // the memory in use before the first photon [bytes] (MemoryInUseBytes)
   PhotonStore store_;
   SurfaceBins bins_;
   ProgressiveReport report_;

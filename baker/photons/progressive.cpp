@@ -265,7 +265,7 @@ std::string StopReason(const BakedMesh& baked, const NoiseRemedy& remedy, const 
                ? "the points' own noise (shadow rays or gathered paths), which more photons cannot lower"
                : "the points' own noise, which more photons cannot lower (raise --direct-samples)";
   if (state.photons >= limits.maxPhotons) return fmt::format("--max-photons {}", limits.maxPhotons);
-  return fmt::format("memory (the photon store would pass {:.1f} GB)", limits.maxStoreBytes / 1e9);
+  return fmt::format("memory (the photons and what they take would pass {:.1f} GB)", limits.maxStoreBytes / 1e9);
 }
 
 }  // namespace

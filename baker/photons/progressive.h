@@ -123,13 +123,13 @@ struct RoundState {
   double traceSeconds = 0;     // spent tracing all photons so far [s]
   double binSeconds = 0;       // the last round's binning [s]
   double estimateSeconds = 0;  // the last round's estimate, everything after binning [s]
-  double bytesPerPhoton = 0;   // the photon store's bytes per emitted photon
+  double bytesPerPhoton = 0;   // the bake's memory per emitted photon: its peak beyond what it held before tracing, at least the store's
 };
 struct RoundLimits {
   float target = 0;           // --target-noise, or --target-error with `error`
   uint64_t maxPhotons = 0;    // --max-photons
   double maxSeconds = 0;      // --max-seconds: no round starts that is expected to end the bake's rounds later
-  double maxStoreBytes = 0;   // the photon store's share of the machine's memory
+  double maxStoreBytes = 0;   // what the rounds may add to the memory the bake held before tracing
   bool error = false;         // the target bounds PredictedError's total, not BakeNoise
 };
 // The next round: photons n (noise / target)^2 with 10% to spare and at least 1.25 n, from the photons' share of

@@ -111,7 +111,7 @@ TEST(BakeCli, OutOfRangeOptionsAreRefusedBeforeAnyWork) {
   // Eight levels of subdivision of the box (1.25e8 faces, about 50 GB) are refused with the estimate, before tracing.
   const BakeRun subdivide = RunBake(PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/out.ply --photons 400000000 "
                                     "--subdivide 8");
-  if (PhysicalMemoryBytes() < 60e9) {  // a machine of this kind
+  if (MemoryLimitBytes() < 60e9) {  // a machine of this kind
     EXPECT_EQ(subdivide.status, 1) << subdivide.output;
     EXPECT_NE(subdivide.output.find("--subdivide: error: 8 levels of 1906 triangles (1.25e+08 faces) needs about "
                                     "50.0 GB"), std::string::npos) << subdivide.output;

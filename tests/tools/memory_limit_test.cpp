@@ -1,0 +1,62 @@
+// A bake under a memory limit it cannot see in the machine's size (issue 60): `ulimit -v` (RLIMIT_AS) or a control
+// group. --target-error rounds that would outgrow it stop at it, say so, and write their outputs; before, they
+// planned from the physical memory and lost everything to "out of memory" (baker/runtime/memory_budget.h).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "baker/runtime/memory_budget.h"
+#include "tests/ply_reader.h"
+#include "tests/run_tool.h"
+#include "tests/test_scenes.h"
+
+namespace pb {
+namespace {
+
+// AddressSanitizer maps terabytes of shadow memory, which no `ulimit -v` leaves room for.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+TEST(MemoryLimit, RoundsUnderAUlimitStopAtItAndWriteTheirOutputs) {
+  if (kSanitized) GTEST_SKIP() << "AddressSanitizer's shadow memory does not fit under a ulimit -v";
+  const std::string dir = test::TempDirectory("memory-limit");
+  // 1.5 GB of address space: a bake of the box maps about 0.8 GB before its photons (threads, arenas), and 0.003
+  // would ask for 32M photons in its first round, about 3 GB mapped.
+  const test::ToolRun run = test::RunTool("ulimit -v 1500000 && " PB_BAKE_EXE,
+                                          PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/out.ply --report " + dir +
+                                              "/r.json --target-error 0.003 --max-seconds 120 --threads 2");
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find("the first round is held to"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("of the process's ulimit -v 1.5 GB of memory"), std::string::npos) << run.output;
+  const nlohmann::json report = nlohmann::json::parse(test::ReadBytes(dir + "/r.json"));
+  EXPECT_NE(report.at("progressive").at("stopped_by").get<std::string>().find("memory"), std::string::npos)
+      << report.at("progressive").dump();
+  EXPECT_FALSE(test::ReadBytes(dir + "/out.ply").empty());
+}
+
+TEST(MemoryLimit, TheTightestLimitIsTheOneRead) {
+  // Under no ulimit in this process, the limit is the machine's or a control group's, never above the machine's.
+  const double limit = MemoryLimitBytes();
+  ASSERT_GT(limit, 0);
+  EXPECT_GT(MemoryInUseBytes(), 0);
+  EXPECT_GE(PeakMemoryBytes(), MemoryInUseBytes());
+  if (kSanitized) return;
+  const std::string dir = test::TempDirectory("memory-limit-refused");
+  const test::ToolRun under = test::RunTool("ulimit -v 3000000 && " PB_BAKE_EXE,
+                                            PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/out.ply --subdivide 6 -q");
+  // 6 levels of the box (7.8M faces, about 3 GB) fit the machine but not 3 GB of address space: refused up front.
+  EXPECT_EQ(under.status, 1) << under.output;
+  EXPECT_NE(under.output.find("of the process's ulimit -v 3.1 GB a run may use"), std::string::npos) << under.output;
+}
+
+}  // namespace
+}  // namespace pb
