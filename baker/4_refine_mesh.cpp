@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "baker/runtime/memory_budget.h"
+#include "mesh/memory_budget.h"
 #include "baker/tone_map.h"
 #include "mesh/decimate.h"
 #include "mesh/half_edge_mesh.h"

@@ -8,7 +8,7 @@
 
 #include "baker/files/atomic_file.h"
 #include "baker/files/image_io.h"
-#include "baker/runtime/memory_budget.h"
+#include "mesh/memory_budget.h"
 #include "mesh/errors.h"
 
 namespace pb {

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "mesh/errors.h"
+#include "mesh/memory_budget.h"
 
 namespace pb::gltf {
 namespace {
@@ -37,6 +38,19 @@ std::vector<double> Element(const Accessor& a, size_t i, int components, const s
     if (!std::isfinite(values[size_t(k)])) throw InputError(file, 0, fmt::format("{}: instance {} is not finite", where, i));
   }
   return values;
+}
+
+// What a triangle of the scene takes in a bake, all stages: a bake of a million-triangle gridded room at 200,000
+// photons peaked at 387 MB, about 100 MB of it the process's own.
+constexpr double kBakeBytesPerTriangle = 300;
+
+// A scene that expands through instances and shared nodes past what this process may hold is refused before its
+// triangles are built (mesh/memory_budget.h), naming the file and the figure: 66.6M triangles read from a 12 MB
+// file exhausted the memory late.
+void RequireSceneMemory(uint64_t triangles, const std::string& file) {
+  RequireMemory(file, double(triangles) * kBakeBytesPerTriangle,
+                fmt::format("the scene's {} triangles (after its instances and shared nodes, about {:.0f} bytes each in "
+                            "a bake)", triangles, kBakeBytesPerTriangle));
 }
 
 [[noreturn]] void Fail(const std::string& file, const std::string& where, const std::string& message) {
@@ -109,6 +123,7 @@ std::vector<std::pair<int, Matrix>> SceneNodes(const tg::Model& model, const std
     if (n.mesh >= 0 || n.extensions.count("KHR_lights_punctual")) found.emplace_back(v.node, world);
     for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, world, v.depth + 1});
   }
+  RequireSceneMemory(triangles, file);
   return found;
 }
 

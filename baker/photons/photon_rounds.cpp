@@ -9,7 +9,7 @@
 #include "baker/distribution.h"
 #include "baker/files/photon_file.h"
 #include "baker/runtime/interrupt.h"
-#include "baker/runtime/memory_budget.h"
+#include "mesh/memory_budget.h"
 #include "mesh/errors.h"
 
 namespace pb {

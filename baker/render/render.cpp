@@ -9,7 +9,7 @@
 
 #include "baker/0_prepare_scene.h"
 #include "baker/files/json_file.h"
-#include "baker/runtime/memory_budget.h"
+#include "mesh/memory_budget.h"
 #include "baker/option_ranges.h"
 #include "baker/runtime/stage_clock.h"
 #include "baker/runtime/threads.h"

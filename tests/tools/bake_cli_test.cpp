@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "baker/files/atomic_file.h"
-#include "baker/runtime/memory_budget.h"
+#include "mesh/memory_budget.h"
 #include "baker/report.h"
 #include "tests/lambert.h"
 #include "tests/ply_reader.h"

@@ -1,11 +1,13 @@
 // A bake under a memory limit it cannot see in the machine's size (issue 60): `ulimit -v` (RLIMIT_AS) or a control
 // group. --target-error rounds that would outgrow it stop at it, say so, and write their outputs; before, they
-// planned from the physical memory and lost everything to "out of memory" (baker/runtime/memory_budget.h).
+// planned from the physical memory and lost everything to "out of memory" (mesh/memory_budget.h).
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "baker/runtime/memory_budget.h"
+#include "mesh/memory_budget.h"
+#include "tests/gltf_builder.h"
 #include "tests/ply_reader.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
@@ -56,6 +58,27 @@ TEST(MemoryLimit, TheTightestLimitIsTheOneRead) {
   // 6 levels of the box (7.8M faces, about 3 GB) fit the machine but not 3 GB of address space: refused up front.
   EXPECT_EQ(under.status, 1) << under.output;
   EXPECT_NE(under.output.find("of the process's ulimit -v 3.1 GB a run may use"), std::string::npos) << under.output;
+}
+
+// A glTF of a few kilobytes whose one square is drawn 2^24 times by EXT_mesh_gpu_instancing: 33.5M triangles, under
+// the expansion cap (2^26), about 10 GB of bake. Under 4 GB of address space it is refused as it is read, naming
+// the file and the figure, before a triangle is built (it exhausted the memory late).
+TEST(MemoryLimit, AGltfThatExpandsPastTheMemoryIsRefusedBeforeItIsBuilt) {
+  if (kSanitized) GTEST_SKIP() << "AddressSanitizer's shadow memory does not fit under a ulimit -v";
+  const std::string dir = test::TempDirectory("memory-limit-gltf");
+  test::GltfBuilder b;
+  b.AddMesh(b.AddPositions({{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}), b.AddIndices({0, 1, 2, 0, 2, 3}));
+  const int zeros = b.AddAccessor(-1, 5126, size_t(1) << 24, "VEC3");  // 2^24 instances, all at the node
+  b.SetRoots({b.AddNode(
+      {{"mesh", 0}, {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", zeros}}}}}}}})});
+  const std::string scene = b.WriteGltf(dir, "instanced");
+  const test::ToolRun run = test::RunTool("ulimit -v 4000000 && " PB_BAKE_EXE, scene + " -q -o " + dir + "/out.ply");
+  EXPECT_EQ(run.status, 1) << run.output;
+  EXPECT_NE(run.output.find(scene + ": error: the scene's 33554432 triangles (after its instances and shared nodes"),
+            std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("more than the 80% of the process's ulimit -v 4.1 GB a run may use"), std::string::npos)
+      << run.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out.ply"));
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "baker/runtime/memory_budget.h"
+#include "mesh/memory_budget.h"
 
 #include <fmt/format.h>
 #include <sys/resource.h>
