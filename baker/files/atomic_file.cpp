@@ -191,8 +191,27 @@ void OutputFiles::Write(const std::string& path, const std::function<void(std::o
   staged_.push_back({temporary, path, held});
 }
 
+namespace {
+
+// Before the first rename: each temporary is still there and each target can be replaced (not a folder, in a folder
+// still writable), so that a commit that fails for a reason it can see fails before it has replaced any output.
+void RequireReplaceable(const std::string& path, const std::string& temporary) {
+  struct stat target{};
+  if (::lstat(path.c_str(), &target) == 0 && S_ISDIR(target.st_mode))
+    throw InputError(path, 0, "cannot move output into place: a folder has its name; no output was replaced");
+  if (::access(DirectoryOf(path).c_str(), W_OK | X_OK) != 0)
+    throw InputError(path, 0, "cannot move output into place: its folder: " + ErrnoText() + "; no output was replaced");
+  struct stat staged{};
+  if (::lstat(temporary.c_str(), &staged) != 0 || !S_ISREG(staged.st_mode))
+    throw InputError(path, 0, "cannot move output into place: its temporary " + temporary + " is gone; no output was "
+                              "replaced");
+}
+
+}  // namespace
+
 void OutputFiles::Commit() {
   PauseBeforeCommit();
+  for (const Staged& s : staged_) RequireReplaceable(s.path, s.temporary);
   std::vector<std::string> directories;
   for (const Staged& s : staged_) {
     if (std::rename(s.temporary.c_str(), s.path.c_str()) != 0)

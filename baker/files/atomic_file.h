@@ -3,8 +3,10 @@
 //
 // OutputFiles::Write stages one output: its bytes go to a new temporary file "<path>.tmp-<pid>-<n>" in the
 // output's own directory, created with O_CREAT | O_EXCL | O_NOFOLLOW (a file or symlink planted at that name is
-// never followed or overwritten), written through the descriptor and fsync'ed. Commit() renames every staged file
-// over its path, in the order staged, once all of them are complete, and syncs their directories. A process killed
+// never followed or overwritten), written through the descriptor and fsync'ed. Commit() checks that every staged
+// file can replace its path (its temporary still there; the path not a folder, in a folder still writable), then
+// renames each over its path, in the order staged, and syncs their directories: a commit that fails for a reason
+// it can see fails before any output is replaced. A process killed
 // between two renames (microseconds) leaves the outputs staged before new and the rest old; the bake stages its
 // photon file, maps, preview, then -o, then --report, so a new report (or, without one, a new -o) means all are
 // new. SIGTERM and a second Ctrl-C remove the temporaries before the process ends (HoldTemporary); the next run

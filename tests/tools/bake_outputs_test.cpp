@@ -105,6 +105,28 @@ TEST(BakeCli, ALateFailureReplacesNoOutput) {
 
 // Outputs that collide with each other or with an input, a directory as -o, and a device as an output are
 // refused before any work, and nothing is written.
+// The maps' commit checks every target before its first rename (issue 60): a folder planted at the name of the last
+// surface's map made the rename fail after the earlier maps had been replaced.
+TEST(BakeCli, AMapThatCannotBeReplacedReplacesNoOutput) {
+  const std::string dir = test::TempDirectory("cli-map-folder");
+  const std::string common = PB_SOURCE_DIR "/data/box/box.obj -q -o " + dir + "/out.ply --photons 2000 --h 0.05 "
+                             "--maps " + dir + "/maps --texel 0.1";
+  ASSERT_EQ(RunBake(common).status, 0);
+  const std::string ply = test::ReadBytes(dir + "/out.ply"), first = test::ReadBytes(dir + "/maps/surface_0.exr");
+  size_t maps = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir + "/maps")) ++maps;
+  const std::string last = dir + "/maps/surface_" + std::to_string(maps - 1) + ".exr";
+  std::filesystem::remove(last);
+  std::filesystem::create_directory(last);
+  const BakeRun failed = RunBake(common + " --seed 2");
+  EXPECT_EQ(failed.status, 1) << failed.output;
+  EXPECT_NE(failed.output.find(last + ": error: cannot move output into place: a folder has its name; no output was "
+                                      "replaced"), std::string::npos) << failed.output;
+  EXPECT_TRUE(test::ReadBytes(dir + "/maps/surface_0.exr") == first) << "an earlier map was replaced";
+  EXPECT_TRUE(test::ReadBytes(dir + "/out.ply") == ply);
+  EXPECT_TRUE(NoTemporariesIn(dir) && NoTemporariesIn(dir + "/maps"));
+}
+
 TEST(BakeCli, CollidingOrNonRegularOutputsAreRefusedAtOnce) {
   const std::string dir = test::TempDirectory("cli-collisions");
   const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 4, 8);
