@@ -169,6 +169,9 @@ void OutputFiles::MakeDirectory(const std::string& path) {
 }
 
 void OutputFiles::Write(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  // The folder was there when the run began; another run that created it, failing, may have removed it since (it
+  // was empty): made again, and removed with this run's if this one fails.
+  if (std::error_code ec; !std::filesystem::exists(DirectoryOf(path), ec)) MakeDirectory(DirectoryOf(path));
   const auto [temporary, fd] = CreateTemporary(path);
   const int held = HoldTemporary(temporary);
   try {

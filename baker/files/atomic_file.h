@@ -12,7 +12,8 @@
 // new. SIGTERM and a second Ctrl-C remove the temporaries before the process ends (HoldTemporary); the next run
 // removes those a killed run left (RemoveStaleTemporaries) and says so. Destroying
 // an OutputFiles that was not committed removes its temporaries, and the folders MakeDirectory created that are
-// still empty. An InputError names the path that failed.
+// still empty. Write makes its file's folder again where it has gone since the run began (a second run that
+// created the same --maps folder failed and removed it while it was empty). An InputError names the path that failed.
 //
 // Fault injection (tests/tools/full_disk_test.cpp): with the environment variable PB_FAIL_WRITES_AFTER=BYTES, the
 // process's output writes fail with ENOSPC ("No space left on device") once BYTES have been written in all, as a

@@ -127,6 +127,22 @@ TEST(BakeCli, AMapThatCannotBeReplacedReplacesNoOutput) {
   EXPECT_TRUE(NoTemporariesIn(dir) && NoTemporariesIn(dir + "/maps"));
 }
 
+// Two bakes share a --maps folder that the first created and the second found; the first fails and removes it,
+// empty: the second makes it again when it writes its maps (issue 60: it failed after its whole bake).
+TEST(BakeCli, AMapsFolderRemovedByAnotherRunIsMadeAgainWhenWriting) {
+  const std::string maps = test::TempDirectory("cli-shared-maps") + "/maps";
+  OutputFiles second;
+  {
+    OutputFiles first;
+    first.MakeDirectory(maps);   // created
+    second.MakeDirectory(maps);  // found
+  }                              // the first run fails: the folder it created, still empty, goes
+  ASSERT_FALSE(std::filesystem::exists(maps));
+  second.Write(maps + "/surface_0.exr", [](std::ostream& out) { out << "map"; });
+  second.Commit();
+  EXPECT_EQ(test::ReadBytes(maps + "/surface_0.exr"), "map");
+}
+
 TEST(BakeCli, CollidingOrNonRegularOutputsAreRefusedAtOnce) {
   const std::string dir = test::TempDirectory("cli-collisions");
   const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 4, 8);
