@@ -1,10 +1,13 @@
 #include "baker/5_write_maps.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <set>
 
 #include "baker/files/atomic_file.h"
 #include "baker/files/image_io.h"
@@ -135,6 +138,25 @@ std::vector<std::string> MapPaths(const std::string& directory, size_t surfaces)
   std::vector<std::string> paths;
   for (size_t s = 0; s < surfaces; ++s) paths.push_back(fmt::format("{}/surface_{}.exr", directory, s));
   return paths;
+}
+
+std::vector<std::string> StaleMapWarnings(const std::string& directory, const std::vector<std::string>& written) {
+  std::set<std::string> ours;
+  for (const std::string& path : written) ours.insert(std::filesystem::path(path).filename().string());
+  std::vector<std::string> stale;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(directory, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("surface_", 0) == 0 && name.ends_with(".exr") && !ours.count(name)) stale.push_back(name);
+  }
+  if (stale.empty()) return {};
+  std::sort(stale.begin(), stale.end());
+  const size_t named = std::min<size_t>(stale.size(), 3);
+  return {fmt::format("{}: warning: {} map{} in this folder {} not this bake's ({}{}; it writes {}): an earlier "
+                      "bake's, left as {} {}", directory, stale.size(), stale.size() == 1 ? "" : "s",
+                      stale.size() == 1 ? "is" : "are", fmt::join(stale.begin(), stale.begin() + ptrdiff_t(named), ", "),
+                      stale.size() > named ? ", ..." : "", written.size(), stale.size() == 1 ? "it" : "they",
+                      stale.size() == 1 ? "was" : "were")};
 }
 
 MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,

@@ -40,6 +40,9 @@ double MapTexelCount(float texel, const SurfaceRegions& regions);
 // A warning when the maps would take over a minute, from the time a point of the bake's estimate took
 // [s] (a texel is estimated as a vertex is); none when they would not.
 std::vector<std::string> MapTimeWarnings(float texel, const SurfaceRegions& regions, double secondsPerPoint);
+// A warning when DIR holds maps ("surface_<n>.exr") that this bake does not write (`written`): an earlier bake's of
+// another scene, or of surfaces that --only left out, which would otherwise pass for this one's.
+std::vector<std::string> StaleMapWarnings(const std::string& directory, const std::vector<std::string>& written);
 // Bytes of the `threads` largest maps at once.
 double MapMemoryBytes(float texel, const SurfaceRegions& regions, unsigned threads);
 

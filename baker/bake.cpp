@@ -496,6 +496,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
       return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, SplitBySurface(scene.scene, scene.surfaces),
                                  log, EstimatedSurfaces(o, scene), o.sh);
     });
+    journal.Warn(StaleMapWarnings(o.mapsDirectory, maps.paths), log);
   }
   RefineReport refine;
   if (o.refine.adaptive) journal.Warn(NoiseWarnings(field, rounds.Bins(), exposure, o.refine.tolerance), log);

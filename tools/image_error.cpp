@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     const auto smooth = [&](size_t k) {
       const int x = int(k % size_t(reference.width)), y = int(k / size_t(reference.width));
       const double r = pb::Luminance(reference.pixels[k]);
-      for (const auto [dx, dy] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
         if (x + dx < 0 || y + dy < 0 || x + dx >= reference.width || y + dy >= reference.height) continue;
         if (std::abs(pb::Luminance(reference.At(x + dx, y + dy)) - r) > 0.5 * r) return false;
       }

@@ -143,6 +143,24 @@ TEST(BakeCli, AMapsFolderRemovedByAnotherRunIsMadeAgainWhenWriting) {
   EXPECT_EQ(test::ReadBytes(maps + "/surface_0.exr"), "map");
 }
 
+// Maps of an earlier bake left beside a later bake's are named (issue 60: nothing told them apart): the box's 17
+// surfaces' maps, then a floor under a lamp (2 surfaces) into the same folder.
+TEST(BakeCli, MapsOfAnEarlierBakeInTheFolderAreNamed) {
+  const std::string dir = test::TempDirectory("cli-stale-maps");
+  const std::string maps = " -q --photons 2000 --h 0.05 --maps " + dir + "/maps --texel 0.2";
+  ASSERT_EQ(RunBake(PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/box.ply" + maps).status, 0);
+  test::WriteText(dir + "/lamp.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl lamp\nKe 5 5 5\n");
+  test::WriteText(dir + "/lamp.obj", "mtllib lamp.mtl\nusemtl floor\nv 0 0 0\nv 0 0 1\nv 1 0 1\nv 1 0 0\nf 1 2 3 4\n"
+                                     "usemtl lamp\nv 0 1 0\nv 1 1 0\nv 1 1 1\nv 0 1 1\nf 5 6 7 8\n");
+  const BakeRun lamp = RunBake(dir + "/lamp.obj -o " + dir + "/lamp.ply" + maps);
+  ASSERT_EQ(lamp.status, 0) << lamp.output;
+  EXPECT_NE(lamp.output.find("/maps: warning: 15 maps in this folder are not this bake's (surface_10.exr, "
+                             "surface_11.exr, surface_12.exr, ...; it writes 2): an earlier bake's"),
+            std::string::npos) << lamp.output;
+  const BakeRun again = RunBake(PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/box.ply" + maps);
+  EXPECT_EQ(again.output.find("not this bake's"), std::string::npos) << again.output;
+}
+
 TEST(BakeCli, CollidingOrNonRegularOutputsAreRefusedAtOnce) {
   const std::string dir = test::TempDirectory("cli-collisions");
   const std::string scene = test::WriteSquareLightOverFloor(dir, 1, 1, 1, 4, 8);
