@@ -4,6 +4,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <string>
@@ -67,7 +68,12 @@ double StatusBytes(const std::string& field) {
 
 double MemoryLimitBytes() { return Tightest().bytes; }
 double MemoryInUseBytes() { return StatusBytes(Tightest().addressSpace ? "VmSize" : "VmRSS"); }
-double PeakMemoryBytes() { return StatusBytes(Tightest().addressSpace ? "VmPeak" : "VmHWM"); }
+// The kernel updates the high-water marks lazily: VmHWM read 40.89 MB beside a VmRSS of 40.93 MB under
+// AddressSanitizer. The peak is never below what is in use now.
+double PeakMemoryBytes() {
+  const bool space = Tightest().addressSpace;
+  return std::max(StatusBytes(space ? "VmPeak" : "VmHWM"), StatusBytes(space ? "VmSize" : "VmRSS"));
+}
 std::string MemoryLimitName() { return Tightest().name; }
 
 void RequireMemory(const std::string& option, double bytes, const std::string& what) {
