@@ -77,11 +77,10 @@ double PeakMemoryBytes() {
 std::string MemoryLimitName() { return Tightest().name; }
 
 void RequireMemory(const std::string& option, double bytes, const std::string& what) {
-  constexpr double kUsable = 0.8;
   const Limit memory = Tightest();
-  if (memory.bytes <= 0 || bytes <= kUsable * memory.bytes) return;
+  if (memory.bytes <= 0 || bytes <= kUsableMemoryShare * memory.bytes) return;
   throw InputError(option, 0, fmt::format("{} needs about {:.1f} GB, more than the {:.0f}% of {} {:.1f} GB a run may "
-                                          "use", what, bytes / 1e9, 100 * kUsable, memory.name, memory.bytes / 1e9));
+                                          "use", what, bytes / 1e9, 100 * kUsableMemoryShare, memory.name, memory.bytes / 1e9));
 }
 
 }  // namespace pb

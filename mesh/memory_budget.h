@@ -20,7 +20,11 @@ std::string MemoryLimitName();
 double MemoryInUseBytes();
 double PeakMemoryBytes();
 
-// InputError naming `option` when `bytes` exceeds 80% of MemoryLimitBytes, with the estimate and `what` it is for.
+// The share of MemoryLimitBytes a run may grow to: what the options' estimates and the rounds are held to.
+inline constexpr double kUsableMemoryShare = 0.8;
+
+// InputError naming `option` when `bytes` exceeds kUsableMemoryShare of MemoryLimitBytes, with the estimate and
+// `what` it is for.
 void RequireMemory(const std::string& option, double bytes, const std::string& what);
 
 }  // namespace pb

@@ -15,9 +15,6 @@
 namespace pb {
 namespace {
 
-// A bake may grow to this share of the memory the process may use (MemoryLimitBytes).
-constexpr double kUsableMemoryShare = 0.8;
-
 // Every process is ready, or this one stops (rank 0 names those that are not).
 void RequireAllReady(const Distribution& d) {
   const std::vector<bool> ready = d.Agree(true);
