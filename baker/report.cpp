@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <nlohmann/json.hpp>
 
@@ -135,13 +136,13 @@ std::string SurfaceTable(const BakeReport& r) {
     if (sr.coveredArea > 0) covered += sr.coveredArea, ++coveredSurfaces;
   s += fmt::format("  covered   {:.4g} m^2 of {} surfaces lies under or inside other geometry: a domain of its own\n",
                    covered, coveredSurfaces);
-  s += fmt::format("  {:>4}  {:<22} {:<14} {:>9} {:>11} {:>9} {:>12} {:>7} {:>6}\n", "surf", "object", "material",
-                   "area m^2", "front hits", "back hits", "mean H W/m^2", "h m", "chart");
+  s += fmt::format("  {:>4}  {:<22} {:<14} {:>9} {:>11} {:>9} {:>12} {:>7} {:>6} {:>7}\n", "surf", "object", "material",
+                   "area m^2", "front hits", "back hits", "mean H W/m^2", "h m", "chart", "error");
   for (size_t i = 0; i < surfaces.size() && i < kRows; ++i) {
     const SurfaceReport& sr = surfaces[i];
-    s += fmt::format("  {:>4}  {:<22} {:<14} {:>9.4f} {:>11} {:>9} {:>12.4g} {:>7.4f} {:>6}\n", i, sr.object,
+    s += fmt::format("  {:>4}  {:<22} {:<14} {:>9.4f} {:>11} {:>9} {:>12.4g} {:>7.4f} {:>6} {:>6.2f}%\n", i, sr.object,
                      sr.material, sr.area, sr.frontHits, sr.backHits, Luminance(sr.meanIrradiance), sr.bandwidth,
-                     sr.planar ? "plane" : fmt::format("{:.2f}", sr.areaDistortion));
+                     sr.planar ? "plane" : fmt::format("{:.2f}", sr.areaDistortion), 100 * sr.predicted.Total());
   }
   if (surfaces.size() > kRows) s += fmt::format("  ... {} more surfaces in --report\n", surfaces.size() - kRows);
   return s;
@@ -211,12 +212,13 @@ std::vector<SurfaceReport> DescribeSurfaces(const Scene& scene, const SurfaceSet
                                             const IrradianceField& field, const BakedMesh& baked) {
   std::vector<SurfaceReport> out;
   const std::vector<Rgb> mean = MeanIrradiance(baked, surfaces.surfaces.size());
+  const std::vector<BakeError> predicted = PredictedErrorPerSurface(baked, surfaces.surfaces.size());
   for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const Surface& surface = surfaces.surfaces[s];
     const std::string& object = scene.objectNames[scene.triangles[surface.triangles.front()].object];
     out.push_back({object, scene.materials[surface.material].name, surface.area, bins.FrontHits(s), bins.BackHits(s),
                    mean[s], bins.FrontFlux(s) / float(surface.area), surface.planar, surface.areaDistortion,
-                   field.Bandwidth(s), field.Prepared().covers[s].Area()});
+                   field.Bandwidth(s), field.Prepared().covers[s].Area(), predicted[s]});
   }
   return out;
 }
@@ -300,6 +302,33 @@ std::string NoisePartsText(const BakeReport& r) {
   return parts.size() > 1 ? fmt::format("; alone: {}", fmt::join(parts, ", ")) : "";
 }
 
+// Where the error sits, when the bake's figure hides it: up to three surfaces of at least kWhereShare of the scene's
+// area whose own predicted error (relative to their own mean H) passes twice the bake's, largest first; "" when none
+// does. A dim room behind a door reads tens of percent on its own where the lit room sets the bake's 1.4%.
+std::string WhereLine(const BakeReport& r) {
+  constexpr double kWhereShare = 0.01;
+  constexpr size_t kWhereRows = 3;
+  double area = 0;
+  for (const SurfaceReport& sr : r.surfaces) area += sr.area;
+  std::vector<size_t> worse;
+  for (size_t i = 0; i < r.surfaces.size(); ++i) {
+    const SurfaceReport& sr = r.surfaces[i];
+    if (sr.area >= kWhereShare * area && sr.predicted.Total() > 2 * r.error.Total()) worse.push_back(i);
+  }
+  if (worse.empty()) return "";
+  std::stable_sort(worse.begin(), worse.end(), [&](size_t a, size_t b) {
+    return r.surfaces[a].predicted.Total() > r.surfaces[b].predicted.Total();
+  });
+  std::vector<std::string> named;
+  for (size_t k = 0; k < worse.size() && k < kWhereRows; ++k) {
+    const SurfaceReport& sr = r.surfaces[worse[k]];
+    named.push_back(fmt::format("surface {} ({} {}, {:.3g} m^2, mean H {:.3g} W/m^2) {:.1f}%", worse[k], sr.object,
+                                sr.material, sr.area, Luminance(sr.meanIrradiance), 100 * sr.predicted.Total()));
+  }
+  return fmt::format("  where     {} of the surfaces of 1% of the area or more read over twice the bake's error on their "
+                     "own (relative to their own mean H): {}\n", worse.size(), fmt::join(named, "; "));
+}
+
 }  // namespace
 
 void PrintSummary(const BakeReport& r, const Log& log) {
@@ -337,6 +366,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   s += PooledLine(r.pooled);
   s += fmt::format("  error     {:.2f}% predicted (the RMS of H's error over the vertices, relative to their mean H): "
                    "noise {:.2f}%, smoothing bias {:.2f}%\n", 100 * r.error.Total(), 100 * r.error.noise, 100 * r.error.bias);
+  s += WhereLine(r);
   if (r.options.sh)
     s += fmt::format("  directions  {:.2f} degrees predicted (95th percentile, as the noise, of the standard error of "
                      "the direction of each vertex's L1)\n", r.directionNoise * 180 / kPi);
@@ -430,7 +460,9 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
                              {"back_hits", s.backHits}, {"mean_irradiance_W_m2", Json(s.meanIrradiance)},
                              {"photon_irradiance_W_m2", Json(s.photonIrradiance)},
                              {"chart", s.planar ? "planar" : "conformal"}, {"area_distortion", s.areaDistortion},
-                             {"h_m", s.bandwidth}, {"covered_area_m2", s.coveredArea}});
+                             {"h_m", s.bandwidth}, {"covered_area_m2", s.coveredArea},
+                             {"predicted_error", {{"total", s.predicted.Total()}, {"noise", s.predicted.noise},
+                                                  {"smoothing_bias", s.predicted.bias}}}});
   }
   for (const auto& [name, seconds] : r.stageSeconds) j["seconds"][name] = seconds;
   j["seconds"]["total"] = r.TotalSeconds();

@@ -49,6 +49,9 @@ struct SurfaceReport {
   double areaDistortion = 1;  // worst max(A_uv / A, A / A_uv) over its triangles
   float bandwidth = 0;        // h [m] its estimate used
   double coveredArea = 0;     // [m^2] that other geometry covers (estimators/surface_cover.h)
+  // Its predicted error of H over its own vertices, relative to their mean H (PredictedErrorPerSurface); zero when
+  // the bake did not estimate its noise.
+  BakeError predicted;
 };
 
 struct BakeReport {

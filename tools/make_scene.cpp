@@ -100,46 +100,45 @@ std::string DoorRooms(double gap, double cell, uint64_t& vertex) {
   constexpr double kW = 4, kD = 2, kH = 2.5, kHalfWall = 0.05, kDoor = 0.9, kDoorH = 2.1, kDoorT = 0.04;
   const double d = kDoor / 2;
   std::string obj = "mtllib room.mtl\n";
-  const auto faces = [&](const char* material, const std::vector<Quad>& quads) {
-    obj += fmt::format("usemtl {}\n", material);
+  const auto faces = [&](const char* object, const char* material, const std::vector<Quad>& quads) {
+    obj += fmt::format("o {}\nusemtl {}\n", object, material);
     for (const Quad& q : quads) GridFace(obj, vertex, q.corner, q.a, q.b, cell);
   };
-  faces("floor", {{{-kW, 0, -kD}, {0, 0, 2 * kD}, {kW - kHalfWall, 0, 0}},      // room A, facing up
-                  {{kHalfWall, 0, -kD}, {0, 0, 2 * kD}, {kW - kHalfWall, 0, 0}}});  // room B
-  std::vector<Quad> walls = {
-      {{-kW, kH, -kD}, {kW - kHalfWall, 0, 0}, {0, 0, 2 * kD}},  // ceilings, facing down
-      {{kHalfWall, kH, -kD}, {kW - kHalfWall, 0, 0}, {0, 0, 2 * kD}},
-      {{-kW, 0, -kD}, {0, kH, 0}, {0, 0, 2 * kD}},               // x = -4, facing +x
-      {{kW, 0, -kD}, {0, 0, 2 * kD}, {0, kH, 0}},                // x = +4, facing -x
-  };
-  for (double x0 : {-kW, kHalfWall}) {  // each room's z = -2 (facing +z) and z = +2 (facing -z) walls
-    walls.push_back({{x0, 0, -kD}, {kW - kHalfWall, 0, 0}, {0, kH, 0}});
-    walls.push_back({{x0, 0, kD}, {0, kH, 0}, {kW - kHalfWall, 0, 0}});
+  // Each room its own object, so that the accuracy tool's objects.md gives each room's error apart.
+  for (const double x0 : {-kW, kHalfWall}) {
+    const char* room = x0 < 0 ? "room_a" : "room_b";
+    const double facing = x0 < 0 ? 1 : -1, far = x0 < 0 ? -kW : kW, wall = x0 < 0 ? -kHalfWall : kHalfWall;
+    std::vector<Quad> quads = {
+        {{x0, 0, -kD}, {0, 0, 2 * kD}, {kW - kHalfWall, 0, 0}},         // floor, facing up
+        {{x0, kH, -kD}, {kW - kHalfWall, 0, 0}, {0, 0, 2 * kD}},        // ceiling, facing down
+        {{x0, 0, -kD}, {kW - kHalfWall, 0, 0}, {0, kH, 0}},             // z = -2, facing +z
+        {{x0, 0, kD}, {0, kH, 0}, {kW - kHalfWall, 0, 0}},              // z = +2, facing -z
+    };
+    // The far wall (x = -4 facing +x, x = +4 facing -x) and the dividing wall's side around the doorway.
+    quads.push_back(facing > 0 ? Quad{{far, 0, -kD}, {0, kH, 0}, {0, 0, 2 * kD}} : Quad{{far, 0, -kD}, {0, 0, 2 * kD}, {0, kH, 0}});
+    for (const double z0 : {-kD, d})
+      quads.push_back(facing > 0 ? Quad{{wall, 0, z0}, {0, 0, kD - d}, {0, kH, 0}} : Quad{{wall, 0, z0}, {0, kH, 0}, {0, 0, kD - d}});
+    quads.push_back(facing > 0 ? Quad{{wall, kDoorH, -d}, {0, 0, 2 * d}, {0, kH - kDoorH, 0}}
+                               : Quad{{wall, kDoorH, -d}, {0, kH - kDoorH, 0}, {0, 0, 2 * d}});
+    faces(room, "floor", {quads[0]});
+    faces(room, "white", {quads.begin() + 1, quads.end()});
   }
-  // The dividing wall's two sides around the doorway: room A's faces -x (a along z, b along y), room B's +x.
-  for (double z0 : {-kD, d}) {
-    walls.push_back({{-kHalfWall, 0, z0}, {0, 0, kD - d}, {0, kH, 0}});
-    walls.push_back({{kHalfWall, 0, z0}, {0, kH, 0}, {0, 0, kD - d}});
-  }
-  walls.push_back({{-kHalfWall, kDoorH, -d}, {0, 0, 2 * d}, {0, kH - kDoorH, 0}});
-  walls.push_back({{kHalfWall, kDoorH, -d}, {0, kH - kDoorH, 0}, {0, 0, 2 * d}});
   // The doorway's jambs and head, facing into it.
-  walls.push_back({{-kHalfWall, 0, -d}, {2 * kHalfWall, 0, 0}, {0, kDoorH, 0}});
-  walls.push_back({{-kHalfWall, 0, d}, {0, kDoorH, 0}, {2 * kHalfWall, 0, 0}});
-  walls.push_back({{-kHalfWall, kDoorH, -d}, {2 * kHalfWall, 0, 0}, {0, 0, 2 * d}});
-  faces("white", walls);
+  faces("doorway", "white", {{{-kHalfWall, 0, -d}, {2 * kHalfWall, 0, 0}, {0, kDoorH, 0}},
+                             {{-kHalfWall, 0, d}, {0, kDoorH, 0}, {2 * kHalfWall, 0, 0}},
+                             {{-kHalfWall, kDoorH, -d}, {2 * kHalfWall, 0, 0}, {0, 0, 2 * d}}});
   // The door: hinged at (kHalfWall, y, d), turned into room B by the angle that leaves `gap` at its free edge.
   const double t = std::asin(std::clamp(gap / kDoor, 0.0, 1.0)), s = std::sin(t), c = std::cos(t);
   const double u[3] = {kDoor * s, 0, -kDoor * c}, n[3] = {kDoorT * c, 0, kDoorT * s}, up[3] = {0, kDoorH, 0};
   const double hinge[3] = {kHalfWall, 0, d}, back[3] = {hinge[0] + n[0], 0, hinge[2] + n[2]};
   const double freeEdge[3] = {hinge[0] + u[0], 0, hinge[2] + u[2]};
   const double top[3] = {hinge[0], kDoorH, hinge[2]};
-  faces("wood", {{{hinge[0], 0, hinge[2]}, {up[0], up[1], up[2]}, {u[0], u[1], u[2]}},  // facing -n: room A's side
+  faces("door", "wood", {{{hinge[0], 0, hinge[2]}, {up[0], up[1], up[2]}, {u[0], u[1], u[2]}},  // facing -n: room A's side
                  {{back[0], 0, back[2]}, {u[0], u[1], u[2]}, {up[0], up[1], up[2]}},    // facing +n
                  {{freeEdge[0], 0, freeEdge[2]}, {n[0], n[1], n[2]}, {up[0], up[1], up[2]}},  // the free edge
                  {{top[0], top[1], top[2]}, {n[0], n[1], n[2]}, {u[0], u[1], u[2]}}});   // its top
   const double l = 0.25, y = kH - 0.01;  // the light, facing down, counter-clockwise seen from below
-  obj += fmt::format("usemtl light\nv {0} {2} {1}\nv {3} {2} {1}\nv {3} {2} {4}\nv {0} {2} {4}\nf {5} {6} {7} {8}\n",
+  obj += fmt::format("o room_a\nusemtl light\nv {0} {2} {1}\nv {3} {2} {1}\nv {3} {2} {4}\nv {0} {2} {4}\nf {5} {6} {7} {8}\n",
                      -kW / 2 - l, -l, y, -kW / 2 + l, l, vertex, vertex + 1, vertex + 2, vertex + 3);
   vertex += 4;
   return obj;

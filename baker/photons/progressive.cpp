@@ -118,25 +118,50 @@ NoiseParts BakeNoiseParts(const BakedMesh& baked) {
   return {vertices.Percentile(1, 0, 0), vertices.Percentile(0, 1, 0), vertices.Percentile(0, 0, 1)};
 }
 
-BakeError PredictedError(const BakedMesh& baked, double photonScale, double pointScale, double biasScale,
-                         double gatheredScale) {
-  const size_t n = baked.irradiance.size();
-  double sum = 0, noise2 = 0, bias2 = 0;
+namespace {
+
+// PredictedError's sums over a group of vertices: their H, their noise's and their bias's squares [(W/m^2)^2].
+struct ErrorSums {
+  double h = 0, noise2 = 0, bias2 = 0;
+  size_t vertices = 0;
+  BakeError Relative() const {
+    if (!(h > 0)) return {};
+    const double mean = h / double(vertices);
+    return {std::sqrt(noise2 / double(vertices)) / mean, std::sqrt(bias2 / double(vertices)) / mean};
+  }
+};
+
+// Adds vertex v's terms to `sums`, with PredictedError's scales.
+void AddVertexError(const BakedMesh& baked, size_t v, double photonScale, double pointScale, double biasScale,
+                    double gatheredScale, ErrorSums& sums) {
   const auto at = [](const std::vector<double>& values, size_t v) {
     return values.empty() ? 0.0 : values[v];  // a mesh estimated without its noise, or without its bias
   };
-  for (size_t v = 0; v < n; ++v) {
-    const double h = Luminance(baked.irradiance[v]);
-    // A vertex's error is taken at most as large as its H: an ill-conditioned local fit on a few photons can predict
-    // a noise of thousands of times its estimate (a book's edge in the office: 1,499 H), which would be the RMS.
-    const double noise = std::min(at(baked.irradianceNoise, v), 1.0) * h, bias = at(baked.irradianceBias, v) * h;
-    const VarianceShares share = SharesOf(baked, v);
-    const double scale = share.photons * photonScale + share.points * pointScale + share.gathered * gatheredScale;
-    sum += h, noise2 += noise * noise * scale, bias2 += bias * bias * biasScale;
-  }
-  if (!(sum > 0)) return {};
-  const double mean = sum / double(n);
-  return {std::sqrt(noise2 / double(n)) / mean, std::sqrt(bias2 / double(n)) / mean};
+  const double h = Luminance(baked.irradiance[v]);
+  // A vertex's error is taken at most as large as its H: an ill-conditioned local fit on a few photons can predict
+  // a noise of thousands of times its estimate (a book's edge in the office: 1,499 H), which would be the RMS.
+  const double noise = std::min(at(baked.irradianceNoise, v), 1.0) * h, bias = at(baked.irradianceBias, v) * h;
+  const VarianceShares share = SharesOf(baked, v);
+  const double scale = share.photons * photonScale + share.points * pointScale + share.gathered * gatheredScale;
+  sums.h += h, sums.noise2 += noise * noise * scale, sums.bias2 += bias * bias * biasScale, ++sums.vertices;
+}
+
+}  // namespace
+
+BakeError PredictedError(const BakedMesh& baked, double photonScale, double pointScale, double biasScale,
+                         double gatheredScale) {
+  ErrorSums sums;
+  for (size_t v = 0; v < baked.irradiance.size(); ++v)
+    AddVertexError(baked, v, photonScale, pointScale, biasScale, gatheredScale, sums);
+  return sums.Relative();
+}
+
+std::vector<BakeError> PredictedErrorPerSurface(const BakedMesh& baked, size_t surfaces) {
+  std::vector<ErrorSums> sums(surfaces);
+  for (size_t v = 0; v < baked.irradiance.size(); ++v) AddVertexError(baked, v, 1, 1, 1, 1, sums[baked.mesh.surface[v]]);
+  std::vector<BakeError> out(surfaces);
+  for (size_t s = 0; s < surfaces; ++s) out[s] = sums[s].Relative();
+  return out;
 }
 
 double BakeDirectionNoise(const BakedMesh& baked) {
