@@ -5,10 +5,25 @@
 #include <algorithm>
 #include <optional>
 
+#include "baker/option_ranges.h"
 #include "baker/photons/progressive.h"
 #include "estimators/bandwidth.h"
 
 namespace pb {
+
+std::optional<DirectLight> ParseDirectLight(std::string_view name) {
+  if (name == "photons") return DirectLight::kPhotons;
+  if (name == "sampled") return DirectLight::kSampled;
+  return std::nullopt;
+}
+
+std::string DirectLightName(DirectLight mode) { return mode == DirectLight::kSampled ? "sampled" : "photons"; }
+std::string DirectLightNames() { return "photons, sampled"; }
+
+void DirectSettings::Validate() const {
+  RequireOption(samples >= 1 && samples <= 1'000'000, "--direct-samples", "must lie in [1, 1000000]");
+  RequireOption(noise == 0 || (noise >= 1e-4 && noise <= 1), "--direct-noise", "must be 0 (off) or lie in [0.0001, 1]");
+}
 
 std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
                                      const EstimatorSettings& settings, bool automatic, const Log* log) {

@@ -3,11 +3,18 @@
 #include <algorithm>
 #include <cmath>
 
+#include "baker/option_ranges.h"
 #include "baker/3_contributions.h"
 #include "baker/3_surface_point.h"
 #include "estimators/warps.h"
 
 namespace pb {
+
+void GapSettings::Validate() const {
+  RequireOption(paths <= 1'000'000, "--gap-paths", "must lie in [0, 1000000] paths per point");
+  RequireOption(noise == 0 || (noise >= 1e-4 && noise <= 1), "--gap-noise", "must be 0 (off) or lie in [0.0001, 1]");
+  RequireOption(smallArea >= 0 && smallArea <= 1000, "--gap-small-area", "must lie in [0, 1000] h^2");
+}
 
 namespace {
 // Salt the probes' and the paths' streams apart from each other and from the direct light's at the same point.

@@ -36,7 +36,6 @@
 #include "baker/3_gap_gather.h"
 #include "baker/3_gap_weights.h"
 #include "baker/baked_mesh.h"
-#include "baker/options.h"
 #include "baker/runtime/progress.h"
 #include "baker/runtime/stage_clock.h"
 #include "mesh/split_mesh.h"

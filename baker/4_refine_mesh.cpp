@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "baker/option_ranges.h"
 #include "mesh/memory_budget.h"
 #include "baker/tone_map.h"
 #include "mesh/decimate.h"
@@ -18,6 +19,13 @@
 #include "mesh/subdivide.h"
 
 namespace pb {
+
+void RefineSettings::Validate() const {
+  RequireOption(tolerance > 0 && tolerance < 1, "--tolerance", "must lie in (0, 1)");
+  RequireOption(subdivide >= 0 && subdivide <= 8, "--subdivide", "must lie in [0, 8]");
+  RequireOption(maxVertices >= 3 && maxVertices <= 1'000'000'000, "--max-vertices", "must lie in [3, 1e9]");
+}
+
 namespace {
 
 using Vec3d = OpenMesh::Vec3d;

@@ -29,12 +29,6 @@ void RequireReachableNoise(const EstimatorSettings& e, float target) {
 
 }  // namespace
 
-std::optional<DirectLight> ParseDirectLight(std::string_view name) {
-  if (name == "photons") return DirectLight::kPhotons;
-  if (name == "sampled") return DirectLight::kSampled;
-  return std::nullopt;
-}
-
 std::optional<QualityPreset> ParseQuality(std::string_view name) {
   // draft's 160,000 photons and 32 rays and paths: the error they leave is what its target allows (box 6.4%, office
   // 6.5% net), in a third of the time that the defaults' 256 take to land at 4% (docs/bake.md, "Quality presets").
@@ -47,26 +41,6 @@ std::optional<QualityPreset> ParseQuality(std::string_view name) {
 }
 
 std::string QualityNames() { return "draft, medium, high, production"; }
-
-std::string DirectLightName(DirectLight mode) { return mode == DirectLight::kSampled ? "sampled" : "photons"; }
-std::string DirectLightNames() { return "photons, sampled"; }
-
-void DirectSettings::Validate() const {
-  RequireOption(samples >= 1 && samples <= 1'000'000, "--direct-samples", "must lie in [1, 1000000]");
-  RequireOption(noise == 0 || (noise >= 1e-4 && noise <= 1), "--direct-noise", "must be 0 (off) or lie in [0.0001, 1]");
-}
-
-void GapSettings::Validate() const {
-  RequireOption(paths <= 1'000'000, "--gap-paths", "must lie in [0, 1000000] paths per point");
-  RequireOption(noise == 0 || (noise >= 1e-4 && noise <= 1), "--gap-noise", "must be 0 (off) or lie in [0.0001, 1]");
-  RequireOption(smallArea >= 0 && smallArea <= 1000, "--gap-small-area", "must lie in [0, 1000] h^2");
-}
-
-void RefineSettings::Validate() const {
-  RequireOption(tolerance > 0 && tolerance < 1, "--tolerance", "must lie in (0, 1)");
-  RequireOption(subdivide >= 0 && subdivide <= 8, "--subdivide", "must lie in [0, 8]");
-  RequireOption(maxVertices >= 3 && maxVertices <= 1'000'000'000, "--max-vertices", "must lie in [3, 1e9]");
-}
 
 namespace {
 

@@ -9,52 +9,13 @@
 #include <string>
 #include <string_view>
 
+#include "baker/1_trace_photons.h"
+#include "baker/3_contributions.h"
+#include "baker/3_gap_gather.h"
+#include "baker/4_refine_mesh.h"
 #include "estimators/density_estimator.h"
 
 namespace pb {
-
-// The default bounce limit, --max-bounces: unlimited in practice, since Russian roulette ends a path long before
-// (a path survives 10,000 bounces of albedo 0.99 with probability 2e-44); it only stops a closed white box.
-inline constexpr uint32_t kDefaultMaxBounces = 10'000;
-
-// --direct: how the light that reaches a surface straight from a light (no scattering between) is computed.
-//   kSampled: at every point that is asked (vertex, refined vertex, texel) by shadow rays to the lights
-//             (estimators/light_sampler.h); photons are then stored only after their first scattering, so the
-//             kernel estimates only the rest (interreflection, and caustics by mirrors and glass).
-//   kPhotons: from the photons, like every other bounce (the paper's method).
-enum class DirectLight : uint8_t { kPhotons, kSampled };
-std::optional<DirectLight> ParseDirectLight(std::string_view name);  // "photons" or "sampled"
-std::string DirectLightName(DirectLight mode);
-std::string DirectLightNames();  // comma-separated, for --help and error messages
-struct DirectSettings {
-  DirectLight mode = DirectLight::kSampled;
-  uint32_t samples = 256;  // --direct-samples: shadow rays per point; range [1, 1e6], typical 64-1024
-  // --direct-noise: with a target (> 0), each point takes as many shadow rays as its own noise needs to reach
-  // this relative standard error of its direct light, up to `samples` (LightSampler::AdaptiveIrradiance);
-  // 0: every point takes `samples`. Range 0 or [1e-4, 1], typical 0.005-0.02.
-  double noise = 0;
-  // --direct-samples or --direct-noise given: the rounds of --target-noise keep the shadow rays as they are
-  // (otherwise they raise them where the points' own noise holds the bake's; baker/photons/progressive.h).
-  bool fixedSamples = false;
-  void Validate() const;  // the ranges above; an InputError naming the option
-};
-
-// Gathering in narrow gaps, with --direct sampled (baker/3_gap_gather.h).
-struct GapSettings {
-  uint32_t paths = 256;  // --gap-paths: paths gathered at a point in a gap (with `noise`: at most); 0: none; [0, 1e6]
-  double noise = 0;      // --gap-noise: the gathered points' relative noise target; 0: always `paths`; [0, 1]
-  uint32_t probes = 32;  // rays that decide whether a point lies in a gap
-  float facing = 0.3f;   // the fraction of them that must meet a near parallel surface
-  float reach = 0.5f;    // how near, as a fraction of the point's h
-  float smallArea = 0;   // a surface of area below smallArea h^2 is gathered everywhere, and never read
-  // Of the scene's triangles, the most that the small surfaces gathered may hold: the smallest are gathered first,
-  // and the rest read the photons (1: every small surface; the defaults' cap, so that a scene of tiny faces, a
-  // Minecraft world, does not gather everywhere).
-  float smallShare = 1;
-  bool edges = false;    // --gap-edges: also gather at every point on a planar surface's boundary
-  bool fixedPaths = false;  // --gap-paths given: the rounds keep `paths` as it is
-  void Validate() const;  // --gap-paths, --gap-noise, --gap-small-area; an InputError naming the option
-};
 
 // --quality: a name for a target and the first round's photons (--photons): the predicted error of H
 // (--target-error) for draft, high and production, the defaults' noise target (--target-noise) for medium. h is
@@ -76,18 +37,6 @@ struct QualityPreset {
 // "draft", "medium", "high" or "production"; nullopt for any other name.
 std::optional<QualityPreset> ParseQuality(std::string_view name);
 std::string QualityNames();  // comma-separated, for --help and error messages
-
-// --refine, --tolerance, --max-vertices, --subdivide (baker/4_refine_mesh.h).
-struct RefineSettings {
-  bool adaptive = false;        // --refine: coarsen where the light is flat, refine where it changes
-  float tolerance = 0.02f;      // --tolerance: largest displayed-luminance error; range (0, 1), typical 0.01-0.05
-  size_t maxVertices = 200'000; // --max-vertices: budget of the written mesh's vertices; >= 3, typical 1e4-1e6
-  int subdivide = 0;            // --subdivide: uniform levels first; range [0, 8], each ~4x the vertices
-  // Edges are not cut below this fraction of their surface's h [m]: the estimate is smooth at scale h.
-  float minimumEdgeFraction = 0.125f;
-  bool Enabled() const { return adaptive || subdivide > 0; }
-  void Validate() const;  // the ranges above; an InputError naming the option
-};
 
 struct BakeOptions {
   std::string scenePath;   // OBJ file; its MTL files are found relative to it.
