@@ -27,7 +27,7 @@ trap 'rm -rf "$out"' EXIT
 ceilings() {
   case $1 in
     lost_empire) echo "load=15 covers=53 estimate=39 other=15" ;;
-    sports_car) echo "load=9 covers=42 estimate=35 other=15" ;;
+    sports_car) echo "load=9 covers=42 estimate=50 other=15" ;;
     conference) echo "load=10 covers=24 estimate=59 other=15" ;;
   esac
 }
@@ -55,7 +55,8 @@ judge() {  # name, summary file; fails when a stage passed its ceiling
 }
 
 # A scene over a ceiling is baked once more and judged again: a stall repeats, a noisy moment does not (the sports
-# car's estimate read 19-35 us per triangle over five clean-clone runs of the same code, 2026-12-06).
+# car's estimate read 19-35 us per triangle over five clean-clone runs of the same code, 2026-12-06; its ceiling is
+# 50 since, 1.4 times the worst quiet reading, where the slow pooled queries it caught read 70).
 bake() {  # name, obj, extra options
   local name=$1 obj=$2 attempt
   shift 2
