@@ -140,6 +140,8 @@ std::vector<std::string> MapPaths(const std::string& directory, size_t surfaces)
   return paths;
 }
 
+bool IsMapName(const std::string& name) { return name.rfind("surface_", 0) == 0 && name.ends_with(".exr"); }
+
 std::vector<std::string> StaleMapWarnings(const std::string& directory, const std::vector<std::string>& written) {
   std::set<std::string> ours;
   for (const std::string& path : written) ours.insert(std::filesystem::path(path).filename().string());
@@ -147,7 +149,7 @@ std::vector<std::string> StaleMapWarnings(const std::string& directory, const st
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator(directory, error)) {
     const std::string name = entry.path().filename().string();
-    if (name.rfind("surface_", 0) == 0 && name.ends_with(".exr") && !ours.count(name)) stale.push_back(name);
+    if (IsMapName(name) && !ours.count(name)) stale.push_back(name);
   }
   if (stale.empty()) return {};
   std::sort(stale.begin(), stale.end());

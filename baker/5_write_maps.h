@@ -31,6 +31,9 @@ struct MapsWritten {
 // One file per surface, "DIR/surface_<index>.exr" (MapPaths). InputError if DIR is not a writable folder or a chart
 // would need more than 8192 texels on a side.
 std::vector<std::string> MapPaths(const std::string& directory, size_t surfaces);
+// Whether a file name (no folder) is a map's name as MapPaths writes it, "surface_<...>.exr": the files a killed
+// run's temporaries and an earlier bake's maps are told by.
+bool IsMapName(const std::string& name);
 // InputError("--texel") when a surface's chart would need more than 8192 texels on a side, or when the maps being
 // written at once (one per thread, the largest first) would need more memory than the machine has, at about 40
 // bytes per texel (H, coverage, overlap area and OpenEXR's buffers): checked before any photon is traced.

@@ -76,7 +76,7 @@ std::vector<std::string> RemoveKilledRunsTemporaries(const BakeOptions& o) {
            [name = p.filename().string()](const std::string& n) { return n == name; });
   }
   if (!o.mapsDirectory.empty())
-    remove(o.mapsDirectory, [](const std::string& n) { return n.rfind("surface_", 0) == 0 && n.ends_with(".exr"); });
+    remove(o.mapsDirectory, IsMapName);
   return notes;
 }
 
