@@ -267,12 +267,15 @@ std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& sce
       stopped = true;
       return false;
     }
-    if (d != nullptr) return d->TakesChunk(chunk);
+    if (d != nullptr) return d->ClaimChunk(chunk);
     taken[chunk] = 1;
     return true;
   };
   BakedMesh baked = clock.Time("estimate", [&] {
-    return EstimateIrradiance(*lit.field, base, log, /*withNoise=*/true, owns);
+    if (d != nullptr) d->OpenChunks(taken.size());
+    BakedMesh estimated = EstimateIrradiance(*lit.field, base, log, /*withNoise=*/true, owns);
+    if (d != nullptr) d->CloseChunks();
+    return estimated;
   });
   if (!stopped) return baked;
   const bool interrupted = InterruptRequested();

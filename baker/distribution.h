@@ -4,8 +4,8 @@
 // process does so and shares its blocks' stats and the few hits it kept, and the node sums, exact integers, are
 // summed over the processes; otherwise (the defaults: h chosen per surface, rounds to a target) every process
 // takes every process's blocks and holds the whole store, as one process would. Every process then holds the same
-// irradiance field and estimates its share of the vertices, in chunks (kVertexChunk, baker/3_irradiance_field.h),
-// which rank 0 gathers; rank 0 decides whether another round follows and broadcasts its plan; rank 0 alone
+// irradiance field and estimates the chunks of vertices it claims first (kVertexChunk, baker/3_irradiance_field.h;
+// ClaimChunk), which rank 0 gathers; rank 0 decides whether another round follows and broadcasts its plan; rank 0 alone
 // refines, writes maps and writes the outputs. The photons are exactly those of a single-process bake, so its bytes
 // are too, for any N and --threads.
 //
@@ -41,9 +41,16 @@ class Distribution : public TraceShare {
     }
     return mine;
   }
-  // Vertex chunk c goes to process c modulo N.
-  bool TakesChunk(size_t c) const { return ChunkHolder(c) == Rank(); }
-  unsigned ChunkHolder(size_t c) const { return unsigned(c % Size()); }
+  // The estimate's vertex chunks go to whichever process asks for them first: every process calls ClaimChunk once
+  // for each chunk, from any of its threads and in any order, and estimates the chunks it won, so that a process
+  // whose chunks cost more (gathered paths, pooled queries) takes fewer of them. In turn (chunk c to process c
+  // modulo N) one of Lost Empire's 2 ranks had 30% more work than the other. OpenChunks(n) on every process
+  // before, CloseChunks() on every process after; ChunkHolder(c) then says, on every process, who took chunk c.
+  virtual void OpenChunks(size_t chunks) const = 0;
+  virtual bool ClaimChunk(size_t c) const = 0;
+  virtual void CloseChunks() const = 0;
+  unsigned ChunkHolder(size_t c) const { return holders_[c]; }
+  bool HoldsChunk(size_t c) const { return ChunkHolder(c) == Rank(); }
 
   // Called once by every process before tracing, with whether it is ready: every process's answer, by rank.
   virtual std::vector<bool> Agree(bool ready) const = 0;
@@ -54,11 +61,12 @@ class Distribution : public TraceShare {
   // another round follows and its plan, so that every process traces and estimates it together.
   virtual void Broadcast(std::span<std::byte> bytes) const = 0;
   // `items` is an array of items of `itemBytes` each, in chunks of `chunk` items; each process filled the chunks c
-  // it TakesChunk(c). Afterwards rank 0's holds every chunk (the others' are left as they were).
+  // it HoldsChunk(c). Afterwards rank 0's holds every chunk (the others' are left as they were).
   virtual void GatherChunks(std::span<std::byte> items, size_t itemBytes, size_t chunk) const = 0;
 
  protected:
   mutable bool agreed_ = false;
+  mutable std::vector<unsigned> holders_;  // per vertex chunk, the process that took it (CloseChunks)
 };
 
 }  // namespace pb

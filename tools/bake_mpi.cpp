@@ -9,9 +9,13 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstring>
+#include <mutex>
+#include <span>
 #include <type_traits>
+#include <vector>
 
 #include <unistd.h>
 
@@ -112,14 +116,46 @@ class MpiDistribution final : public Distribution {
       MPI_Bcast(bytes.data() + at, int(std::min<size_t>(kChunk, bytes.size() - at)), MPI_BYTE, 0, MPI_COMM_WORLD);
   }
 
-  // Rank r > 0 sends the chunks it TakesChunk, in order; rank 0 puts them in place.
+  // The claims live in a window of one int per chunk on rank 0 (0: free, r + 1: taken by rank r), which every rank
+  // compares and swaps into, one chunk at a time, under a lock of its own (MPI_THREAD_SERIALIZED).
+  void OpenChunks(size_t chunks) const override {
+    const MPI_Aint bytes = Root() ? MPI_Aint(chunks * sizeof(int)) : 0;
+    MPI_Win_allocate(bytes, sizeof(int), MPI_INFO_NULL, MPI_COMM_WORLD, &claims_, &window_);
+    if (Root()) std::fill(claims_, claims_ + chunks, 0);
+    chunks_ = chunks;
+    MPI_Barrier(MPI_COMM_WORLD);  // every claim is free before any is taken
+    MPI_Win_lock_all(0, window_);
+  }
+  bool ClaimChunk(size_t c) const override {
+    const std::lock_guard<std::mutex> lock(mpi_);
+    const int mine = int(rank_) + 1, free = 0;
+    int was = -1;
+    MPI_Compare_and_swap(&mine, &free, &was, MPI_INT, 0, MPI_Aint(c), window_);
+    MPI_Win_flush(0, window_);
+    return was == free;
+  }
+  void CloseChunks() const override {
+    MPI_Win_unlock_all(window_);
+    MPI_Barrier(MPI_COMM_WORLD);  // every claim made
+    std::vector<int> taken(chunks_, 0);
+    if (Root()) std::copy(claims_, claims_ + chunks_, taken.begin());
+    Broadcast(std::as_writable_bytes(std::span(taken)));
+    MPI_Win_free(&window_);
+    holders_.resize(chunks_);
+    for (size_t c = 0; c < chunks_; ++c) {
+      PB_CHECK(taken[c] > 0, "every vertex chunk was claimed");
+      holders_[c] = unsigned(taken[c] - 1);
+    }
+  }
+
+  // Rank r > 0 sends the chunks it HoldsChunk, in order; rank 0 puts them in place.
   void GatherChunks(std::span<std::byte> items, size_t itemBytes, size_t chunk) const override {
     const size_t chunkBytes = itemBytes * chunk, chunks = (items.size() + chunkBytes - 1) / chunkBytes;
     const auto bytesOf = [&](size_t c) { return items.subspan(c * chunkBytes, std::min(chunkBytes, items.size() - c * chunkBytes)); };
     if (!Root()) {
       std::vector<char> mine;
       for (size_t c = 0; c < chunks; ++c)
-        if (TakesChunk(c)) Put(mine, bytesOf(c).data(), bytesOf(c).size());
+        if (HoldsChunk(c)) Put(mine, bytesOf(c).data(), bytesOf(c).size());
       return Send(mine, 0);
     }
     for (unsigned r = 1; r < size_; ++r) {
@@ -151,6 +187,10 @@ class MpiDistribution final : public Distribution {
     return bytes;
   }
   unsigned rank_ = 0, size_ = 1;
+  mutable MPI_Win window_ = MPI_WIN_NULL;
+  mutable int* claims_ = nullptr;  // rank 0's window
+  mutable size_t chunks_ = 0;
+  mutable std::mutex mpi_;  // a rank's threads claim one at a time
 };
 
 // mpirun ends every rank with SIGTERM when it is interrupted (Ctrl-C) or when a rank fails. Rank 0 says so, with
@@ -203,7 +243,13 @@ int Run(const tools::BakeCommandLine& c, const MpiDistribution& d) {
 }  // namespace pb
 
 int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
+  // The estimate's threads claim vertex chunks (MpiDistribution::ClaimChunk), one at a time under a lock.
+  int provided = MPI_THREAD_SINGLE;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &provided);
+  if (provided < MPI_THREAD_SERIALIZED) {
+    fmt::print(stderr, "bake-mpi: this MPI cannot be called from more than one thread (MPI_THREAD_SERIALIZED)\n");
+    MPI_Abort(MPI_COMM_WORLD, 2);
+  }
   const pb::MpiDistribution distribution;
   pb::SayWhenMpirunEndsTheJob(distribution.Root());
   CLI::App app{"bake-mpi: bake, shared among the processes of mpirun (photonbake)"};
