@@ -163,7 +163,10 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
     std::unique_ptr<Progress> progress;
     return BuildSurfaces(p.scene, {}, Show(log, "surfaces (triangle passes)", progress));
   });
-  p.rays = clock.Time("bvh", [&] { return std::make_unique<RayScene>(p.scene); });
+  p.rays = clock.Time("bvh", [&] {
+    std::unique_ptr<Progress> progress;
+    return std::make_unique<RayScene>(p.scene, Show(log, "build bvh (thousandths)", progress));
+  });
   const std::vector<std::string> turned = OrientPortals(p.scene, *p.rays);
   if (p.warningsShown) log->Warnings(turned);
   p.warnings.insert(p.warnings.end(), turned.begin(), turned.end());

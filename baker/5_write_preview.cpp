@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "baker/files/image_io.h"
 #include "baker/tone_map.h"
@@ -36,12 +37,19 @@ std::vector<std::array<float, 3>> DisplayColours(const BakedMesh& baked, float e
 
 }  // namespace
 
-void WritePreview(OutputFiles& outputs, const std::string& path, const BakedMesh& baked, const PreviewSettings& s) {
+void WritePreview(OutputFiles& outputs, const std::string& path, const BakedMesh& baked, const PreviewSettings& s,
+                  const Log& log) {
   const Scene scene = MeshScene(baked.mesh);
   const std::vector<std::array<float, 3>> colours = DisplayColours(baked, s.exposure);
   std::vector<uint8_t> rgb(size_t(s.width) * size_t(s.height) * 3, 0);
   if (!scene.triangles.empty()) {
-    const RayScene rays(scene);
+    std::optional<Progress> build;  // a million triangles take a second or more
+    const RayScene rays(scene, [&](uint64_t done, uint64_t total) {
+      if (!build) build.emplace(log, "preview bvh (thousandths)", total);
+      build->Advance(done);
+    });
+    build.reset();
+    Progress rows(log, "preview (rows)", uint64_t(s.height));
     Camera local = s.camera;  // the mesh is traced in its local frame (mesh/scene.h, origin)
     local.position = scene.ToLocal(s.camera.position.x, s.camera.position.y, s.camera.position.z);
     local.lookAt = scene.ToLocal(s.camera.lookAt.x, s.camera.lookAt.y, s.camera.lookAt.z);
@@ -63,6 +71,7 @@ void WritePreview(OutputFiles& outputs, const std::string& path, const BakedMesh
           rgb[(size_t(y) * size_t(s.width) + size_t(x)) * 3 + size_t(c)] =
               uint8_t(std::clamp(std::lround(sum[size_t(c)] / 4), 0l, 255l));
       }
+      rows.Advance(1);
     });
   }
   WritePngRgb8(outputs, path, s.width, s.height, rgb);

@@ -9,6 +9,7 @@
 
 #include "baker/files/atomic_file.h"
 #include "baker/baked_mesh.h"
+#include "baker/runtime/progress.h"
 #include "mesh/camera.h"
 
 namespace pb {
@@ -21,6 +22,7 @@ struct PreviewSettings {
 };
 
 // Stages the PNG at `path` in `outputs`. Rays are traced against the baked mesh itself (its own Embree scene).
-void WritePreview(OutputFiles& outputs, const std::string& path, const BakedMesh& baked, const PreviewSettings& settings);
+void WritePreview(OutputFiles& outputs, const std::string& path, const BakedMesh& baked, const PreviewSettings& settings,
+                  const Log& log);
 
 }  // namespace pb

@@ -535,7 +535,7 @@ BakeReport Bake(const BakeOptions& o, const Log& log, const Distribution* distri
   StageClock clock(report.stageSeconds);
   if (camera)
     clock.Time("preview", [&] {
-      WritePreview(outputs, o.previewPath, result.mesh, {*camera, o.previewWidth, o.previewHeight, report.exposure});
+      WritePreview(outputs, o.previewPath, result.mesh, {*camera, o.previewWidth, o.previewHeight, report.exposure}, log);
     });
   clock.Time("write", [&] {
     if (HasGltfExtension(o.outputPath))

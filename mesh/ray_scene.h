@@ -14,6 +14,7 @@
 
 #include "mesh/geometry.h"
 #include "mesh/scene.h"
+#include "mesh/work_progress.h"
 
 // Embree's device and scene handles (RTCDevice, RTCScene), declared here so that only ray_scene.cpp includes
 // <embree3/rtcore.h>: nothing above this header compiles Embree's API.
@@ -30,7 +31,9 @@ struct RayHit {
 
 class RayScene {
  public:
-  explicit RayScene(const Scene& scene);
+  // Builds the BVH (Embree's); `progress`, when given, hears the build in thousandths of it (a million triangles
+  // take a second or more).
+  explicit RayScene(const Scene& scene, const WorkProgress& progress = {});
   ~RayScene();
   RayScene(const RayScene&) = delete;
   RayScene& operator=(const RayScene&) = delete;

@@ -8,7 +8,10 @@
 #include <array>
 #include <filesystem>
 #include <cmath>
+#include <string>
+#include <vector>
 
+#include "baker/runtime/progress.h"
 #include "baker/tone_map.h"
 #include "tests/run_tool.h"
 #include "tests/test_scenes.h"
@@ -57,8 +60,12 @@ TEST(Preview, PixelsInterpolateTheVertexColoursAndTheRestIsBlack) {
   PreviewSettings s{{{0, 0, 2}, {0, 0, 0}, {0, 1, 0}, 90}, 64, 64, 1.0f};
   const std::string path = test::TempDirectory("preview") + "/p.png";
   OutputFiles outputs;
-  WritePreview(outputs, path, quad, s);
+  std::vector<std::string> heard;
+  const Log log(true, [&](const std::string& line) { heard.push_back(line); });
+  WritePreview(outputs, path, quad, s, log);
   outputs.Commit();
+  // Its BVH and its rows each show their progress (a million triangles took over a second without a line).
+  EXPECT_EQ(heard, (std::vector<std::string>{"preview bvh (thousandths): done", "preview (rows): done"}));
   const Png png = ReadPng(path);
   ASSERT_EQ(png.width, 64);
   ASSERT_EQ(png.height, 64);
@@ -77,7 +84,7 @@ TEST(Preview, PixelsInterpolateTheVertexColoursAndTheRestIsBlack) {
   // Seen from behind, the quad shows the same colours, mirrored left to right.
   s.camera.position = {0, 0, -2};
   OutputFiles back;
-  WritePreview(back, path, quad, s);
+  WritePreview(back, path, quad, s, Log(true));
   back.Commit();
   const Png behind = ReadPng(path);
   EXPECT_NEAR(behind.At(20, 32)[0], png.At(43, 32)[0], 1.0);
