@@ -123,8 +123,9 @@ class MpiDistribution final : public Distribution {
     MPI_Win_allocate(bytes, sizeof(int), MPI_INFO_NULL, MPI_COMM_WORLD, &claims_, &window_);
     if (Root()) std::fill(claims_, claims_ + chunks, 0);
     chunks_ = chunks;
-    MPI_Barrier(MPI_COMM_WORLD);  // every claim is free before any is taken
     MPI_Win_lock_all(0, window_);
+    if (Root()) MPI_Win_sync(window_);  // rank 0's stores are the window's
+    MPI_Barrier(MPI_COMM_WORLD);        // every claim is free before any is taken
   }
   bool ClaimChunk(size_t c) const override {
     const std::lock_guard<std::mutex> lock(mpi_);
@@ -135,8 +136,9 @@ class MpiDistribution final : public Distribution {
     return was == free;
   }
   void CloseChunks() const override {
+    MPI_Barrier(MPI_COMM_WORLD);        // every claim made (each flushed)
+    if (Root()) MPI_Win_sync(window_);  // and seen in rank 0's memory
     MPI_Win_unlock_all(window_);
-    MPI_Barrier(MPI_COMM_WORLD);  // every claim made
     std::vector<int> taken(chunks_, 0);
     if (Root()) std::copy(claims_, claims_ + chunks_, taken.begin());
     Broadcast(std::as_writable_bytes(std::span(taken)));
