@@ -1,6 +1,7 @@
 #include "baker/4_refine_mesh.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <unordered_map>
 
@@ -10,8 +11,9 @@
 #include <fmt/format.h>
 
 #include "baker/option_ranges.h"
-#include "mesh/memory_budget.h"
+#include "baker/runtime/interrupt.h"
 #include "baker/tone_map.h"
+#include "mesh/memory_budget.h"
 #include "mesh/decimate.h"
 #include "mesh/half_edge_mesh.h"
 #include "mesh/interpolation_error.h"
@@ -233,6 +235,7 @@ class CollapseProgress : public OpenMesh::Decimater::Observer {
  public:
   CollapseProgress(const Log& log, size_t vertices) : Observer(256), progress_(log, "coarsen mesh", vertices) {}
   void notify(size_t collapses) override { progress_.Advance(collapses - reported_), reported_ = collapses; }
+  bool abort() const override { return InterruptRequested(); }  // Ctrl-C: RefineMesh gives up its mesh
   // Coarsening ends when no collapse is left, before one per vertex: `collapses` is all there was.
   void Complete(size_t collapses) {
     notify(collapses);
@@ -281,13 +284,22 @@ size_t Coarsen(HalfEdgeMesh& mesh, DisplayedLight& light, const RefineInputs& in
   return count;
 }
 
-// Every `stride`-th face's error against the estimator itself (the others' are left empty), in parallel over faces.
+// After a Ctrl-C, refuses every cut, so that refinement ends at once; RefineMesh then gives up its mesh.
+class UntilInterrupted : public RefineModule {
+ public:
+  std::string_view Name() const override { return "Ctrl-C"; }
+  bool AllowsSplit(const HalfEdgeMesh&, HalfEdgeMesh::EdgeHandle) override { return !InterruptRequested(); }
+};
+
+// Every `stride`-th face's error against the estimator itself (the others' are left empty), in parallel over faces;
+// after a Ctrl-C, no more (RefineMesh then gives up its mesh).
 std::vector<InterpolationError> ExactErrors(const HalfEdgeMesh& mesh, const DisplayedLight& light, const Log& log,
                                             size_t stride = 1) {
   std::vector<InterpolationError> errors(mesh.n_faces());
   const size_t measured = (errors.size() + stride - 1) / stride;
   Progress progress(log, "measure mesh error", measured);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, measured, 64), [&](const tbb::blocked_range<size_t>& r) {
+    if (InterruptRequested()) return;
     for (size_t k = r.begin(); k != r.end(); ++k) errors[k * stride] = light.ExactFaceError(mesh, FaceHandle{int(k * stride)});
     progress.Advance(r.size());
   });
@@ -308,7 +320,8 @@ std::vector<InterpolationError> Refine(HalfEdgeMesh& mesh, DisplayedLight& light
   DisplayErrorModule error(light, settings.tolerance, ExactErrors(mesh, light, log));
   MinimumEdgeLength edgeLength(std::move(minimumEdge));
   VertexBudget budget(settings.maxVertices, displayVertices, light.Textured());
-  RefineModule* constraints[] = {&budget, &edgeLength};
+  UntilInterrupted interrupt;
+  RefineModule* constraints[] = {&budget, &edgeLength, &interrupt};
   const RefineStats stats = RefineAdaptive(mesh, error, constraints);
   report.splits = stats.splits;
   for (const auto& [name, count] : stats.refusedBy) {
@@ -413,7 +426,12 @@ RefinedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, c
     errors = ExactErrors(mesh, light, log, stride);
   }
   SummariseErrors(mesh, errors, settings.tolerance, report, stride);
-  BakedMesh baked = EstimateIrradiance(in.field, ToSplitMesh(mesh, in), log);
+  std::atomic<bool> stopped{false};
+  BakedMesh baked = EstimateIrradiance(in.field, ToSplitMesh(mesh, in), log, /*withNoise=*/false, [&](size_t) {
+    if (InterruptRequested()) stopped = true;
+    return !stopped;
+  });
+  if (stopped) return {{}, RefineReport{.interrupted = true}};
   report.verticesAfter = baked.mesh.VertexCount();
   report.facesAfter = baked.mesh.faces.size();
   if (report.refusedByBudget || report.collapsesPastTolerance)

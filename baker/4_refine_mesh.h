@@ -61,6 +61,8 @@ struct RefineReport {
   // edge length or the budget stopped refinement).
   double maxError = 0, meanError = 0, p99Error = 0, areaAboveTolerance = 0;
   std::vector<std::string> warnings;  // the budget left faces above the tolerance, or could not be met
+  // A Ctrl-C stopped refinement: the refined mesh was given up (empty), and nothing above describes it.
+  bool interrupted = false;
 };
 
 // What refinement reads: the irradiance field (stage 3), the base mesh (for the input's corner normals and area
@@ -75,6 +77,8 @@ struct RefinedMesh {
   BakedMesh mesh;
   RefineReport report;
 };
+// After a Ctrl-C (baker/runtime/interrupt.h) it stops at the next face or vertex chunk and gives up its mesh
+// (report.interrupted), so that the bake writes the mesh it had.
 RefinedMesh RefineMesh(const RefineInputs& in, const RefineSettings& settings, const Log& log);
 
 // One warning per lit surface whose estimate is noisier than the tolerance in displayed grey level: refinement

@@ -505,9 +505,14 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   if (o.refine.adaptive) journal.Warn(NoiseWarnings(field, rounds.Bins(), exposure, o.refine.tolerance), log);
   if (o.refine.Enabled()) {
     RefinedMesh refined = clock.Time("refine", [&] { return RefineMesh({field, lit.baked.mesh, exposure}, o.refine, log); });
-    lit.baked = std::move(refined.mesh);
-    refine = std::move(refined.report);
-    journal.Warn(refine.warnings, log);
+    if (refined.report.interrupted) {
+      journal.Warn({fmt::format("{}: warning: Ctrl-C stopped refinement; the mesh is written as estimated, unrefined",
+                                o.scenePath)}, log);
+    } else {
+      lit.baked = std::move(refined.mesh);
+      refine = std::move(refined.report);
+      journal.Warn(refine.warnings, log);
+    }
   }
   if (o.sh)
     clock.Time("directions", [&] { EstimateDirections(field, lit.baked, log); });
@@ -518,6 +523,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
 }
 
 BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
+  const InterruptScope interrupt(InterruptScope::Start::kFromInnerScope);  // from tracing to the commit
   OutputFiles outputs;
   BakeResult result = BakeMesh(o, log, outputs);
   outputs.Commit();
@@ -526,6 +532,9 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log) {
 
 BakeReport Bake(const BakeOptions& o, const Log& log, const Distribution* distribution) {
   o.Validate();
+  // From tracing to the commit, the first Ctrl-C asks every stage to finish with what it has; before, it ends the
+  // run at once. The scope outlives `outputs`, so that a second Ctrl-C finds their temporaries held.
+  const InterruptScope interrupt(InterruptScope::Start::kFromInnerScope);
   OutputFiles outputs;
   ValidateOutputs(o, outputs);
   for (const std::string& note : RemoveKilledRunsTemporaries(o)) log.Warning(note);

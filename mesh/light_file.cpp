@@ -18,8 +18,9 @@ namespace {
 // Reads one light's entries; `from` is where its "type" is written, for lines.
 class LightReader {
  public:
-  LightReader(const JsonInput& in, const nlohmann::json& j, size_t index, size_t from, double efficacy)
-      : in_(in), j_(j), owner_(fmt::format("light {}", index)), from_(from), efficacy_(efficacy) {}
+  // `sky`: the file's portals, and what its sky images read so far hold, which this light's image adds to.
+  LightReader(const JsonInput& in, const nlohmann::json& j, size_t index, size_t from, double efficacy, SkyMemory& sky)
+      : in_(in), j_(j), owner_(fmt::format("light {}", index)), from_(from), efficacy_(efficacy), sky_(sky) {}
 
   AnalyticLight Read(const Scene& scene) {
     AnalyticLight light;
@@ -123,7 +124,8 @@ class LightReader {
   // A constant image is a constant sky.
   void Image(AnalyticLight& light) const {
     if (!j_["image"].is_string()) Fail("image", "'image' must name an OpenEXR or Radiance HDR file");
-    SkyImage image = LoadSkyImage(NamedFile("image", "the sky image"));
+    SkyImage image = LoadSkyImage(NamedFile("image", "the sky image"), kMaxSkyPixels, sky_);
+    sky_.held += SkyImageBytes(image.texels.size(), sky_.portals);
     const bool strong = j_.contains("radiance_W_m2_sr") || j_.contains("luminance_nit");
     light.intensity = strong ? Strength("radiance_W_m2_sr", "luminance_nit") : Colour();
     const Vector3 up = light.up, base = std::fabs(up.z) < 0.9f ? Vector3{0, 0, -1} : Vector3{1, 0, 0};
@@ -154,6 +156,7 @@ class LightReader {
   std::string owner_;
   size_t from_;
   double efficacy_;
+  SkyMemory& sky_;
 };
 
 }  // namespace
@@ -206,12 +209,13 @@ LightsFile LoadLightsFile(const std::string& path, const Scene& scene) {
   }
   LightsFile file;
   std::vector<AnalyticLight>& lights = file.lights;
+  SkyMemory sky{.portals = j.contains("portals") && j["portals"].is_array() ? j["portals"].size() : 0};
   for (size_t i = 0; i < j["lights"].size(); ++i) {
     const nlohmann::json& entry = j["lights"][i];
     const size_t from = in.NthKey("type", i);
     if (!entry.is_object() || !entry.contains("type"))
       throw InputError(path, in.LineOfKey("lights"), fmt::format("light {} is not an object with a 'type'", i));
-    lights.push_back(LightReader(in, entry, i, from, efficacy).Read(scene));
+    lights.push_back(LightReader(in, entry, i, from, efficacy, sky).Read(scene));
   }
   if (j.contains("portals")) {
     if (!j["portals"].is_array()) throw InputError(path, in.LineOfKey("portals"), "'portals' must be an array");

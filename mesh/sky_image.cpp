@@ -16,14 +16,28 @@
 
 #include "mesh/errors.h"
 #include "mesh/input_file.h"
+#include "mesh/memory_budget.h"
 
 namespace pb {
 namespace {
 
-void RequireSize(const std::string& path, int64_t width, int64_t height, uint64_t maxPixels = kMaxSkyPixels) {
+// What an image may hold: at most maxPixels texels, and within the memory beside what `memory` names.
+struct Limits {
+  uint64_t maxPixels = kMaxSkyPixels;
+  SkyMemory memory;
+};
+
+void RequireSize(const std::string& path, int64_t width, int64_t height, const Limits& limits) {
+  const uint64_t maxPixels = limits.maxPixels;
+  const SkyMemory& memory = limits.memory;
   if (width <= 0 || height <= 0 || uint64_t(width) > maxPixels || uint64_t(width) * uint64_t(height) > maxPixels)
     throw InputError(path, 0, fmt::format("a sky image of {} x {} pixels: it must have between 1 and {} pixels",
                                           width, height, maxPixels));
+  const std::string seen = memory.portals == 0 ? "" : fmt::format(" seen through {} portal{}", memory.portals,
+                                                                  memory.portals == 1 ? "" : "s");
+  RequireMemory(path, memory.held + SkyImageBytes(uint64_t(width) * uint64_t(height), memory.portals),
+                fmt::format("a sky image of {} x {} pixels{}{}, with the tables its photons are drawn by,", width,
+                            height, seen, memory.held > 0 ? " and the lights file's other sky images" : ""));
 }
 
 // How many bytes OpenEXR 3.1 reads for an attribute of `type` whose value starts at `value` and declares
@@ -70,7 +84,7 @@ std::optional<size_t> ExrValueBytes(const std::string& bytes, const std::string&
 // bytes (255 with the long-names flag) and its value within the file, and the value is as long as OpenEXR will
 // read it (else it would read the next attribute from bytes not walked here: found by fuzz_sky_image); the data
 // window within maxPixels.
-void CheckExrHeader(const std::string& path, const std::string& bytes, uint64_t maxPixels) {
+void CheckExrHeader(const std::string& path, const std::string& bytes, const Limits& limits) {
   const auto fail = [&](const std::string& why) { throw InputError(path, 0, "cannot read the sky image as EXR: " + why); };
   const auto int32At = [&](size_t at) {
     int32_t v = 0;
@@ -95,7 +109,7 @@ void CheckExrHeader(const std::string& path, const std::string& bytes, uint64_t 
       fail(fmt::format("the attribute '{}' of type {} declares {} bytes, not what its type reads", bytes.substr(at, nameEnd - at), type, size));
     if (bytes.compare(at, nameEnd - at, "dataWindow") == 0 && type == "box2i") {
       const int64_t width = int64_t(int32At(value + 8)) - int32At(value) + 1, height = int64_t(int32At(value + 12)) - int32At(value + 4) + 1;
-      RequireSize(path, width, height, maxPixels);
+      RequireSize(path, width, height, limits);
       window = true;
     }
     at = value + size_t(size);
@@ -104,13 +118,13 @@ void CheckExrHeader(const std::string& path, const std::string& bytes, uint64_t 
 }
 
 // R, G and B as float slices of `image`, or Y in all three for a luminance-only file.
-SkyImage ReadExr(const std::string& path, const std::string& bytes, uint64_t maxPixels) {
-  CheckExrHeader(path, bytes, maxPixels);
+SkyImage ReadExr(const std::string& path, const std::string& bytes, const Limits& limits) {
+  CheckExrHeader(path, bytes, limits);
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i window = file.header().dataWindow();
     const int64_t width = int64_t(window.max.x) - window.min.x + 1, height = int64_t(window.max.y) - window.min.y + 1;
-    RequireSize(path, width, height, maxPixels);
+    RequireSize(path, width, height, limits);
     SkyImage image{path, int(width), int(height), std::vector<Rgb>(size_t(width) * size_t(height))};
     const Imf::ChannelList& channels = file.header().channels();
     const bool rgb = channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B");
@@ -139,8 +153,8 @@ SkyImage ReadExr(const std::string& path, const std::string& bytes, uint64_t max
 // either flat (4 bytes a pixel) or, for widths 8 to 32767, run-length encoded per channel after the bytes 2 2 W.
 class RgbeReader {
  public:
-  RgbeReader(const std::string& path, const std::string& bytes, uint64_t maxPixels)
-      : path_(path), bytes_(bytes), maxPixels_(maxPixels) {}
+  RgbeReader(const std::string& path, const std::string& bytes, const Limits& limits)
+      : path_(path), bytes_(bytes), limits_(limits) {}
 
   SkyImage Read() {
     const std::string magic = Line();
@@ -151,7 +165,7 @@ class RgbeReader {
     char extra = 0;
     if (std::sscanf(Line().c_str(), "-Y %d +X %d%c", &height, &width, &extra) != 2)
       Fail("only the resolution layout '-Y H +X W' (top row first) is read");
-    RequireSize(path_, width, height, maxPixels_);
+    RequireSize(path_, width, height, limits_);
     SkyImage image{path_, width, height, std::vector<Rgb>(size_t(width) * size_t(height))};
     std::vector<uint8_t> rgbe(size_t(width) * 4);
     for (int y = 0; y < height; ++y) {
@@ -208,7 +222,7 @@ class RgbeReader {
 
   const std::string& path_;
   const std::string& bytes_;
-  uint64_t maxPixels_;
+  Limits limits_;
   size_t at_ = 0;
 };
 
@@ -229,7 +243,7 @@ bool SkyImage::IsConstant() const {
 }
 
 void CheckSkyImage(const SkyImage& image) {
-  RequireSize(image.source, image.width, image.height);
+  RequireSize(image.source, image.width, image.height, {});
   if (image.width != 2 * image.height)
     throw InputError(image.source, 0, fmt::format("a sky image of {} x {} pixels is not latitude-longitude: its "
                                                   "width must be twice its height", image.width, image.height));
@@ -242,12 +256,17 @@ void CheckSkyImage(const SkyImage& image) {
   }
 }
 
-SkyImage LoadSkyImage(const std::string& path, uint64_t maxPixels) {
+double SkyImageBytes(uint64_t pixels, size_t portals) {
+  return double(pixels) * double(sizeof(Rgb) + sizeof(double) * (1 + portals));
+}
+
+SkyImage LoadSkyImage(const std::string& path, uint64_t maxPixels, SkyMemory memory) {
+  const Limits limits{maxPixels, memory};
   const std::string bytes = ReadRegularFile(path, "sky image");
   const bool exr = bytes.size() >= 4 && bytes.compare(0, 4, "\x76\x2f\x31\x01") == 0;
   const bool hdr = bytes.rfind("#?RADIANCE", 0) == 0 || bytes.rfind("#?RGBE", 0) == 0;
   if (!exr && !hdr) throw InputError(path, 0, "a sky image must be OpenEXR (.exr) or Radiance HDR (.hdr)");
-  SkyImage image = exr ? ReadExr(path, bytes, maxPixels) : RgbeReader(path, bytes, maxPixels).Read();
+  SkyImage image = exr ? ReadExr(path, bytes, limits) : RgbeReader(path, bytes, limits).Read();
   CheckSkyImage(image);
   return image;
 }

@@ -40,7 +40,17 @@ struct SkyImage {
 
 // InputError naming the file when it is missing, not .exr or .hdr, malformed, or breaks a rule above; `maxPixels`
 // bounds the size before anything is allocated (the fuzz target lowers it).
-SkyImage LoadSkyImage(const std::string& path, uint64_t maxPixels = kMaxSkyPixels);
+// The memory a sky image of `pixels` texels holds once weighed for its photons (mesh/sky_texels.h): its texels, the
+// CDF over them, and one CDF more per portal [bytes].
+double SkyImageBytes(uint64_t pixels, size_t portals);
+// What the image shares the memory with: the scene's portals, each a table per texel, and what the lights file's
+// earlier sky images hold [bytes]. An image whose SkyImageBytes, added to `held`, passes the memory a run may use
+// (mesh/memory_budget.h) is refused from its header, naming the file and the figure, before its texels are read.
+struct SkyMemory {
+  size_t portals = 0;
+  double held = 0;
+};
+SkyImage LoadSkyImage(const std::string& path, uint64_t maxPixels = kMaxSkyPixels, SkyMemory memory = {});
 // The rules above for an image already in memory (a test's, or one read), with `source` naming it.
 void CheckSkyImage(const SkyImage& image);
 

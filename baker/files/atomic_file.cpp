@@ -147,7 +147,8 @@ FileIdentity IdentityOf(const std::string& path) {
 OutputFiles::~OutputFiles() {
   for (const Staged& s : staged_) std::remove(s.temporary.c_str()), ReleaseTemporary(s.held);
   // Innermost first; rmdir leaves a folder that is not empty (something else was put there).
-  for (auto d = createdDirectories_.rbegin(); d != createdDirectories_.rend(); ++d) ::rmdir(d->c_str());
+  for (auto d = createdDirectories_.rbegin(); d != createdDirectories_.rend(); ++d)
+    ::rmdir(d->path.c_str()), ReleaseTemporary(d->held);
 }
 
 void OutputFiles::MakeDirectory(const std::string& path) {
@@ -164,7 +165,8 @@ void OutputFiles::MakeDirectory(const std::string& path) {
   for (auto d = missing.rbegin(); d != missing.rend(); ++d) {
     if (::mkdir(d->c_str(), 0777) != 0 && errno != EEXIST)
       throw InputError(path, 0, "cannot create the folder " + *d + ": " + ErrnoText());
-    createdDirectories_.push_back(*d);
+    const std::lock_guard lock(mutex_);  // Write makes a folder gone since the run began from any thread
+    createdDirectories_.push_back({*d, HoldCreatedFolder(*d)});
   }
 }
 
@@ -223,6 +225,7 @@ void OutputFiles::Commit() {
     directories.push_back(DirectoryOf(s.path));
   }
   staged_.clear();
+  for (const Created& d : createdDirectories_) ReleaseTemporary(d.held);
   createdDirectories_.clear();
   for (const std::string& d : directories) SyncDirectory(d);
 }

@@ -9,7 +9,8 @@
 // it can see fails before any output is replaced. A process killed
 // between two renames (microseconds) leaves the outputs staged before new and the rest old; the bake stages its
 // photon file, maps, preview, then -o, then --report, so a new report (or, without one, a new -o) means all are
-// new. SIGTERM and a second Ctrl-C remove the temporaries before the process ends (HoldTemporary); the next run
+// new. SIGTERM and a second Ctrl-C remove the temporaries, and the folders MakeDirectory created that are left empty,
+// before the process ends (HoldTemporary, HoldCreatedFolder); the next run
 // removes those a killed run left (RemoveStaleTemporaries) and says so. Destroying
 // an OutputFiles that was not committed removes its temporaries, and the folders MakeDirectory created that are
 // still empty. Write makes its file's folder again where it has gone since the run began (a second run that
@@ -51,7 +52,11 @@ class OutputFiles {
   };
   std::mutex mutex_;
   std::vector<Staged> staged_;
-  std::vector<std::string> createdDirectories_;  // outermost first
+  struct Created {
+    std::string path;
+    int held = -1;  // its slot among the folders a signal removes
+  };
+  std::vector<Created> createdDirectories_;  // outermost first
 };
 
 // Removes the temporaries "<name>.tmp-<pid>-<n>" in `directory` that a process no longer running here left (it

@@ -9,10 +9,13 @@
 #include <map>
 #include <optional>
 
+#include "baker/bake.h"
+#include "baker/runtime/interrupt.h"
 #include "baker/runtime/threads.h"
 #include "baker/tone_map.h"
 #include "mesh/half_edge_mesh.h"
 #include "mesh/subdivide.h"
+#include "tests/ply_reader.h"
 #include "tests/staged_bake.h"
 #include "tests/test_scenes.h"
 
@@ -237,6 +240,33 @@ TEST(Refine, OneAndTwoThreadsRefineAlike) {
                            meshes[0].mesh.VertexCount() * sizeof(Point3)));
   EXPECT_EQ(0, std::memcmp(meshes[0].irradiance.data(), meshes[1].irradiance.data(),
                            meshes[0].mesh.VertexCount() * sizeof(Rgb)));
+}
+
+// A Ctrl-C during refinement (here, as coarsening starts) stops it: the bake writes the mesh it had, the bytes of
+// the same bake unrefined, and says so. Before, a Ctrl-C after the estimate ended the bake at once.
+TEST(Refine, CtrlCDuringRefinementWritesTheMeshUnrefined) {
+  const std::string dir = test::TempDirectory("refine-ctrl-c");
+  BakeOptions o;
+  o.scenePath = PB_SOURCE_DIR "/data/box/box.obj";
+  o.photons = 50'000;
+  o.estimator.bandwidth = 0.05f, o.autoBandwidth = false;
+  o.direct.samples = 16;
+  o.quiet = true;
+  o.outputPath = dir + "/unrefined.ply";
+  Bake(o, Log(true));
+  o.refine.adaptive = true;
+  o.outputPath = dir + "/refined.ply";
+  std::vector<std::string> lines;
+  const BakeReport r = Bake(o, Log(true, [&](const std::string& line) {
+                              lines.push_back(line);
+                              if (line.starts_with("coarsen mesh")) RequestInterrupt();
+                            }));
+  EXPECT_FALSE(r.refine.ran);
+  EXPECT_TRUE(std::any_of(lines.begin(), lines.end(), [](const std::string& line) {
+    return line.find("warning: Ctrl-C stopped refinement; the mesh is written as estimated, unrefined") !=
+           std::string::npos;
+  }));
+  EXPECT_TRUE(test::ReadBytes(dir + "/refined.ply") == test::ReadBytes(dir + "/unrefined.ply"));
 }
 
 }  // namespace

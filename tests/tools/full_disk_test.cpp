@@ -75,27 +75,48 @@ TEST(FullDisk, TheTemporariesOfAKilledRunAreRemovedByTheNext) {
   for (const std::string& f : kept) EXPECT_TRUE(fs::exists(f)) << f;
 }
 
+// The box baked with maps into `maps` (a folder under `dir`), held staged for 20 s before its commit
+// (PB_PAUSE_BEFORE_COMMIT_MS, baker/files/atomic_file.h), and sent `signals` (kill names, one after the other, half
+// a second apart) once its PLY is staged; what the shell's wait saw ("status N") is in the output.
+test::ToolRun SignalWhileStaged(const std::string& dir, const std::string& maps, const std::vector<std::string>& signals,
+                                int seed) {
+  std::string kills;
+  for (const std::string& signal : signals) kills += "kill -" + signal + " $pid; sleep 0.5; ";
+  // The shell's own job runs in the background, so it is sent the signal by pid.
+  return test::RunTool("PB_PAUSE_BEFORE_COMMIT_MS=20000 " PB_BAKE_EXE,
+                       PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/box.ply --maps " + maps + " --texel 0.05 "
+                       "--report " + dir + "/report.json --photons 20000 --h 0.05 --direct-samples 16 -q --seed " +
+                       std::to_string(seed) + " 2>&1 & pid=$!; while ! ls " + dir + "/box.ply.tmp-* >/dev/null 2>&1; do "
+                       "sleep 0.1; done; sleep 0.5; " + kills + "wait $pid; echo \"status $?\"");
+}
+
 // SIGTERM (what timeout, systemd and CI send) while every output is staged, and a second Ctrl-C alike: the bake
-// removes its temporaries and ends by the signal, and the earlier run's outputs keep their bytes. The outputs are
-// held staged by PB_PAUSE_BEFORE_COMMIT_MS (baker/files/atomic_file.h) while the signal is sent. Before, SIGTERM
-// left every temporary behind for the next run to find.
-TEST(FullDisk, ASignalWhileTheOutputsAreStagedLeavesNoTemporary) {
+// removes its temporaries and the maps folder it created, and ends by the signal; the earlier run's outputs keep
+// their bytes. Before, SIGTERM left every temporary behind for the next run to find, and the folder stayed.
+TEST(FullDisk, ASignalWhileTheOutputsAreStagedLeavesNoTemporaryAndNoCreatedFolder) {
   const std::string dir = test::TempDirectory("signalled-run");
-  const std::string bake = PB_BAKE_EXE " " PB_SOURCE_DIR "/data/box/box.obj -o " + dir + "/box.ply --maps " + dir +
-                           "/maps --texel 0.05 --report " + dir + "/report.json --photons 20000 --h 0.05 "
-                           "--direct-samples 16 -q";
-  ASSERT_EQ(test::RunTool(bake, "--seed 1").status, 0);
+  const test::ToolRun first = SignalWhileStaged(dir, dir + "/maps", {}, 1);
+  ASSERT_NE(first.output.find("status 0"), std::string::npos) << first.output;
   const std::map<std::string, std::string> before = Snapshot(dir);
-  for (const char* signal : {"TERM", "INT"}) {
-    // The shell's own job runs in the background, so it is sent the signal by pid; "status" is what wait saw.
-    const test::ToolRun run = test::RunTool(
-        "PB_PAUSE_BEFORE_COMMIT_MS=20000 " + bake,
-        std::string("--seed 2 & pid=$!; while ! ls ") + dir + "/box.ply.tmp-* >/dev/null 2>&1; do sleep 0.1; done; "
-            "sleep 0.5; kill -" + signal + " $pid; wait $pid; echo \"status $?\"");
-    EXPECT_NE(run.output.find(std::string("status ") + (signal == std::string("TERM") ? "143" : "130")),
-              std::string::npos) << signal << ": " << run.output;
-    EXPECT_TRUE(Snapshot(dir) == before) << signal << ": an output changed or a temporary is left";
+  for (const std::vector<std::string>& signals : {std::vector<std::string>{"TERM"}, {"INT", "INT"}}) {
+    const test::ToolRun run = SignalWhileStaged(dir, dir + "/new/maps", signals, 2);
+    EXPECT_NE(run.output.find(signals[0] == "TERM" ? "status 143" : "status 130"), std::string::npos)
+        << signals[0] << ": " << run.output;
+    EXPECT_TRUE(Snapshot(dir) == before) << signals[0] << ": an output changed or a temporary is left";
+    EXPECT_FALSE(fs::exists(dir + "/new")) << signals[0] << ": the folders the run created are left";
   }
+}
+
+// One Ctrl-C after tracing (here, with every output staged) asks the bake to finish: it commits every output, as its
+// message on stderr promises, and exits 0. Before, a Ctrl-C after the estimate ended the bake at once.
+TEST(FullDisk, OneCtrlCAfterTheEstimateLetsTheBakeFinish) {
+  const std::string dir = test::TempDirectory("ctrl-c-finishes");
+  const test::ToolRun run = SignalWhileStaged(dir, dir + "/maps", {"INT"}, 2);
+  EXPECT_NE(run.output.find("status 0"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("Ctrl-C: tracing, the estimate and refinement stop"), std::string::npos) << run.output;
+  const std::map<std::string, std::string> written = Snapshot(dir);
+  EXPECT_EQ(written.size(), 2u + 17u);  // the PLY and report, and a map per surface; no temporary
+  EXPECT_EQ(test::ReadPly(dir + "/box.ply").VertexCount(), 1204u);
 }
 
 }  // namespace

@@ -82,5 +82,32 @@ TEST(MemoryLimit, AGltfThatExpandsPastTheMemoryIsRefusedBeforeItIsBuilt) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.ply"));
 }
 
+// The largest sky image (16384 x 8192 texels) fits 4 GB of address space alone (2.7 GB with its CDF), but not seen
+// through two portals (a CDF more per portal: 4.8 GB). Its header says so, and the lights file says how many portals
+// there are: the image is refused before its texels are read, naming the file and the figure (it exhausted the
+// memory late, weighing its texels). Without the portals the same header passes the check and the truncated data
+// is what fails.
+TEST(MemoryLimit, ASkyImageThatCannotBeWeighedForItsPortalsIsRefusedFromItsHeader) {
+  if (kSanitized) GTEST_SKIP() << "AddressSanitizer's shadow memory does not fit under a ulimit -v";
+  const std::string dir = test::TempDirectory("memory-limit-sky");
+  test::WriteText(dir + "/sky.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8192 +X 16384\n");
+  const std::string portal = R"({"corners_m": [[0.1, 0.1, 0.559], [0.2, 0.1, 0.559], [0.2, 0.2, 0.559], [0.1, 0.2, 0.559]]})";
+  for (const bool portals : {true, false}) {
+    std::filesystem::copy_file(PB_SOURCE_DIR "/data/box/box.obj", dir + "/box.obj",
+                               std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy_file(PB_SOURCE_DIR "/data/box/box.mtl", dir + "/box.mtl",
+                               std::filesystem::copy_options::overwrite_existing);
+    test::WriteText(dir + "/box.lights.json", R"({"lights": [{"type": "sky", "image": "sky.hdr"}], "portals": [)" +
+                                                  (portals ? portal + ", " + portal : std::string()) + "]}");
+    const test::ToolRun run = test::RunTool("ulimit -v 4000000 && " PB_BAKE_EXE, dir + "/box.obj -q -o " + dir + "/out.ply");
+    EXPECT_EQ(run.status, 1) << run.output;
+    const bool refused = run.output.find(dir + "/sky.hdr: error: a sky image of 16384 x 8192 pixels seen through 2 "
+                                         "portals, with the tables its photons are drawn by, needs about 4.8 GB, more "
+                                         "than the 80% of the process's ulimit -v 4.1 GB") != std::string::npos;
+    EXPECT_EQ(refused, portals) << run.output;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/out.ply"));
+  }
+}
+
 }  // namespace
 }  // namespace pb
