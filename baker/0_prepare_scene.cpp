@@ -109,16 +109,6 @@ SurfaceRegions BuildCoveredRegions(const std::vector<SurfaceCover>& covers) {
 
 namespace {
 
-// A stage's progress on `log` as `stage`, from the first report (when the total is known); `progress` holds it and
-// ends it when it goes.
-WorkProgress Show(const Log* log, const char* stage, std::unique_ptr<Progress>& progress) {
-  if (log == nullptr) return {};
-  return [log, stage, &progress](uint64_t done, uint64_t total) {
-    if (!progress) progress = std::make_unique<Progress>(*log, stage, total);
-    progress->Advance(done);
-  };
-}
-
 // Turns each portal to face into the scene. From a point just off each side of its centre, kPortalProbes fixed
 // directions about that side's normal (CosineSpiralDirection): the side whose probes meet more geometry is its inside
 // (a window's room closes round it; its outside opens to the sky). A portal whose corners ran the other way is
@@ -161,11 +151,11 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
   if (p.warningsShown) log->Warnings(p.warnings);
   p.surfaces = clock.Time("surfaces", [&] {
     std::unique_ptr<Progress> progress;
-    return BuildSurfaces(p.scene, {}, Show(log, "surfaces (triangle passes)", progress));
+    return BuildSurfaces(p.scene, {}, ShowProgress(log, "surfaces (triangle passes)", progress));
   });
   p.rays = clock.Time("bvh", [&] {
     std::unique_ptr<Progress> progress;
-    return std::make_unique<RayScene>(p.scene, Show(log, "build bvh (thousandths)", progress));
+    return std::make_unique<RayScene>(p.scene, ShowProgress(log, "build bvh (thousandths)", progress));
   });
   const std::vector<std::string> turned = OrientPortals(p.scene, *p.rays);
   if (p.warningsShown) log->Warnings(turned);
@@ -175,7 +165,7 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
   p.plan = clock.Time("plan", [&] { return PlanTransport(p.scene, p.surfaces, p.lights, effects); });
   p.covers = clock.Time("covers", [&] {
     std::unique_ptr<Progress> progress;
-    return FindCovers(p.scene, p.surfaces, *p.rays, cover, Show(log, "find covers", progress));
+    return FindCovers(p.scene, p.surfaces, *p.rays, cover, ShowProgress(log, "find covers", progress));
   });
   p.regions = clock.Time("regions", [&] { return BuildRegions(p.surfaces, p.covers, log); });
   p.coveredRegions = BuildCoveredRegions(p.covers);
@@ -186,7 +176,7 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
 PreparedScene PrepareScene(const SceneSettings& settings, StageClock& clock, const Log* log) {
   LoadedScene loaded = clock.Time("load", [&] {
     std::unique_ptr<Progress> progress;
-    LoadedScene l = LoadScene(settings.path, {settings.scale, settings.luminousEfficacy, Show(log, "read scene (bytes)", progress)});
+    LoadedScene l = LoadScene(settings.path, {settings.scale, settings.luminousEfficacy, ShowProgress(log, "read scene (bytes)", progress)});
     AddLightsFile(l.scene, settings.lightsPath);
     return l;
   });

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 #include <optional>
 
 #include "baker/files/image_io.h"
@@ -43,11 +44,8 @@ void WritePreview(OutputFiles& outputs, const std::string& path, const BakedMesh
   const std::vector<std::array<float, 3>> colours = DisplayColours(baked, s.exposure);
   std::vector<uint8_t> rgb(size_t(s.width) * size_t(s.height) * 3, 0);
   if (!scene.triangles.empty()) {
-    std::optional<Progress> build;  // a million triangles take a second or more
-    const RayScene rays(scene, [&](uint64_t done, uint64_t total) {
-      if (!build) build.emplace(log, "preview bvh (thousandths)", total);
-      build->Advance(done);
-    });
+    std::unique_ptr<Progress> build;  // a million triangles take a second or more
+    const RayScene rays(scene, ShowProgress(&log, "preview bvh (thousandths)", build));
     build.reset();
     Progress rows(log, "preview (rows)", uint64_t(s.height));
     Camera local = s.camera;  // the mesh is traced in its local frame (mesh/scene.h, origin)

@@ -129,4 +129,12 @@ void Progress::Draw(uint64_t done, bool final) {
   std::fflush(stderr);
 }
 
+WorkProgress ShowProgress(const Log* log, const char* stage, std::unique_ptr<Progress>& progress) {
+  if (log == nullptr) return {};
+  return [log, stage, &progress](uint64_t done, uint64_t total) {
+    if (!progress) progress = std::make_unique<Progress>(*log, stage, total);
+    progress->Advance(done);
+  };
+}
+
 }  // namespace pb

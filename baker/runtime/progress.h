@@ -12,9 +12,12 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
+
+#include "mesh/work_progress.h"
 
 namespace pb {
 
@@ -74,5 +77,9 @@ class Progress {
   std::atomic<bool> complete_{false};
   bool foretold_ = false;  // the warning of a long stage was given
 };
+
+// A stage's progress on `log` as `stage`, for a library's callback (mesh/work_progress.h), from its first report
+// (when the total is known); `progress` holds it and ends it when it goes (or is reset). Nothing without a log.
+WorkProgress ShowProgress(const Log* log, const char* stage, std::unique_ptr<Progress>& progress);
 
 }  // namespace pb
