@@ -19,6 +19,7 @@
 #include "baker/5_write_maps.h"
 #include "baker/5_write_ply.h"
 #include "baker/5_write_preview.h"
+#include "baker/diagnostics.h"
 #include "baker/distribution.h"
 #include "baker/files/atomic_file.h"
 #include "baker/photons/photon_rounds.h"
@@ -26,7 +27,6 @@
 #include "baker/runtime/interrupt.h"
 #include "baker/runtime/stage_clock.h"
 #include "baker/runtime/threads.h"
-#include "baker/tone_map.h"
 #include "mesh/errors.h"
 #include "mesh/scene_file.h"
 #include "mesh/split_mesh.h"
@@ -106,72 +106,6 @@ struct Journal {
   }
   void Record(const std::vector<std::string>& lines) { warnings.insert(warnings.end(), lines.begin(), lines.end()); }
 };
-
-// Warns about each surface whose h is below half its mean photon spacing sqrt(A / hits), A the area that no other
-// geometry covers (where H is 0 in truth): most of its vertices see no photon within h, so the photons' H there
-// reads 0 between them. knn adapts its radius, and --h auto keeps 20 photons within h wherever a surface has
-// photons enough to choose from (one with a handful, a table leg's end, is too small to matter): neither is
-// warned about.
-std::vector<std::string> BandwidthWarnings(const IrradianceField& field, const SurfaceBins& bins, const BakeOptions& o) {
-  const PreparedScene& p = field.Prepared();
-  std::vector<std::string> warnings;
-  if (o.estimator.kind == EstimatorKind::kNearest || o.autoBandwidth) return warnings;
-  for (uint32_t s = 0; s < p.surfaces.surfaces.size(); ++s) {
-    const double area = p.surfaces.surfaces[s].area;
-    const double open = area - (p.coveredRegions[s] ? p.coveredRegions[s]->Area() : 0.0);
-    if (bins.FrontHits(s) == 0 || open <= 0.01 * area) continue;
-    const double spacing = std::sqrt(open / double(bins.FrontHits(s)));
-    if (field.Bandwidth(s) >= 0.5 * spacing) continue;
-    warnings.push_back(fmt::format("{}: warning: surface {} ({}): h = {:.3g} m is below the photon spacing "
-                                   "({:.3g} m): most vertices see no photon and the photons' H reads 0 there; raise --h or --photons",
-                                   p.scene.path, s, p.scene.materials[p.surfaces.surfaces[s].material].name,
-                                   field.Bandwidth(s), spacing));
-  }
-  return warnings;
-}
-
-// Warns about the lights that reach the scene but got no photon: their share n Phi_l / Phi is below one, so their
-// light is missing from the bake (with --direct sampled, only their interreflected light). Up to kNamedUnlit
-// lights are named one by one; more make one line: how many, the flux they carry, and the brightest of them.
-constexpr size_t kNamedUnlit = 3;
-
-// "the light of material 'NAME' (P W" and what follows in `rest`, then ")".
-std::string UnlitLightName(const PreparedScene& scene, const Light& light, const std::string& rest = "") {
-  const std::string which = light.IsArea() ? "the light of material" : fmt::format("the {} light", LightKindName(light.kind));
-  return fmt::format("{} '{}' ({:.3g} W{})", which, LightName(scene.scene, light), light.Power().Mean(), rest);
-}
-
-std::vector<std::string> UnlitLightWarnings(const PreparedScene& scene, const PhotonStore& photons, bool sampled) {
-  double total = 0, unlitFlux = 0, weakest = INFINITY;
-  std::vector<size_t> unlit;
-  for (size_t l = 0; l < scene.lights.size(); ++l) {
-    if (!scene.plan.lightReaches[l]) continue;
-    const double power = scene.lights[l].Power().Mean();
-    total += power;
-    if (photons.emitted[l] > 0 || !(power > 0)) continue;  // a light that emits nothing misses nothing
-    unlit.push_back(l), unlitFlux += power, weakest = std::min(weakest, power);
-  }
-  const std::string missing = sampled ? "interreflected light is missing (the direct light is sampled)" : "light is missing";
-  std::vector<std::string> warnings;
-  if (unlit.size() <= kNamedUnlit) {
-    for (size_t l : unlit)
-      warnings.push_back(fmt::format("{}: warning: {} got no photon, so its {}; raise --photons to at least {:.0f}",
-                                     scene.scene.path, UnlitLightName(scene, scene.lights[l], fmt::format(" of {:.3g} W", total)),
-                                     missing, std::ceil(total / scene.lights[l].Power().Mean())));
-    return warnings;
-  }
-  std::stable_sort(unlit.begin(), unlit.end(), [&](size_t a, size_t b) {
-    return scene.lights[a].Power().Mean() > scene.lights[b].Power().Mean();
-  });
-  std::string brightest;
-  for (size_t i = 0; i < kNamedUnlit; ++i)  // with its index: many lights share a material's name
-    brightest += (i ? ", " : "") + UnlitLightName(scene, scene.lights[unlit[i]], fmt::format(", light {}", unlit[i]));
-  warnings.push_back(fmt::format("{}: warning: {} of {} lights got no photon: {:.3g} W of {:.3g} W ({:.2g}% of the "
-                                 "flux), so their {}; the brightest: {}; raise --photons to at least {:.0f} for every "
-                                 "light to get one", scene.scene.path, unlit.size(), scene.lights.size(), unlitFlux,
-                                 total, 100 * unlitFlux / total, missing, brightest, std::ceil(total / weakest)));
-  return warnings;
-}
 
 // Stage 3 from a round's photons: the irradiance field they give, and the light at every vertex with its noise.
 struct Lit {
@@ -308,113 +242,6 @@ bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, 
   return true;
 }
 
-// Noise that shows as blotches: above 2% of the displayed light, about 5 of 255 grey levels.
-constexpr double kVisibleNoise = 0.02;
-
-// Rounded up to two significant digits: 3,456,789 -> 3,500,000.
-uint64_t TwoDigits(double x) {
-  const double unit = std::pow(10.0, std::max(0.0, std::floor(std::log10(std::max(x, 1.0))) - 1));
-  return uint64_t(std::ceil(x / unit) * unit);
-}
-
-// Warns when the user's --exposure shows every lit vertex black, or every one white (each channel it has at 255):
-// within its range it can still be far from this scene's light (the automatic exposure says how far).
-std::vector<std::string> ExposureWarnings(const BakeOptions& o, const BakedMesh& baked) {
-  if (!o.exposure) return {};
-  bool black = true, white = true, lit = false;
-  for (size_t v = 0; v < baked.mesh.VertexCount(); ++v) {
-    const Rgb radiance = baked.Radiance(v);
-    if (!(radiance.Max() > 0)) continue;
-    const std::array<uint8_t, 3> shown = ToneMap(radiance, *o.exposure);
-    lit = true;
-    black = black && shown == std::array<uint8_t, 3>{0, 0, 0};
-    const float channels[3] = {radiance.r, radiance.g, radiance.b};
-    for (int c = 0; c < 3; ++c) white = white && (shown[c] == 255 || !(channels[c] > 0));
-  }
-  if (!lit || !(black || white)) return {};
-  return {fmt::format("--exposure {}: warning: the display colours show every lit vertex {}; the automatic exposure "
-                      "would be {:.4g}", *o.exposure, black ? "black" : "white", DisplayExposure(baked, std::nullopt))};
-}
-
-// Warns when every vertex reads no light: the lights shine only on back sides or along the surfaces (a sun from
-// below the ground, a point light in the plane of the only surface), so the outputs are black.
-std::vector<std::string> DarkBakeWarnings(const BakeOptions& o, const BakedMesh& baked) {
-  if (std::any_of(baked.irradiance.begin(), baked.irradiance.end(), [](Rgb h) { return h.Max() > 0; })) return {};
-  return {fmt::format("{}: warning: every vertex reads 0 W/m^2: no light reached the front side of any surface (a "
-                      "light behind or in the plane of the surfaces, a sun from below); the outputs are black",
-                      o.scenePath)};
-}
-
-// Warns about the surfaces lit only from behind: photons reached their back sides (at least kBackLitHits) but no
-// vertex of their front reads any light, so they are black. Their fronts usually face into the object they close
-// (faces wound the wrong way round in the modelling tool): on the staircase, 4 surfaces and 0.7 m^2 read 0 this way
-// without a word. The largest kNamedUnlit are named, the rest counted.
-constexpr uint64_t kBackLitHits = 20;
-std::vector<std::string> BackLitWarnings(const PreparedScene& scene, const SurfaceBins& bins, const BakedMesh& baked) {
-  std::vector<bool> lit(bins.SurfaceCount(), false);
-  for (size_t v = 0; v < baked.mesh.VertexCount(); ++v)
-    if (baked.irradiance[v].Max() > 0) lit[baked.mesh.surface[v]] = true;
-  std::vector<uint32_t> dark;
-  double area = 0;
-  uint64_t hits = 0;
-  for (uint32_t s = 0; s < bins.SurfaceCount(); ++s) {
-    if (lit[s] || bins.BackHits(s) < kBackLitHits || bins.FrontHits(s) > 0) continue;
-    dark.push_back(s), area += scene.surfaces.surfaces[s].area, hits += bins.BackHits(s);
-  }
-  if (dark.empty()) return {};
-  std::stable_sort(dark.begin(), dark.end(), [&](uint32_t a, uint32_t b) {
-    return scene.surfaces.surfaces[a].area > scene.surfaces.surfaces[b].area;
-  });
-  std::string named;
-  for (size_t i = 0; i < std::min(dark.size(), kNamedUnlit); ++i) {
-    const Surface& surface = scene.surfaces.surfaces[dark[i]];
-    named += fmt::format("{}surface {} ('{}', {:.3g} m^2, {} back hits)", i ? ", " : "", dark[i],
-                         scene.scene.materials[surface.material].name, surface.area, bins.BackHits(dark[i]));
-  }
-  return {fmt::format("{}: warning: {} surface{} of {:.3g} m^2 in all lit only from behind: {} photons reached the "
-                      "back and none the front, so the front reads black; its faces may be wound the wrong way round "
-                      "(the front is the side from which the corners run counter-clockwise); the largest: {}",
-                      scene.scene.path, dark.size(), dark.size() == 1 ? "" : "s", area, hits, named)};
-}
-
-// Warns when the bake's noise is visible, naming what would bring it under kVisibleNoise (RemedyForNoise): more
-// photons, and more shadow rays (or --reference paths) where the points' own noise is most of it, and the rounds
-// that find them. None when the user chose a --target-noise or --target-error.
-std::vector<std::string> VisibleNoiseWarnings(const BakeOptions& o, const Lit& lit, const PhotonRounds& rounds) {
-  if (lit.noise <= kVisibleNoise || o.Rounds()) return {};
-  const bool reference = o.referencePaths > 0;
-  const uint32_t samples = reference ? o.referencePaths : o.direct.mode == DirectLight::kSampled ? o.direct.samples : 0;
-  const uint64_t emitted = rounds.Store().stats.emitted;
-  const NoiseRemedy r = RemedyForNoise(lit.baked, kVisibleNoise, emitted, samples);
-  std::vector<std::string> remedies;
-  if (!reference && r.photons > emitted)
-    remedies.push_back(fmt::format("--photons {}", TwoDigits(1.05 * double(r.photons))));
-  // With --direct-noise the points' own noise falls by sqrt(factor) when their target does; and at most half the
-  // visible noise, as the pilot's noisy estimate leaves the 95th percentile above the target (1.3x it measured).
-  const bool adaptive = !reference && o.direct.mode == DirectLight::kSampled && o.direct.noise > 0;
-  if (r.pointSamples > samples && adaptive)
-    remedies.push_back(fmt::format("--direct-noise {:.2g}", std::min(o.direct.noise / std::sqrt(1.05 * r.pointSamples / samples),
-                                                                  kVisibleNoise / 2)));
-  else if (r.pointSamples > samples)
-    remedies.push_back(fmt::format("{} {}", reference ? "--reference" : "--direct-samples",
-                                   TwoDigits(1.05 * r.pointSamples)));
-  // No count of photons or shadow rays brings it under: what is left is the paths gathered in narrow gaps, which
-  // neither lowers (RemedyForNoise leaves their noise as it is).
-  const std::string remedy =
-      remedies.empty()
-          ? fmt::format("no count of photons or shadow rays alone brings it under {:.0f}%: the paths gathered in "
-                        "narrow gaps hold it (raise --gap-paths)", 100 * kVisibleNoise)
-          : fmt::format("about {} would bring it under {:.0f}%{}",
-                        remedies.size() == 1 ? remedies[0] : remedies[0] + " and " + remedies[1], 100 * kVisibleNoise,
-                        reference
-                            ? ""
-                            : fmt::format(" (or --target-noise {} finds the photons itself)", kVisibleNoise));
-  return {fmt::format("{}: warning: the bake's noise is {:.1f}% (the 95th percentile of the displayed light's "
-                      "predicted relative error), enough to show as blotches; {}", o.scenePath, 100 * lit.noise, remedy)};
-}
-
-
-
 // The time the estimate took per vertex, over every round [s]: what a texel or a refined vertex costs.
 double SecondsPerPoint(const Lit& lit, const PhotonRounds& rounds, const StageClock& clock) {
   const double points = double(lit.baked.mesh.VertexCount()) * double(std::max<size_t>(rounds.Report().rounds.size(), 1));
@@ -447,12 +274,14 @@ void WarnAboutTheLight(Journal& journal, const BakeOptions& o, const PreparedSce
                        const Lit& lit, const Log& log) {
   if (o.referencePaths == 0) {
     journal.Warn(UnlitLightWarnings(scene, rounds.Store(), o.direct.mode == DirectLight::kSampled), log);
-    journal.Warn(BandwidthWarnings(*lit.field, rounds.Bins(), o), log);
+    journal.Warn(BandwidthWarnings(*lit.field, rounds.Bins(), o.estimator.kind, o.autoBandwidth), log);
   }
-  journal.Warn(DarkBakeWarnings(o, lit.baked), log);
+  journal.Warn(DarkBakeWarnings(o.scenePath, lit.baked), log);
   if (o.referencePaths == 0) journal.Warn(BackLitWarnings(scene, rounds.Bins(), lit.baked), log);
-  journal.Warn(VisibleNoiseWarnings(o, lit, rounds), log);
-  journal.Warn(ExposureWarnings(o, lit.baked), log);
+  journal.Warn(VisibleNoiseWarnings({.scenePath = o.scenePath, .baked = lit.baked, .noise = lit.noise,
+                                     .emitted = rounds.Store().stats.emitted, .referencePaths = o.referencePaths,
+                                     .direct = o.direct, .rounds = o.Rounds()}), log);
+  journal.Warn(ExposureWarnings(o.exposure, lit.baked), log);
 }
 
 // The scene as the options describe it. Covered parts are found on a lattice of spacing h / 2, at most 1/175 of
