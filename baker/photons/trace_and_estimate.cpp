@@ -1,0 +1,170 @@
+#include "baker/photons/trace_and_estimate.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <span>
+
+#include "baker/distribution.h"
+#include "baker/runtime/interrupt.h"
+
+namespace pb {
+namespace {
+
+FieldSettings FieldSettingsOf(const BakeOptions& o, const PhotonRounds& rounds) {
+  return {o.estimator,      o.autoBandwidth, rounds.HeldBandwidths(), rounds.Direct(), o.referencePaths,
+          o.seed,           rounds.Gaps(),   o.guidePhotons, /*pool=*/o.autoBandwidth};
+}
+
+// Rank 0 takes every process's vertices (baker/distribution.h).
+void GatherVertices(BakedMesh& baked, const Distribution& d) {
+  const auto gather = [&](auto& values) {
+    d.GatherChunks(std::as_writable_bytes(std::span(values)), sizeof(values[0]), kVertexChunk);
+  };
+  gather(baked.irradiance), gather(baked.albedo), gather(baked.emitted);
+  gather(baked.irradianceNoise), gather(baked.photonVarianceShare), gather(baked.sampledShare);
+  gather(baked.irradianceBias), gather(baked.gatheredVarianceShare), gather(baked.gapPairs);
+}
+
+// The first round's estimate of every vertex foretold from a pilot over one vertex in kPilotStride, spread over
+// the whole mesh [s]: what its field costs on this scene, at this round's settings, on this machine.
+constexpr size_t kPilotStride = 64;
+double ForetoldEstimateSeconds(const IrradianceField& field, const SplitMesh& base, StageClock& clock) {
+  const double before = clock.Seconds("estimate");
+  const size_t piloted = (base.VertexCount() + kPilotStride - 1) / kPilotStride;
+  clock.Time("estimate", [&] {
+    tbb::parallel_for(size_t(0), piloted, [&](size_t k) { field.LightWithNoise(base.Point(k * kPilotStride)); });
+  });
+  return piloted > 0 ? (clock.Seconds("estimate") - before) * double(base.VertexCount()) / double(piloted) : 0.0;
+}
+
+// Copies into `into` the vertices of every chunk (kVertexChunk vertices) that `taken` leaves 0, from `from`.
+void TakeUntakenChunks(BakedMesh& into, const BakedMesh& from, const std::vector<char>& taken) {
+  const auto take = [&](auto& to, const auto& source) {
+    for (size_t c = 0; c < taken.size(); ++c) {
+      if (taken[c] != 0) continue;
+      const size_t begin = c * kVertexChunk, end = std::min(to.size(), begin + kVertexChunk);
+      std::copy(source.begin() + ptrdiff_t(begin), source.begin() + ptrdiff_t(end), to.begin() + ptrdiff_t(begin));
+    }
+  };
+  take(into.irradiance, from.irradiance), take(into.albedo, from.albedo), take(into.emitted, from.emitted);
+  take(into.irradianceNoise, from.irradianceNoise), take(into.photonVarianceShare, from.photonVarianceShare);
+  take(into.sampledShare, from.sampledShare), take(into.irradianceBias, from.irradianceBias);
+  take(into.gatheredVarianceShare, from.gatheredVarianceShare), take(into.gapPairs, from.gapPairs);
+}
+
+// The first round's chunks that a stopped estimate did not take (`taken` 0), estimated into `baked` at no more than
+// PhotonRounds::kFinishSamples shadow rays and gathered paths a point, from the round's photon estimators with
+// those terms built anew; lit's field becomes that field, and the rounds report it.
+void FinishAtTheFewestSamples(BakedMesh& baked, Lit& lit, const PreparedScene& scene, const SplitMesh& base,
+                              const BakeOptions& o, PhotonRounds& rounds, const std::vector<char>& taken,
+                              bool interrupted, StageClock& clock, const Log& log) {
+  uint64_t done = 0;
+  for (size_t c = 0; c < taken.size(); ++c)
+    if (taken[c] != 0) done += std::min<uint64_t>(kVertexChunk, base.VertexCount() - c * kVertexChunk);
+  FieldSettings fewest = FieldSettingsOf(o, rounds);
+  if (fewest.direct.mode == DirectLight::kSampled)
+    fewest.direct.samples = std::min(fewest.direct.samples, PhotonRounds::kFinishSamples), fewest.direct.noise = 0;
+  fewest.gaps.paths = std::min(fewest.gaps.paths, PhotonRounds::kFinishSamples);
+  rounds.FinishFirstEstimate(done, base.VertexCount(), interrupted, fewest.direct.samples, fewest.gaps.paths);
+  lit.field.emplace(WithSampledTerms(*std::move(lit.field), scene, fewest, clock));
+  const BakedMesh rest = clock.Time("estimate", [&] {
+    return EstimateIrradiance(*lit.field, base, log, /*withNoise=*/true, [&](size_t c) { return taken[c] == 0; });
+  });
+  TakeUntakenChunks(baked, rest, taken);
+}
+
+// The round's estimate at the vertices of `base`, each with its noise; with a distribution, this process's chunks
+// of them. On one process it takes no more chunks once Ctrl-C comes or the rounds' deadline passes
+// (PhotonRounds::EstimateDeadline): a later round then ends there (nullopt; lit keeps the round before's vertices,
+// with the new round's field), and the first round estimates the chunks left at the fewest samples, with a field
+// built for them (PhotonRounds::FinishFirstEstimate), so that the bake ends within its budget with valid outputs.
+std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& scene, const SplitMesh& base,
+                                              const BakeOptions& o, PhotonRounds& rounds, const Distribution* d,
+                                              StageClock& clock, const Log& log) {
+  const bool mayStop = d == nullptr && base.VertexCount() > 0;
+  const double deadline = rounds.EstimateDeadline();
+  std::vector<char> taken((base.VertexCount() + kVertexChunk - 1) / kVertexChunk, 0);
+  std::atomic<bool> stopped{false};
+  const auto owns = [&](size_t chunk) {
+    if (mayStop && (stopped || InterruptRequested() || clock.Elapsed() > deadline)) {
+      stopped = true;
+      return false;
+    }
+    if (d != nullptr) return d->ClaimChunk(chunk);
+    taken[chunk] = 1;
+    return true;
+  };
+  BakedMesh baked = clock.Time("estimate", [&] {
+    if (d != nullptr) d->OpenChunks(taken.size());
+    BakedMesh estimated = EstimateIrradiance(*lit.field, base, log, /*withNoise=*/true, owns);
+    if (d != nullptr) d->CloseChunks();
+    return estimated;
+  });
+  if (!stopped) return baked;
+  const bool interrupted = InterruptRequested();
+  if (lit.baked.mesh.VertexCount() > 0) {
+    rounds.EstimateInterrupted(interrupted);
+    return std::nullopt;
+  }
+  FinishAtTheFewestSamples(baked, lit, scene, base, o, rounds, taken, interrupted, clock, log);
+  return baked;
+}
+
+// Stage 3 from the round's photons at the vertices of `base`, with each vertex's noise and the bake's; with a
+// distribution, each process estimates its share of the vertices for rank 0. False where a later round's estimate
+// stopped (EstimateUntilStopped): lit then keeps the round before's vertices.
+bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, const BakeOptions& o,
+                   PhotonRounds& rounds, const Distribution* d, StageClock& clock, const Log& log) {
+  lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock, &log));
+  const bool first = rounds.Report().rounds.empty() && d == nullptr && o.Rounds();
+  if (first && rounds.FitFirstEstimate(ForetoldEstimateSeconds(*lit.field, base, clock)))
+    lit.field.emplace(WithSampledTerms(*std::move(lit.field), scene, FieldSettingsOf(o, rounds), clock));
+  std::optional<BakedMesh> baked = EstimateUntilStopped(lit, scene, base, o, rounds, d, clock, log);
+  if (!baked) return false;
+  lit.baked = std::move(*baked);
+  if (d != nullptr) clock.Time("estimate", [&] { GatherVertices(lit.baked, *d); });
+  if (d == nullptr || d->Root()) clock.Time("estimate", [&] { WeighGatheredPaths(*lit.field, lit.baked); });
+  if (d == nullptr || d->Root())
+    clock.Time("noise", [&] {
+      lit.noise = BakeNoise(lit.baked), lit.error = PredictedError(lit.baked), lit.noiseParts = BakeNoiseParts(lit.baked);
+    });
+  return true;
+}
+
+}  // namespace
+
+// --only's surfaces (every surface without it).
+std::vector<bool> EstimatedSurfaces(const BakeOptions& o, const PreparedScene& scene) {
+  return o.only.empty() ? std::vector<bool>{} : SurfacesNamed(scene.scene, scene.surfaces, o.only, "--only");
+}
+
+// The time the estimate took per vertex, over every round [s]: what a texel or a refined vertex costs.
+double SecondsPerPoint(const Lit& lit, const PhotonRounds& rounds, const StageClock& clock) {
+  const double points = double(lit.baked.mesh.VertexCount()) * double(std::max<size_t>(rounds.Report().rounds.size(), 1));
+  return points > 0 ? clock.Seconds("estimate") / points : 0.0;
+}
+
+// Stages 1 to 3 once with --photons, or in rounds until --target-noise (baker/photons/photon_rounds.h); then
+// --save-photons. Ctrl-C ends the rounds: in the first round's tracing, the bake goes on with the photons it has;
+// in the first round's estimate, the vertices left read the fewest samples; in a later round, that round's estimate
+// stops (at once, when the Ctrl-C came while it traced) and the bake keeps the vertices of the round before. The
+// rounds' deadline stops an estimate alike.
+Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs,
+                     const Distribution* distribution, StageClock& clock, const Log& log) {
+  const InterruptScope interrupt;
+  // The vertices estimated in every round: every surface's, or --only's (refused here, before any photon is
+  // traced, when it names nothing).
+  const SplitMesh base = SplitBySurface(scene.scene, scene.surfaces, EstimatedSurfaces(o, scene));
+  Lit lit;
+  do {
+    rounds.TraceRound();
+    if (!EstimateLight(lit, scene, base, o, rounds, distribution, clock, log)) break;
+  } while (rounds.Continue(lit.baked, lit.noise, lit.error, lit.field->Photons().Bandwidths()));
+  rounds.Save(outputs);
+  return lit;
+}
+
+
+}  // namespace pb
