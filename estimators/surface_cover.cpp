@@ -12,6 +12,8 @@
 #include <optional>
 #include <unordered_map>
 
+#include "estimators/chart_clip.h"
+#include "estimators/cover_band.h"
 #include "estimators/surface_region.h"
 #include "estimators/warps.h"
 
@@ -25,33 +27,6 @@ std::array<Vector3, kCoverRays> HemisphereSpiral() {
   std::array<Vector3, kCoverRays> d;
   for (int k = 0; k < kCoverRays; ++k) d[k] = CosineSpiralDirection(k, kCoverRays);
   return d;
-}
-
-// The part of convex counter-clockwise `polygon` left of the line a -> b.
-std::vector<Point2> ClipLeftOf(const std::vector<Point2>& polygon, Point2 a, Point2 b) {
-  std::vector<Point2> out;
-  const auto side = [&](Point2 p) {
-    return (double(b.u) - a.u) * (double(p.v) - a.v) - (double(b.v) - a.v) * (double(p.u) - a.u);
-  };
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const Point2 p = polygon[i], q = polygon[(i + 1) % polygon.size()];
-    const double sp = side(p), sq = side(q);
-    if (sp >= 0) out.push_back(p);
-    if ((sp < 0) != (sq < 0) && sp != 0 && sq != 0) {
-      const double t = sp / (sp - sq);
-      out.push_back({float(p.u + t * (double(q.u) - p.u)), float(p.v + t * (double(q.v) - p.v))});
-    }
-  }
-  return out;
-}
-
-double TwiceSignedArea(const std::vector<Point2>& polygon) {
-  double twice = 0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const Point2 p = polygon[i], q = polygon[(i + 1) % polygon.size()];
-    twice += double(p.u) * q.v - double(q.u) * p.v;
-  }
-  return twice;
 }
 
 }  // namespace
@@ -76,7 +51,8 @@ class CoverBuilder {
     c_.lo_ = {float(b.lo.u - spacing / 2), float(b.lo.v - spacing / 2)};
     c_.nu_ = int(std::ceil(su / spacing)) + 2;  // from half a spacing before the chart to at least half after
     c_.nv_ = int(std::ceil(sv / spacing)) + 2;
-    const std::vector<uint64_t> band = BandPoints(MarkedCells());
+    const std::vector<uint64_t> band = BandPoints(CellsWhereTheCoverCanChange(
+        {scene_, surfaces_, rays_, surfaceIndex_}, {c_.lo_, c_.spacing_, c_.nu_, c_.nv_}, whole_.Bounds()));
     ClassifyLattice(band);
     if (c_.runs_.empty()) {
       SurfaceCover empty;
@@ -130,247 +106,6 @@ class CoverBuilder {
 
   // Lattice cells [i, i + 1] x [j, j + 1] as keys j * nu + i, and lattice points (i, j) alike.
   uint64_t Key(int i, int j) const { return uint64_t(j) * uint64_t(c_.nu_) + uint64_t(i); }
-
-  // The cells that the slab's cut of the other triangles near the surface, and the surface's own boundary edges,
-  // touch (see the top): where the cover can change. Unsorted, with repeats.
-  std::vector<uint64_t> MarkedCells() const {
-    tbb::enumerable_thread_specific<std::vector<uint64_t>> marked;
-    const float reach = Reach(), side = TileSide();
-    const std::vector<std::array<int, 2>> tiles = Tiles(side);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size()), [&](const tbb::blocked_range<size_t>& r) {
-      std::vector<uint64_t>& cells = marked.local();
-      std::vector<uint32_t> near;
-      for (size_t k = r.begin(); k != r.end(); ++k) MarkNear(tiles[k], side, reach, near, cells);
-    });
-    std::vector<uint64_t> cells;
-    for (const std::vector<uint64_t>& part : marked) cells.insert(cells.end(), part.begin(), part.end());
-    for (const auto& [a, b] : BoundaryEdges()) MarkPolygon({a, b}, Whole(), cells);
-    return cells;
-  }
-
-  // The side g [m] of the square tiles over which other triangles are looked for, one point query each: 16 lattice
-  // cells, or the side of the surface's mean triangle where that is larger, so that there are at most about as
-  // many tiles as triangles, and a query's sphere holds little beyond the slab.
-  float TileSide() const {
-    return std::max(16 * c_.spacing_, float(std::sqrt(2 * surface_.area / double(surface_.triangles.size()))));
-  }
-
-  // The tiles (i, j), [i g, (i + 1) g] x [j g, (j + 1) g] in the chart, that meet one of the surface's triangles.
-  std::vector<std::array<int, 2>> Tiles(float g) const {
-    std::vector<std::array<int, 2>> tiles;
-    for (uint32_t t : surface_.triangles) {
-      std::array<Point2, 3> c = surfaces_.cornerUv[t];
-      if (SignedArea(c[0], c[1], c[2]) < 0) std::swap(c[1], c[2]);
-      Bounds2 b;
-      for (const Point2& p : c) b.Extend(p);
-      for (int j = int(std::floor(b.lo.v / g)); j <= int(std::floor(b.hi.v / g)); ++j)
-        for (int i = int(std::floor(b.lo.u / g)); i <= int(std::floor(b.hi.u / g)); ++i)
-          if (TileMeets({{float(i * g), float(j * g)}, {float((i + 1) * g), float((j + 1) * g)}}, c)) tiles.push_back({i, j});
-    }
-    std::sort(tiles.begin(), tiles.end());
-    tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
-    return tiles;
-  }
-
-  // Whether the box meets counter-clockwise triangle c, given that their bounding boxes meet: no edge of c has the
-  // whole box outside it (the separating axis test's remaining axes).
-  static bool TileMeets(const Bounds2& box, const std::array<Point2, 3>& c) {
-    const Point2 corners[4] = {box.lo, {box.hi.u, box.lo.v}, box.hi, {box.lo.u, box.hi.v}};
-    for (int e = 0; e < 3; ++e) {
-      bool allOutside = true;
-      for (const Point2& q : corners) allOutside = allOutside && SignedArea(c[e], c[(e + 1) % 3], q) < 0;
-      if (allOutside) return false;
-    }
-    return true;
-  }
-
-  // r: how far from the surface's mean plane [m] another triangle may pass and still bound a cover.
-  float Reach() const {
-    float deviation = 0;
-    for (uint32_t t : surface_.triangles)
-      for (uint32_t v : scene_.triangles[t].v)
-        deviation = std::max(deviation, std::fabs(Dot(scene_.positions[v] - surface_.chart.origin, surface_.chart.frame.n)));
-    return deviation + 2 * c_.spacing_ + 4 * rays_.SpawnOffset();
-  }
-
-  // Marks the cells that the slab's cut of each other triangle near tile (i, j) of side g touches, within the
-  // tile grown by two cells.
-  void MarkNear(std::array<int, 2> tile, float g, float reach, std::vector<uint32_t>& near, std::vector<uint64_t>& cells) const {
-    // The tile within the chart's box, grown by the margin.
-    const float margin = 2 * c_.spacing_;
-    const Bounds2& chartBox = whole_.Bounds();
-    const Bounds2 window{{std::max(float(tile[0] * g), chartBox.lo.u) - margin, std::max(float(tile[1] * g), chartBox.lo.v) - margin},
-                         {std::min(float((tile[0] + 1) * g), chartBox.hi.u) + margin, std::min(float((tile[1] + 1) * g), chartBox.hi.v) + margin}};
-    const SurfaceChart& chart = surface_.chart;
-    const float u = 0.5f * (window.lo.u + window.hi.u), v = 0.5f * (window.lo.v + window.hi.v);
-    const Point3 centre = chart.origin + chart.frame.s * u + chart.frame.t * v;
-    near.clear();
-    rays_.TrianglesNear(centre, 0.5f * std::hypot(window.hi.u - window.lo.u, window.hi.v - window.lo.v) + reach, near);
-    for (uint32_t other : near) {
-      if (surfaces_.surfaceOfTriangle[other] == surfaceIndex_ || !MeetsSlab(other, reach)) continue;
-      const SlabPart cut = SlabCut(other, reach);
-      if (cut.inPlane) {
-        for (size_t k = 0; k < cut.uv.size(); ++k) MarkPolygon({cut.uv[k], cut.uv[(k + 1) % cut.uv.size()]}, window, cells);
-      } else {
-        MarkPolygon(cut.uv, window, cells);
-      }
-    }
-  }
-
-  // Whether triangle `other` has points within `reach` of the surface's plane: its corners' distances straddle
-  // or touch [-reach, reach].
-  bool MeetsSlab(uint32_t other, float reach) const {
-    float lo = INFINITY, hi = -INFINITY;
-    for (uint32_t v : scene_.triangles[other].v) {
-      const float d = Dot(scene_.positions[v] - surface_.chart.origin, surface_.chart.frame.n);
-      lo = std::min(lo, d), hi = std::max(hi, d);
-    }
-    return lo <= reach && hi >= -reach;
-  }
-
-  // The part of triangle `other` within `reach` of the surface's plane, projected into the chart: a convex polygon
-  // (empty when it stays out of the slab). In the plane when every corner is as near it as the surface's own
-  // (the surface's deviation, `reach` less 2 s): rays from the surface cannot meet it, and only its edges,
-  // where a neighbour's outline may run, count.
-  struct SlabPart {
-    std::vector<Point2> uv;
-    bool inPlane = true;
-  };
-  SlabPart SlabCut(uint32_t other, float reach) const {
-    const SurfaceChart& chart = surface_.chart;
-    struct Corner {
-      Point3 p;
-      float d;  // signed distance from the plane [m]
-    };
-    std::vector<Corner> polygon;
-    SlabPart part;
-    for (uint32_t v : scene_.triangles[other].v) {
-      polygon.push_back({scene_.positions[v], Dot(scene_.positions[v] - chart.origin, chart.frame.n)});
-      part.inPlane = part.inPlane && std::fabs(polygon.back().d) <= reach - 2 * c_.spacing_;
-    }
-    for (const float side : {1.0f, -1.0f}) {  // keep side * d <= reach
-      std::vector<Corner> kept;
-      for (size_t k = 0; k < polygon.size(); ++k) {
-        const Corner a = polygon[k], b = polygon[(k + 1) % polygon.size()];
-        const bool inA = side * a.d <= reach, inB = side * b.d <= reach;
-        if (inA) kept.push_back(a);
-        if (inA != inB) {
-          const float t = (side * reach - a.d) / (b.d - a.d);
-          kept.push_back({a.p + (b.p - a.p) * t, side * reach});
-        }
-      }
-      polygon = std::move(kept);
-      if (polygon.empty()) return {};
-    }
-    for (const Corner& c : polygon) part.uv.push_back(chart.ToUv(c.p));
-    return part;
-  }
-
-  Bounds2 Whole() const {
-    return {c_.lo_, c_.Lattice(c_.nu_ - 1, c_.nv_ - 1)};
-  }
-
-  // The surface's chart edges that only one of its triangles has (its outline, holes included).
-  std::vector<std::array<Point2, 2>> BoundaryEdges() const {
-    struct Edge {
-      std::array<uint64_t, 2> key;  // the ends' bits, the smaller first
-      Point2 a, b;
-    };
-    const auto bits = [](Point2 p) {
-      uint32_t u, v;
-      std::memcpy(&u, &p.u, 4), std::memcpy(&v, &p.v, 4);
-      return uint64_t(u) << 32 | v;
-    };
-    std::vector<Edge> edges;
-    for (uint32_t t : surface_.triangles) {
-      const std::array<Point2, 3>& c = surfaces_.cornerUv[t];
-      for (int k = 0; k < 3; ++k) {
-        const Point2 a = c[k], b = c[(k + 1) % 3];
-        const uint64_t ka = bits(a), kb = bits(b);
-        edges.push_back({{std::min(ka, kb), std::max(ka, kb)}, a, b});
-      }
-    }
-    std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.key < y.key; });
-    std::vector<std::array<Point2, 2>> boundary;
-    for (size_t k = 0; k < edges.size();) {
-      size_t end = k + 1;
-      while (end < edges.size() && edges[end].key == edges[k].key) ++end;
-      if (end - k == 1) boundary.push_back({edges[k].a, edges[k].b});
-      k = end;
-    }
-    return boundary;
-  }
-
-  // Marks every lattice cell that convex polygon `corners` [m] (two corners: a segment), cut to `window`, touches
-  // (its closed square): row by row, the span between the leftmost and rightmost points of its edges' parts in
-  // the row.
-  void MarkPolygon(const std::vector<Point2>& corners, const Bounds2& window, std::vector<uint64_t>& cells) const {
-    const double s = c_.spacing_;
-    std::vector<std::array<double, 4>> edges;  // (x0, y0, x1, y1) in cells, cut to the window
-    double yLo = INFINITY, yHi = -INFINITY;
-    const std::vector<Point2> inside = corners.size() < 3 ? corners : ClipToWindow(corners, window);
-    for (size_t k = 0; k < inside.size(); ++k) {
-      Point2 a = inside[k], b = inside[(k + 1) % inside.size()];
-      if (inside.size() == 2 && k == 1) break;
-      if (!ClipToBox(a, b, window)) continue;
-      edges.push_back({(a.u - c_.lo_.u) / s, (a.v - c_.lo_.v) / s, (b.u - c_.lo_.u) / s, (b.v - c_.lo_.v) / s});
-      yLo = std::min({yLo, edges.back()[1], edges.back()[3]}), yHi = std::max({yHi, edges.back()[1], edges.back()[3]});
-    }
-    if (edges.empty()) return;
-    const int lastCell = c_.nu_ - 2, lastRow = c_.nv_ - 2;
-    for (int j = std::clamp(int(std::floor(yLo)), 0, lastRow); j <= std::clamp(int(std::floor(yHi)), 0, lastRow); ++j) {
-      double xLo = INFINITY, xHi = -INFINITY;
-      for (const auto& [x0, y0, x1, y1] : edges) {
-        // The edge's part with y in [j, j + 1] (the first and last rows take all below or above them).
-        const double lo = j == 0 ? -INFINITY : double(j), hi = j == lastRow ? INFINITY : double(j + 1);
-        double t0 = 0, t1 = 1;
-        if (y1 != y0) {
-          const double ta = (lo - y0) / (y1 - y0), tb = (hi - y0) / (y1 - y0);
-          t0 = std::max(t0, std::min(ta, tb)), t1 = std::min(t1, std::max(ta, tb));
-        } else if (y0 < lo || y0 > hi) {
-          continue;
-        }
-        if (!(t0 <= t1)) continue;
-        for (const double t : {t0, t1}) {
-          const double x = x0 + t * (x1 - x0);
-          xLo = std::min(xLo, x), xHi = std::max(xHi, x);
-        }
-      }
-      if (!(xLo <= xHi)) continue;
-      for (int i = std::clamp(int(std::floor(xLo)), 0, lastCell); i <= std::clamp(int(std::floor(xHi)), 0, lastCell); ++i)
-        cells.push_back(Key(i, j));
-    }
-  }
-
-  // The part of convex polygon `corners` inside the box.
-  static std::vector<Point2> ClipToWindow(std::vector<Point2> polygon, const Bounds2& box) {
-    const Point2 c[4] = {box.lo, {box.hi.u, box.lo.v}, box.hi, {box.lo.u, box.hi.v}};  // counter-clockwise
-    if (SignedArea(polygon[0], polygon[1], polygon[2]) < 0) std::reverse(polygon.begin(), polygon.end());
-    for (int k = 0; k < 4 && polygon.size() >= 2; ++k) polygon = ClipLeftOf(polygon, c[k], c[(k + 1) % 4]);
-    return polygon;
-  }
-
-  // Cuts segment a -> b to the box (Liang and Barsky); false when nothing of it is inside.
-  static bool ClipToBox(Point2& a, Point2& b, const Bounds2& box) {
-    double t0 = 0, t1 = 1;
-    const double du = double(b.u) - a.u, dv = double(b.v) - a.v;
-    const double p[4] = {-du, du, -dv, dv};
-    const double q[4] = {double(a.u) - box.lo.u, double(box.hi.u) - a.u, double(a.v) - box.lo.v, double(box.hi.v) - a.v};
-    for (int k = 0; k < 4; ++k) {
-      if (p[k] == 0) {
-        if (q[k] < 0) return false;
-        continue;
-      }
-      const double t = q[k] / p[k];
-      if (p[k] < 0) t0 = std::max(t0, t);
-      else t1 = std::min(t1, t);
-    }
-    if (!(t0 <= t1)) return false;
-    const Point2 from = a;
-    a = {float(from.u + t0 * du), float(from.v + t0 * dv)};
-    b = {float(from.u + t1 * du), float(from.v + t1 * dv)};
-    return true;
-  }
 
   // The band's lattice points: the corners of the marked cells, sorted. A point that is not one has no marked cell
   // about it; every lattice edge that a footprint touches is a side of a cell that MarkPolygon marks, so the edges
