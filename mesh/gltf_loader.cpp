@@ -1,24 +1,19 @@
 #include "mesh/gltf_loader.h"
 
 #include <fmt/format.h>
-#include <sys/stat.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <set>
-#include <string_view>
 #include <unordered_map>
 
 #include "mesh/errors.h"
 #include "mesh/gltf_accessor.h"
+#include "mesh/gltf_file.h"
 #include "mesh/gltf_hierarchy.h"
-#include "mesh/input_file.h"
-#include "mesh/json_input.h"
 #include "mesh/mtl_loader.h"
 #include "mesh/scene_builder.h"
 #include "mesh/text_lines.h"
@@ -52,8 +47,6 @@ struct UvTransform {
   }
 };
 
-// The deepest nesting of arrays and objects read (RefuseDeepNesting).
-constexpr size_t kMaxGltfNesting = 1000;
 
 // What a primitive needs to know about its material beyond the index: which texture coordinates to read.
 struct MaterialUse {
@@ -62,37 +55,6 @@ struct MaterialUse {
   int emissiveTexture = -1;             // Scene::textures index of the emissive texture, or -1
   UvTransform emissiveUv;
 };
-
-// ---- files, as tinygltf reads them --------------------------------------------------------------------------
-
-bool RegularFileExists(const std::string& path, void*) {
-  struct stat s{};
-  return stat(path.c_str(), &s) == 0 && S_ISREG(s.st_mode);
-}
-// No expansion: tinygltf's default runs wordexp() on names from the file.
-std::string SamePath(const std::string& path, void*) { return path; }
-bool ReadWhole(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-  try {
-    const std::string bytes = ReadRegularFile(path, "glTF resource");
-    out->assign(bytes.begin(), bytes.end());
-    return true;
-  } catch (const InputError& e) {
-    if (err) *err += e.what();
-    return false;
-  }
-}
-bool NoWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
-  if (err) *err += "the glTF loader writes no file";
-  return false;
-}
-
-// The images' encoded bytes, kept by tinygltf's image callback and decoded by mesh/texture.h afterwards.
-using ImageBytes = std::map<int, std::string>;
-bool KeepImageBytes(tg::Image*, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
-                    int size, void* user) {
-  (*static_cast<ImageBytes*>(user))[index].assign(reinterpret_cast<const char*>(bytes), size_t(std::max(size, 0)));
-  return true;
-}
 
 std::string Folder(const std::string& path) {
   const size_t slash = path.find_last_of('/');
@@ -137,7 +99,10 @@ class GltfReader {
 
   LoadedScene Read() {
     PB_CHECK(options_.scale > 0.0f && std::isfinite(options_.scale), "LoadOptions::scale is finite and > 0");
-    Parse();
+    GltfFile file = ReadGltfFile(path_);
+    model_ = std::move(file.model);
+    imageBytes_ = std::move(file.imageBytes);
+    for (const std::string& line : file.warnings) Warn("tinygltf " + line.substr(0, 24), "/", line);
     RequireKnownExtensions();
     for (const auto& [node, world] : gltf::SceneNodes(model_, path_)) {
       if (model_.nodes[size_t(node)].mesh >= 0) AddNode(node, world);
@@ -161,65 +126,10 @@ class GltfReader {
     warnings_.Add(kind, path_ + ": warning: " + where + ": " + message);
   }
 
-  void Parse() {
-    const std::string bytes = ReadRegularFile(path_, "scene file");
-    RefuseDeepNesting(bytes);
-    tg::TinyGLTF gltf;
-    gltf.SetFsCallbacks({&RegularFileExists, &SamePath, &ReadWhole, &NoWrite, nullptr});
-    gltf.SetImageLoader(&KeepImageBytes, &imageBytes_);
-    std::string err, warn;
-    const bool binary = StartsWith(bytes, "glTF");
-    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-    const bool ok = binary ? gltf.LoadBinaryFromMemory(&model_, &err, &warn, data, unsigned(bytes.size()), Folder(path_))
-                           : gltf.LoadASCIIFromString(&model_, &err, &warn, bytes.data(), unsigned(bytes.size()),
-                                                      Folder(path_));
-    for (const std::string& line : SplitLines(warn)) Warn("tinygltf " + line.substr(0, 24), "/", line);
-    if (!ok) {
-      for (const char* compression : kCompressions)
-        if (bytes.find(compression) != std::string::npos) RefuseCompression(compression);  // tinygltf may fail first
-      const std::vector<std::string> lines = SplitLines(err);
-      throw InputError(path_, 0, std::string("not a glTF 2.0 file that can be read: ") +
-                                     (lines.empty() ? "tinygltf gave no reason" : lines.front()));
-    }
-  }
-  // tinygltf converts the JSON to its own values recursively: 100,000 nested arrays in `extras` overflow the stack.
-  // No glTF needs more than a few levels; the JSON (a .glb's first chunk) is refused past kMaxGltfNesting, naming the
-  // line where it goes deeper.
-  void RefuseDeepNesting(const std::string& bytes) const {
-    std::string_view json = bytes;
-    if (StartsWith(bytes, "glTF") && bytes.size() >= 20) {
-      uint32_t length = 0;
-      std::memcpy(&length, bytes.data() + 12, 4);  // the first chunk's length, little-endian as the file's byte order
-      json = json.substr(20, length);
-    }
-    if (const int line = LineNestedDeeperThan(json, kMaxGltfNesting))
-      throw InputError(path_, line,
-                       fmt::format("the JSON nests arrays and objects deeper than {} levels", kMaxGltfNesting));
-  }
-
-  static std::vector<std::string> SplitLines(const std::string& text) {
-    std::vector<std::string> lines;
-    size_t start = 0;
-    while (start < text.size()) {
-      const size_t end = std::min(text.find('\n', start), text.size());
-      if (end > start) lines.push_back(text.substr(start, end - start));
-      start = end + 1;
-    }
-    return lines;
-  }
-
-  // Compressed geometry: its accessors hold no data of their own, so a file that uses one is refused by its name
-  // (whether or not it lists it as required), not by the first accessor that reads nothing.
-  static constexpr const char* kCompressions[] = {"KHR_draco_mesh_compression", "EXT_meshopt_compression"};
-  [[noreturn]] void RefuseCompression(const std::string& extension) const {
-    throw InputError(path_, 0, "the file uses extension '" + extension + "' (compressed geometry), which photonbake "
-                               "does not read; export it without compression");
-  }
-
   void RequireKnownExtensions() const {
     for (const std::string& used : model_.extensionsUsed)
-      for (const char* compression : kCompressions)
-        if (used == compression) RefuseCompression(used);
+      for (const char* compression : kGltfCompressions)
+        if (used == compression) RefuseGltfCompression(path_, used);
     for (size_t i = 0; i < model_.extensionsRequired.size(); ++i)
       if (!KnownExtensions().count(model_.extensionsRequired[i]))
         Fail(fmt::format("/extensionsRequired/{}", i),
@@ -620,7 +530,7 @@ class GltfReader {
   LoadedScene result_;
   SceneBuilder builder_;
   tg::Model model_;
-  ImageBytes imageBytes_;
+  std::map<int, std::string> imageBytes_;
   WarningLog warnings_;
   std::vector<std::pair<AnalyticLight, Position>> lights_;  // KHR_lights_punctual, with world positions [m]
   std::string firstIgnored_;  // the first primitive of points or lines, for the message refusing an empty scene
