@@ -42,10 +42,13 @@ Texture FromSrgbPixels(const std::string& path, int width, int height, const uin
   return t;
 }
 
-void CheckPixelCount(const std::string& path, uint64_t width, uint64_t height) {
+void CheckPixelCount(const std::string& path, uint64_t width, uint64_t height, uint64_t fileBytes) {
+  const std::string size = std::to_string(width) + " x " + std::to_string(height) + " pixels";
   if (width * height > kMaxTexturePixels)
-    throw InputError(path, 0, "texture of " + std::to_string(width) + " x " + std::to_string(height) +
-                                  " pixels is larger than the 8192 x 8192 a texture may have");
+    throw InputError(path, 0, "texture of " + size + " is larger than the 8192 x 8192 a texture may have");
+  if (width * height > kMostTexturePixelsPerByte * fileBytes)
+    throw InputError(path, 0, "texture of " + size + " in a file of " + std::to_string(fileBytes) + " bytes: no image "
+                              "format holds that many pixels in so few bytes (the file is cut short or forged)");
 }
 
 // JPEG, TGA, BMP and the other formats stb_image reads, from the file's bytes.
@@ -61,7 +64,7 @@ Texture LoadStbTexture(const std::string& path, const std::string& bytes) {
   if (!stbi_info_from_memory(data, int(bytes.size()), &width, &height, &channels))
     throw InputError(path, 0, std::string("cannot read texture: ") + stbi_failure_reason() +
                                   " (textures may be PNG, JPEG, TGA or BMP)");
-  CheckPixelCount(path, uint64_t(width), uint64_t(height));
+  CheckPixelCount(path, uint64_t(width), uint64_t(height), bytes.size());
   stbi_uc* pixels = stbi_load_from_memory(data, int(bytes.size()), &width, &height, &channels, 3);
   if (!pixels) throw InputError(path, 0, std::string("cannot decode texture: ") + stbi_failure_reason());
   try {
@@ -81,8 +84,9 @@ Texture DecodePng(const std::string& path, const std::string& bytes) {
   if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size()))
     throw InputError(path, 0, std::string("cannot read texture: ") + image.message);
   // The header's size, checked before the pixels are allocated (a 69-byte PNG may declare 65535 x 65535).
-  if (uint64_t(image.width) * image.height > kMaxTexturePixels) png_image_free(&image);
-  CheckPixelCount(path, image.width, image.height);
+  if (uint64_t(image.width) * image.height > std::min(kMaxTexturePixels, kMostTexturePixelsPerByte * bytes.size()))
+    png_image_free(&image);
+  CheckPixelCount(path, image.width, image.height, bytes.size());
   image.format = PNG_FORMAT_RGB;  // 8-bit sRGB-encoded, as most textures are stored
   std::vector<uint8_t> pixels(PNG_IMAGE_SIZE(image));
   if (!png_image_finish_read(&image, nullptr, pixels.data(), 0, nullptr)) {

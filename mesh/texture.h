@@ -29,6 +29,11 @@ struct Texture {
 // The most pixels a texture may have: 8192 x 8192, about 1 GB once decoded to linear RGB. Checked from the
 // file's header, before its pixels are allocated.
 inline constexpr uint64_t kMaxTexturePixels = uint64_t(8192) * 8192;
+// The most pixels a byte of a texture file can hold: twice the most any format reaches (deflate's 1032:1 on a PNG
+// of one bit a pixel, 8,256; a TGA or BMP run, 128 in 2 bytes; a JPEG block, 64 in a bit), so that a header that
+// declares more than its file could hold (a 24-byte TGA declaring 29186 x 1538 pixels, which stb_image fills in
+// seconds) is refused before decoding, with the figure.
+inline constexpr uint64_t kMostTexturePixelsPerByte = 16384;
 
 // A texture from a PNG (libpng), or a JPEG, TGA or BMP (stb_image; it also reads GIF, PSD and PNM), told apart by
 // the file's first bytes, not its name. A Radiance HDR image is refused: it holds radiance, not reflectance (and
