@@ -103,6 +103,36 @@ struct Journal {
   void Record(const std::vector<std::string>& lines) { warnings.insert(warnings.end(), lines.begin(), lines.end()); }
 };
 
+// The rounds' own settings, from the options.
+RoundSettings RoundSettingsOf(const BakeOptions& o) {
+  return {.scenePath = o.scenePath, .photons = o.photons, .maxPhotons = o.maxPhotons, .maxSeconds = o.maxSeconds,
+          .maxRounds = o.maxRounds, .targetNoise = o.targetNoise, .targetError = o.targetError, .seed = o.seed,
+          .maxBounces = o.maxBounces, .resumePath = o.resumePath, .savePhotonsPath = o.savePhotonsPath,
+          .estimator = o.estimator, .autoBandwidth = o.autoBandwidth, .referencePaths = o.referencePaths, .sh = o.sh,
+          .sampledDirect = o.direct.mode == DirectLight::kSampled, .shadowRays = o.direct.samples,
+          .directNoise = o.direct.noise, .fixedShadowRays = o.direct.fixedSamples, .gapPaths = o.gaps.paths,
+          .gapNoise = o.gaps.noise, .fixedGapPaths = o.gaps.fixedPaths};
+}
+
+// --only's surfaces (every surface without it); an InputError when it names none.
+std::vector<bool> EstimatedSurfaces(const BakeOptions& o, const PreparedScene& scene) {
+  return o.only.empty() ? std::vector<bool>{} : SurfacesNamed(scene.scene, scene.surfaces, o.only, "--only");
+}
+
+// Stage 3's own settings, from the options; the rounds add their plan (baker/photons/trace_and_estimate.h).
+FieldSettings FieldOf(const BakeOptions& o) {
+  return {.estimator = o.estimator, .automaticBandwidth = o.autoBandwidth, .direct = o.direct,
+          .referencePaths = o.referencePaths, .seed = o.seed, .gaps = o.gaps, .guidePhotons = o.guidePhotons,
+          .pool = o.autoBandwidth};
+}
+
+// Stages 1 to 3 (baker/photons/trace_and_estimate.h); --only is refused before any photon is traced when it names
+// no surface.
+Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs,
+                     const Distribution* distribution, StageClock& clock, const Log& log) {
+  return TraceAndEstimate(rounds, scene, FieldOf(o), EstimatedSurfaces(o, scene), outputs, distribution, clock, log);
+}
+
 // What the estimated light warns about: with photons, lights that got none and bandwidths below the photons'
 // spacing; then a bake that reads 0 everywhere, noise that shows, and an --exposure that shows nothing.
 void WarnAboutTheLight(Journal& journal, const BakeOptions& o, const PreparedScene& scene, const PhotonRounds& rounds,
@@ -181,7 +211,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   scene.warningsShown ? journal.Record(scene.warnings) : journal.Warn(scene.warnings, log);
   if (!o.mapsDirectory.empty()) CheckMapTexels(o.texel, scene.regions, threads.Count());
   if (o.refine.subdivide > 0) CheckSubdivisionMemory(scene.scene.triangles.size(), o.refine.subdivide);
-  PhotonRounds rounds(scene, o, distribution, clock, log);
+  PhotonRounds rounds(scene, RoundSettingsOf(o), distribution, clock, log);
   Lit lit = TraceAndEstimate(rounds, scene, o, outputs, distribution, clock, log);
   const IrradianceField& field = *lit.field;
   WarnAboutTheLight(journal, o, scene, rounds, lit, log);
@@ -241,7 +271,7 @@ void TraceShareOfBake(const BakeOptions& o, const Log& log, const Distribution& 
   std::vector<std::pair<std::string, double>> seconds;
   StageClock clock(seconds);
   const PreparedScene scene = PrepareScene(SceneOf(o), clock, &log);
-  PhotonRounds rounds(scene, o, &distribution, clock, log);
+  PhotonRounds rounds(scene, RoundSettingsOf(o), &distribution, clock, log);
   OutputFiles none;  // a process other than rank 0 writes nothing
   TraceAndEstimate(rounds, scene, o, none, &distribution, clock, log);
 }

@@ -26,31 +26,31 @@ void RequireAllReady(const Distribution& d) {
 
 }  // namespace
 
-PhotonRounds::PhotonRounds(const PreparedScene& scene, const BakeOptions& options, const Distribution* distribution,
+PhotonRounds::PhotonRounds(const PreparedScene& scene, RoundSettings settings, const Distribution* distribution,
                            StageClock& clock, const Log& log)
     : scene_(scene),
-      options_(options),
-      storeDirect_(options.direct.mode == DirectLight::kPhotons),
-      direct_(options.direct),
-      gaps_(options.gaps),
+      settings_(std::move(settings)),
+      shadowRays_(settings_.shadowRays),
+      directNoise_(settings_.directNoise),
+      gapPaths_(settings_.gapPaths),
       distribution_(distribution),
       clock_(clock),
       log_(log),
       baseline_(MemoryInUseBytes()),
       // --reference traces none: the field gathers all of H at the points.
-      photons_(options.referencePaths > 0 ? 0 : options.photons) {
-  report_.target = options.targetError ? options.targetError : options.targetNoise;
-  report_.targetIsError = options.targetError.has_value();
+      photons_(settings_.referencePaths > 0 ? 0 : settings_.photons) {
+  report_.target = settings_.targetError ? settings_.targetError : settings_.targetNoise;
+  report_.targetIsError = settings_.targetError.has_value();
   store_ = clock_.Time("trace", [&] {
     PhotonStore empty = EmptyPhotonStore(scene.lights);
-    if (options.resumePath.empty()) return empty;
-    PhotonStore store = ReadPhotonFile(options.resumePath, Origin(), empty.lightPower, scene.scene.triangles.size());
-    report_.resumedFrom = options.resumePath;
+    if (settings_.resumePath.empty()) return empty;
+    PhotonStore store = ReadPhotonFile(settings_.resumePath, Origin(), empty.lightPower, scene.scene.triangles.size());
+    report_.resumedFrom = settings_.resumePath;
     report_.resumedPhotons = store.stats.emitted;
     return store;
   });
-  if (options.referencePaths == 0) photons_ = std::max(photons_, report_.resumedPhotons);
-  if (options.Rounds() && options.resumePath.empty()) HoldFirstRoundToMemory();
+  if (settings_.referencePaths == 0) photons_ = std::max(photons_, report_.resumedPhotons);
+  if (settings_.Rounds() && settings_.resumePath.empty()) HoldFirstRoundToMemory();
 }
 
 // What a round may add to the memory the bake held before its first photon [bytes].
@@ -79,21 +79,21 @@ void PhotonRounds::HoldFirstRoundToMemory() {
 // photons carry (the direct light not, when the points sample it).
 PhotonOrigin PhotonRounds::Origin() const {
   uint32_t effects = SimulatedEffects(scene_.plan);
-  if (!storeDirect_) effects &= ~(1u << uint32_t(Effect::kDirect));
-  return {SceneHash(scene_.scene), options_.seed, options_.maxBounces, effects};
+  if (settings_.sampledDirect) effects &= ~(1u << uint32_t(Effect::kDirect));
+  return {SceneHash(scene_.scene), settings_.seed, settings_.maxBounces, effects};
 }
 
 // Whether the photons are binned as they are traced (baker/2_bin_photons.h): where the plan bins every wide surface
 // and nothing needs the photons themselves afterwards (a photon file written or extended, rounds).
 bool PhotonRounds::BinsWhileTracing(const BinningPlan& plan) const {
-  return plan.wide && options_.savePhotonsPath.empty() && options_.resumePath.empty() && !options_.Rounds();
+  return plan.wide && settings_.savePhotonsPath.empty() && settings_.resumePath.empty() && !settings_.Rounds();
 }
 
 // Grows the store to photons_ over all lights (counts never shrink). Hits go to `sink` when given; the work is
 // shared when the bake is. Returns whether tracing completed; without a sink an interruption is noted and warned
 // about, with one the caller refuses it.
 bool PhotonRounds::Grow(const HitSink* sink) {
-  const TraceSettings settings{photons_, options_.seed, options_.maxBounces, storeDirect_, sink, distribution_};
+  const TraceSettings settings{photons_, settings_.seed, settings_.maxBounces, !settings_.sampledDirect, sink, distribution_};
   if (ExtendPhotons(store_, scene_, settings, log_)) return true;
   if (sink != nullptr) return false;
   report_.interrupted = true;
@@ -105,40 +105,40 @@ bool PhotonRounds::Grow(const HitSink* sink) {
 
 void PhotonRounds::TraceRound() {
   roundStart_ = ReadClock();
-  const BinningPlan plan = PlanBinning(scene_, options_.estimator, options_.autoBandwidth, photons_);
+  const BinningPlan plan = PlanBinning(scene_, settings_.estimator, settings_.autoBandwidth, photons_);
   if (distribution_ != nullptr && !distribution_->Agreed()) RequireAllReady(*distribution_);  // once, before any photon
   std::optional<PhotonBinner> binner;
-  if (BinsWhileTracing(plan)) binner.emplace(scene_, plan, options_.sh);
+  if (BinsWhileTracing(plan)) binner.emplace(scene_, plan, settings_.sh);
   const PhotonBinner* sink = binner ? &*binner : nullptr;
   bool complete = true;
   clock_.Time("trace", [&] { complete = Grow(sink); });
   if (distribution_ != nullptr && binner)  // else every process took every process's blocks (baker/distribution.h)
     clock_.Time("trace", [&] { binner->SumWith([&](std::span<int64_t> v) { distribution_->SumOnAll(v); }); });
   if (binner && !complete)  // the photons' flux Phi_l / N_l was binned for the N_l planned
-    throw InputError(options_.scenePath, 0, fmt::format("interrupted after {} photons: nothing was written, since photons "
+    throw InputError(settings_.scenePath, 0, fmt::format("interrupted after {} photons: nothing was written, since photons "
                                                         "binned while they are traced cannot be cut short (with "
                                                         "--save-photons they are stored, and an interrupted bake writes "
                                                         "what it has)", store_.stats.emitted));
-  const Scene* directionsIn = options_.sh ? &scene_.scene : nullptr;
+  const Scene* directionsIn = settings_.sh ? &scene_.scene : nullptr;
   bins_ = clock_.Time("bin", [&] {
     SurfaceBins bins = BinPhotons(scene_.surfaces, store_, log_, plan, binner ? &*binner : nullptr, directionsIn);
-    if (options_.autoBandwidth) PoolSparseHits(scene_.scene, scene_.surfaces, store_, bins);
+    if (settings_.autoBandwidth) PoolSparseHits(scene_.scene, scene_.surfaces, store_, bins);
     return bins;
   });
 }
 
 // Where the rounds of --target-noise stand after one (baker/photons/progressive.h).
 RoundState PhotonRounds::StateAfterRound() const {
-  const bool sampled = direct_.mode == DirectLight::kSampled;
+  const bool sampled = settings_.sampledDirect;
   const double emitted = double(std::max<uint64_t>(store_.stats.emitted, 1));
   const ClockReading now = ReadClock(), start = roundStart_;
   return {.photons = photons_,
-          .shadowRays = sampled ? direct_.samples : 0,
-          .directNoise = sampled ? direct_.noise : 0,
-          .raiseShadowRays = sampled && !direct_.fixedSamples,
+          .shadowRays = sampled ? shadowRays_ : 0,
+          .directNoise = sampled ? directNoise_ : 0,
+          .raiseShadowRays = sampled && !settings_.fixedShadowRays,
           .bandwidthFollows = bandwidthFollows_,
-          .gapPaths = sampled && options_.referencePaths == 0 ? gaps_.paths : 0,
-          .raiseGapPaths = sampled && gaps_.paths > 0 && gaps_.noise == 0 && !gaps_.fixedPaths,
+          .gapPaths = sampled && settings_.referencePaths == 0 ? gapPaths_ : 0,
+          .raiseGapPaths = sampled && gapPaths_ > 0 && settings_.gapNoise == 0 && !settings_.fixedGapPaths,
           .elapsed = now.elapsed,
           .traceSeconds = now.traced,
           .binSeconds = now.binned - start.binned,
@@ -163,8 +163,8 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise, const BakeErr
                         rays.empty() ? "" : ", " + rays, measured, state.elapsed));
   if (report_.Measured(report_.rounds.back()) <= target || report_.interrupted || report_.finishedVertices > 0)
     return true;
-  if (options_.maxRounds > 0 && report_.rounds.size() >= options_.maxRounds) {
-    report_.stoppedBy = fmt::format("--max-rounds {}", options_.maxRounds);
+  if (settings_.maxRounds > 0 && report_.rounds.size() >= settings_.maxRounds) {
+    report_.stoppedBy = fmt::format("--max-rounds {}", settings_.maxRounds);
     return true;
   }
   if (InterruptRequested()) {  // Ctrl-C came after this round's tracing: no further round
@@ -172,23 +172,23 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise, const BakeErr
     log_.Warning("interrupted: no further rounds; the bake goes on with the photons it has");
     return true;
   }
-  const NextRound next = PlanNextRound(baked, state, {target, options_.maxPhotons, options_.maxSeconds,
+  const NextRound next = PlanNextRound(baked, state, {target, settings_.maxPhotons, settings_.maxSeconds,
                                                       MemoryForRounds(), report_.targetIsError});
   report_.stoppedBy = next.stop;
   if (!next.stop.empty()) return true;
-  photons_ = next.photons, direct_.samples = std::max(next.shadowRays, 1u), direct_.noise = next.directNoise;
-  if (next.gapPaths > 0) gaps_.paths = next.gapPaths;
+  photons_ = next.photons, shadowRays_ = std::max(next.shadowRays, 1u), directNoise_ = next.directNoise;
+  if (next.gapPaths > 0) gapPaths_ = next.gapPaths;
   return false;
 }
 
 bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const BakeError& error,
                             const std::vector<float>& bandwidths) {
-  if (!options_.Rounds()) return false;
+  if (!settings_.Rounds()) return false;
   const bool decides = distribution_ == nullptr || distribution_->Root();  // the others hold their own vertices only
   bool more = decides && !LastRound(baked, noise, error);
   if (distribution_ != nullptr) ShareThePlan(more);
   if (!more) return false;
-  if (options_.autoBandwidth && heldBandwidths_.empty() && !bandwidthFollows_) heldBandwidths_ = bandwidths;
+  if (settings_.autoBandwidth && heldBandwidths_.empty() && !bandwidthFollows_) heldBandwidths_ = bandwidths;
   return true;
 }
 
@@ -200,39 +200,39 @@ void PhotonRounds::ShareThePlan(bool& more) {
     double directNoise;
     uint32_t shadowRays, gapPaths;
     uint8_t more, bandwidthFollows;
-  } plan{photons_, direct_.noise, direct_.samples, gaps_.paths, more, bandwidthFollows_};
+  } plan{photons_, directNoise_, shadowRays_, gapPaths_, more, bandwidthFollows_};
   distribution_->Broadcast(std::as_writable_bytes(std::span(&plan, 1)));
-  photons_ = plan.photons, direct_.samples = plan.shadowRays, gaps_.paths = plan.gapPaths;
-  direct_.noise = plan.directNoise, more = plan.more != 0, bandwidthFollows_ = plan.bandwidthFollows != 0;
+  photons_ = plan.photons, shadowRays_ = plan.shadowRays, gapPaths_ = plan.gapPaths;
+  directNoise_ = plan.directNoise, more = plan.more != 0, bandwidthFollows_ = plan.bandwidthFollows != 0;
 }
 
 bool PhotonRounds::FitFirstEstimate(double estimateSeconds) {
-  if (!options_.Rounds() || !report_.rounds.empty() || distribution_ != nullptr) return false;
-  const double left = kFirstRoundShare * options_.maxSeconds - clock_.Elapsed();
+  if (!settings_.Rounds() || !report_.rounds.empty() || distribution_ != nullptr) return false;
+  const double left = kFirstRoundShare * settings_.maxSeconds - clock_.Elapsed();
   if (estimateSeconds <= left) return false;
   const double cut = std::max(left, 0.0) / estimateSeconds;
   const auto fewer = [&](uint32_t n) { return std::max(std::min(n, kFewestCutSamples), uint32_t(std::floor(n * cut))); };
-  const bool rays = direct_.mode == DirectLight::kSampled && !direct_.fixedSamples && options_.referencePaths == 0;
-  const bool paths = gaps_.paths > 0 && !gaps_.fixedPaths;
+  const bool rays = settings_.sampledDirect && !settings_.fixedShadowRays && settings_.referencePaths == 0;
+  const bool paths = gapPaths_ > 0 && !settings_.fixedGapPaths;
   if (!rays && !paths) return false;
-  if (rays) direct_.samples = fewer(direct_.samples);
-  if (paths) gaps_.paths = fewer(gaps_.paths);
+  if (rays) shadowRays_ = fewer(shadowRays_);
+  if (paths) gapPaths_ = fewer(gapPaths_);
   report_.firstRoundCut = cut, report_.firstRoundForetold = estimateSeconds;
   log_.Warning(fmt::format("the first round's estimate would take about {:.0f} s, past the time budget (--max-seconds "
                            "{:g}): its shadow rays and gathered paths are cut to {} and {} a point",
-                           estimateSeconds, options_.maxSeconds, direct_.samples, gaps_.paths));
+                           estimateSeconds, settings_.maxSeconds, shadowRays_, gapPaths_));
   return true;
 }
 
 double PhotonRounds::EstimateDeadline() const {
-  return options_.Rounds() ? kEstimateDeadlineShare * options_.maxSeconds : INFINITY;
+  return settings_.Rounds() ? kEstimateDeadlineShare * settings_.maxSeconds : INFINITY;
 }
 
 // What stopped an estimate, for the report: "Ctrl-C" or the deadline.
 std::string PhotonRounds::Stopper(bool interrupted) const {
   return interrupted ? std::string("Ctrl-C")
                      : fmt::format("the estimate's deadline ({:.0f}% of --max-seconds {:g})",
-                                   100 * kEstimateDeadlineShare, options_.maxSeconds);
+                                   100 * kEstimateDeadlineShare, settings_.maxSeconds);
 }
 
 void PhotonRounds::EstimateInterrupted(bool interrupted) {
@@ -261,9 +261,9 @@ void PhotonRounds::FinishFirstEstimate(uint64_t done, uint64_t vertices, bool in
 
 void PhotonRounds::Save(OutputFiles& outputs) {
   clock_.Time("save photons", [&] {
-    if (options_.savePhotonsPath.empty() || (distribution_ != nullptr && !distribution_->Root())) return;
-    WritePhotonFile(outputs, options_.savePhotonsPath, store_, Origin());
-    report_.savedTo = options_.savePhotonsPath;
+    if (settings_.savePhotonsPath.empty() || (distribution_ != nullptr && !distribution_->Root())) return;
+    WritePhotonFile(outputs, settings_.savePhotonsPath, store_, Origin());
+    report_.savedTo = settings_.savePhotonsPath;
   });
 }
 

@@ -6,11 +6,14 @@
 // tracing or the rounds; --save-photons writes the store at the end. The driver, and bake-mpi's worker, read as
 // "trace a round, estimate, continue?".
 //
-// Its settings, taken once from BakeOptions: the photon counts and budgets, the seed, the bounces, and whether
-// the photons store their first hit (storeDirect: not when the direct light is sampled at the points).
+// Its settings (RoundSettings) are its own, taken from the command line by the driver: the photon counts and
+// budgets, the seed, the bounces, whether the points sample the direct light (else the photons store their first
+// hit), and the sampled terms' counts as given. It holds no stage's settings: each round it hands out a RoundPlan
+// (the shadow rays and gathered paths it chose, the h it holds), from which stage 3's settings are made.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,7 +22,7 @@
 #include "baker/baked_mesh.h"
 #include "baker/files/atomic_file.h"
 #include "baker/files/photon_file.h"
-#include "baker/options.h"
+#include "estimators/density_estimator.h"
 #include "baker/photon_store.h"
 #include "baker/photons/progressive.h"
 #include "baker/runtime/progress.h"
@@ -29,11 +32,48 @@ namespace pb {
 
 class Distribution;
 
+// What the rounds read, as the command line gives it (baker/options.h: the same names and units).
+struct RoundSettings {
+  std::string scenePath;  // for messages
+  uint64_t photons = 0;   // the first round's, over all lights (none with referencePaths)
+  uint64_t maxPhotons = 0;
+  double maxSeconds = 60;
+  uint32_t maxRounds = 0;
+  std::optional<float> targetNoise, targetError;
+  uint64_t seed = 1;
+  uint32_t maxBounces = 0;
+  std::string resumePath, savePhotonsPath;
+  EstimatorSettings estimator;
+  bool autoBandwidth = false;
+  uint32_t referencePaths = 0;  // --reference: no photons; the points gather all of H
+  bool sh = false;              // the photons keep their directions for --sh
+  // The sampled terms as given, which the rounds raise, or cut to fit the time budget: whether the points sample
+  // the direct light (else the photons store their first hit), its shadow rays a point and their noise target, and
+  // whether they were given (then kept); the paths gathered in gaps, their noise target, and whether given.
+  bool sampledDirect = true;
+  uint32_t shadowRays = 0;
+  double directNoise = 0;
+  bool fixedShadowRays = false;
+  uint32_t gapPaths = 0;
+  double gapNoise = 0;
+  bool fixedGapPaths = false;
+  bool Rounds() const { return targetNoise || targetError; }  // traced in rounds to a target
+};
+
+// What a round's estimate takes from the rounds: the shadow rays a point and their noise target, the paths gathered
+// a point in gaps, and --h auto's choice in the first round, held after it (empty: none held).
+struct RoundPlan {
+  uint32_t shadowRays = 0;
+  double directNoise = 0;
+  uint32_t gapPaths = 0;
+  std::vector<float> heldBandwidths;
+};
+
 class PhotonRounds {
  public:
   // Opens the store: empty, or --resume's (every check of baker/files/photon_file.h passed). `distribution`, when
   // given, shares the tracing among processes; it and everything else must outlive the rounds.
-  PhotonRounds(const PreparedScene& scene, const BakeOptions& options, const Distribution* distribution,
+  PhotonRounds(const PreparedScene& scene, RoundSettings settings, const Distribution* distribution,
                StageClock& clock, const Log& log);
 
   // Traces the next round (all of it, or this process's share) and bins the store per surface. An interrupted
@@ -69,12 +109,9 @@ class PhotonRounds {
   // Writes --save-photons, when given.
   void Save(OutputFiles& outputs);
 
-  // The shadow rays per point of this round (the rounds may raise them) and the direct-light settings with them.
-  const DirectSettings& Direct() const { return direct_; }
-  // The gathering in gaps of this round (the rounds may raise its paths).
-  const GapSettings& Gaps() const { return gaps_; }
-  // --h auto's choice in the first round, held after it (empty: none held).
-  const std::vector<float>& HeldBandwidths() const { return heldBandwidths_; }
+  // This round's shadow rays and gathered paths (the rounds may raise them, or cut the first round's) and the h held.
+  RoundPlan Plan() const { return {shadowRays_, directNoise_, gapPaths_, heldBandwidths_}; }
+  const RoundSettings& Settings() const { return settings_; }
   const PhotonStore& Store() const { return store_; }
   const SurfaceBins& Bins() const { return bins_; }
   const ProgressiveReport& Report() const { return report_; }
@@ -94,16 +131,16 @@ class PhotonRounds {
   // from each round's photons instead, so that the bias falls with them (where it did not, chosen again it shrank
   // faster than the noise could follow: the office with books took 3 rounds and 17M photons for 3%).
   bool BandwidthFollows(const BakeError& error) const {
-    return options_.autoBandwidth && options_.targetError && error.bias > kFollowingBias * *options_.targetError;
+    return settings_.autoBandwidth && settings_.targetError && error.bias > kFollowingBias * *settings_.targetError;
   }
   static constexpr double kFollowingBias = 0.5;
   bool LastRound(const BakedMesh& baked, double noise, const BakeError& error);
 
   const PreparedScene& scene_;
-  const BakeOptions& options_;
-  const bool storeDirect_;  // the photons store their first hit: not when the points sample the direct light
-  DirectSettings direct_;   // options_.direct, with the shadow rays the rounds chose
-  GapSettings gaps_;        // options_.gaps, with the paths the rounds chose
+  const RoundSettings settings_;
+  uint32_t shadowRays_;  // settings_'s, as the rounds chose them
+  double directNoise_;
+  uint32_t gapPaths_;
   const Distribution* distribution_;
   StageClock& clock_;
   const Log& log_;

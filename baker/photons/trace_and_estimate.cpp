@@ -12,9 +12,13 @@
 namespace pb {
 namespace {
 
-FieldSettings FieldSettingsOf(const BakeOptions& o, const PhotonRounds& rounds) {
-  return {o.estimator,      o.autoBandwidth, rounds.HeldBandwidths(), rounds.Direct(), o.referencePaths,
-          o.seed,           rounds.Gaps(),   o.guidePhotons, /*pool=*/o.autoBandwidth};
+// Stage 3's own settings, with the shadow rays, gathered paths and held h the rounds planned.
+FieldSettings FieldSettingsOf(FieldSettings field, const PhotonRounds& rounds) {
+  RoundPlan plan = rounds.Plan();
+  field.direct.samples = plan.shadowRays, field.direct.noise = plan.directNoise;
+  field.gaps.paths = plan.gapPaths;
+  field.heldBandwidths = std::move(plan.heldBandwidths);
+  return field;
 }
 
 // Rank 0 takes every process's vertices (baker/distribution.h).
@@ -58,12 +62,12 @@ void TakeUntakenChunks(BakedMesh& into, const BakedMesh& from, const std::vector
 // PhotonRounds::kFinishSamples shadow rays and gathered paths a point, from the round's photon estimators with
 // those terms built anew; lit's field becomes that field, and the rounds report it.
 void FinishAtTheFewestSamples(BakedMesh& baked, Lit& lit, const PreparedScene& scene, const SplitMesh& base,
-                              const BakeOptions& o, PhotonRounds& rounds, const std::vector<char>& taken,
+                              const FieldSettings& field, PhotonRounds& rounds, const std::vector<char>& taken,
                               bool interrupted, StageClock& clock, const Log& log) {
   uint64_t done = 0;
   for (size_t c = 0; c < taken.size(); ++c)
     if (taken[c] != 0) done += std::min<uint64_t>(kVertexChunk, base.VertexCount() - c * kVertexChunk);
-  FieldSettings fewest = FieldSettingsOf(o, rounds);
+  FieldSettings fewest = FieldSettingsOf(field, rounds);
   if (fewest.direct.mode == DirectLight::kSampled)
     fewest.direct.samples = std::min(fewest.direct.samples, PhotonRounds::kFinishSamples), fewest.direct.noise = 0;
   fewest.gaps.paths = std::min(fewest.gaps.paths, PhotonRounds::kFinishSamples);
@@ -81,7 +85,7 @@ void FinishAtTheFewestSamples(BakedMesh& baked, Lit& lit, const PreparedScene& s
 // with the new round's field), and the first round estimates the chunks left at the fewest samples, with a field
 // built for them (PhotonRounds::FinishFirstEstimate), so that the bake ends within its budget with valid outputs.
 std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& scene, const SplitMesh& base,
-                                              const BakeOptions& o, PhotonRounds& rounds, const Distribution* d,
+                                              const FieldSettings& field, PhotonRounds& rounds, const Distribution* d,
                                               StageClock& clock, const Log& log) {
   const bool mayStop = d == nullptr && base.VertexCount() > 0;
   const double deadline = rounds.EstimateDeadline();
@@ -108,20 +112,20 @@ std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& sce
     rounds.EstimateInterrupted(interrupted);
     return std::nullopt;
   }
-  FinishAtTheFewestSamples(baked, lit, scene, base, o, rounds, taken, interrupted, clock, log);
+  FinishAtTheFewestSamples(baked, lit, scene, base, field, rounds, taken, interrupted, clock, log);
   return baked;
 }
 
 // Stage 3 from the round's photons at the vertices of `base`, with each vertex's noise and the bake's; with a
 // distribution, each process estimates its share of the vertices for rank 0. False where a later round's estimate
 // stopped (EstimateUntilStopped): lit then keeps the round before's vertices.
-bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, const BakeOptions& o,
+bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, const FieldSettings& field,
                    PhotonRounds& rounds, const Distribution* d, StageClock& clock, const Log& log) {
-  lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(o, rounds), clock, &log));
-  const bool first = rounds.Report().rounds.empty() && d == nullptr && o.Rounds();
+  lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(field, rounds), clock, &log));
+  const bool first = rounds.Report().rounds.empty() && d == nullptr && rounds.Settings().Rounds();
   if (first && rounds.FitFirstEstimate(ForetoldEstimateSeconds(*lit.field, base, clock)))
-    lit.field.emplace(WithSampledTerms(*std::move(lit.field), scene, FieldSettingsOf(o, rounds), clock));
-  std::optional<BakedMesh> baked = EstimateUntilStopped(lit, scene, base, o, rounds, d, clock, log);
+    lit.field.emplace(WithSampledTerms(*std::move(lit.field), scene, FieldSettingsOf(field, rounds), clock));
+  std::optional<BakedMesh> baked = EstimateUntilStopped(lit, scene, base, field, rounds, d, clock, log);
   if (!baked) return false;
   lit.baked = std::move(*baked);
   if (d != nullptr) clock.Time("estimate", [&] { GatherVertices(lit.baked, *d); });
@@ -135,11 +139,6 @@ bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, 
 
 }  // namespace
 
-// --only's surfaces (every surface without it).
-std::vector<bool> EstimatedSurfaces(const BakeOptions& o, const PreparedScene& scene) {
-  return o.only.empty() ? std::vector<bool>{} : SurfacesNamed(scene.scene, scene.surfaces, o.only, "--only");
-}
-
 // The time the estimate took per vertex, over every round [s]: what a texel or a refined vertex costs.
 double SecondsPerPoint(const Lit& lit, const PhotonRounds& rounds, const StageClock& clock) {
   const double points = double(lit.baked.mesh.VertexCount()) * double(std::max<size_t>(rounds.Report().rounds.size(), 1));
@@ -151,20 +150,18 @@ double SecondsPerPoint(const Lit& lit, const PhotonRounds& rounds, const StageCl
 // in the first round's estimate, the vertices left read the fewest samples; in a later round, that round's estimate
 // stops (at once, when the Ctrl-C came while it traced) and the bake keeps the vertices of the round before. The
 // rounds' deadline stops an estimate alike.
-Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs,
-                     const Distribution* distribution, StageClock& clock, const Log& log) {
+Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const FieldSettings& field,
+                     const std::vector<bool>& estimated, OutputFiles& outputs, const Distribution* distribution,
+                     StageClock& clock, const Log& log) {
   const InterruptScope interrupt;
-  // The vertices estimated in every round: every surface's, or --only's (refused here, before any photon is
-  // traced, when it names nothing).
-  const SplitMesh base = SplitBySurface(scene.scene, scene.surfaces, EstimatedSurfaces(o, scene));
+  const SplitMesh base = SplitBySurface(scene.scene, scene.surfaces, estimated);
   Lit lit;
   do {
     rounds.TraceRound();
-    if (!EstimateLight(lit, scene, base, o, rounds, distribution, clock, log)) break;
+    if (!EstimateLight(lit, scene, base, field, rounds, distribution, clock, log)) break;
   } while (rounds.Continue(lit.baked, lit.noise, lit.error, lit.field->Photons().Bandwidths()));
   rounds.Save(outputs);
   return lit;
 }
-
 
 }  // namespace pb

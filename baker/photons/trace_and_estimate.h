@@ -12,7 +12,6 @@
 #include "baker/3_irradiance_field.h"
 #include "baker/baked_mesh.h"
 #include "baker/files/atomic_file.h"
-#include "baker/options.h"
 #include "baker/photons/photon_rounds.h"
 #include "baker/photons/progressive.h"
 #include "baker/runtime/progress.h"
@@ -31,9 +30,6 @@ struct Lit {
   NoiseParts noiseParts;  // the noise of each source alone (BakeNoiseParts)
 };
 
-// --only's surfaces (every surface without it).
-std::vector<bool> EstimatedSurfaces(const BakeOptions& o, const PreparedScene& scene);
-
 // The time the estimate took per vertex, over every round [s]: what a texel or a refined vertex costs.
 double SecondsPerPoint(const Lit& lit, const PhotonRounds& rounds, const StageClock& clock);
 
@@ -41,8 +37,11 @@ double SecondsPerPoint(const Lit& lit, const PhotonRounds& rounds, const StageCl
 // --save-photons. Ctrl-C ends the rounds: in the first round's tracing, the bake goes on with the photons it has;
 // in the first round's estimate, the vertices left read the fewest samples; in a later round, that round's estimate
 // stops (at once, when the Ctrl-C came while it traced) and the bake keeps the vertices of the round before. The
-// rounds' deadline stops an estimate alike.
-Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const BakeOptions& o, OutputFiles& outputs,
-                     const Distribution* distribution, StageClock& clock, const Log& log);
+// rounds' deadline stops an estimate alike. `field`: stage 3's own settings, to which each round's plan adds its
+// shadow rays, gathered paths and held h; `estimated`: one flag per surface whose vertices are estimated (empty:
+// every surface).
+Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const FieldSettings& field,
+                     const std::vector<bool>& estimated, OutputFiles& outputs, const Distribution* distribution,
+                     StageClock& clock, const Log& log);
 
 }  // namespace pb
