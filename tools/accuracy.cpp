@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "baker/bake.h"
+#include "baker/presets.h"
 #include "baker/files/atomic_file.h"
 #include "baker/option_ranges.h"
 #include "tests/lambert.h"

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "baker/options.h"
+#include "baker/presets.h"
 
 namespace CLI {
 class App;

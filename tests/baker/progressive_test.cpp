@@ -17,6 +17,7 @@
 #include <fstream>
 
 #include "baker/bake.h"
+#include "baker/presets.h"
 #include "baker/files/atomic_file.h"
 #include "baker/files/photon_file.h"
 #include "baker/photons/photon_rounds.h"

@@ -12,6 +12,7 @@
 
 #include "baker/0_prepare_scene.h"
 #include "baker/bake.h"
+#include "baker/presets.h"
 #include "baker/files/image_io.h"
 #include "mesh/errors.h"
 #include "tests/test_scenes.h"
