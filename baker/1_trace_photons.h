@@ -23,6 +23,8 @@
 
 #include "baker/0_plan_transport.h"
 #include "baker/0_prepare_scene.h"
+#include "baker/1_trace_settings.h"
+#include "baker/1_trace_share.h"
 #include "baker/photon_store.h"
 #include "baker/runtime/progress.h"
 #include "estimators/photon_map.h"
@@ -35,9 +37,6 @@
 
 namespace pb {
 
-// The default bounce limit, --max-bounces: unlimited in practice, since Russian roulette ends a path long before
-// (a path survives 10,000 bounces of albedo 0.99 with probability 2e-44); it only stops a closed white box.
-inline constexpr uint32_t kDefaultMaxBounces = 10'000;
 
 // Hits reserved per photon before tracing: ~2.5 in a box, so that growth copies are rare (memory mapped, not yet
 // touched, which a `ulimit -v` counts).
@@ -50,26 +49,6 @@ class HitSink {
  public:
   virtual ~HitSink() = default;
   virtual void Take(uint32_t light, HitBlock& hits, size_t from) const = 0;
-};
-
-// A block as one process traced it, for a trace shared among processes: the index of its work item, its range,
-// stats (in attenuation units) and the hits it kept.
-struct TracedBlock {
-  uint64_t item = 0;
-  BlockRange range;
-  TraceStats stats;
-  HitBlock hits;
-};
-
-// A trace shared among processes (bake-mpi, tools/bake_mpi.cpp): each process traces the work items it Takes,
-// given the light of each item in the order the items are claimed, then every process calls Gather once with its blocks, which returns every process's blocks. Every store then
-// holds the same bytes as one traced by one process. A store that every process holds alike (the rounds', --resume's)
-// grows alike.
-class TraceShare {
- public:
-  virtual ~TraceShare() = default;
-  virtual std::vector<bool> Takes(std::span<const uint32_t> itemLights) const = 0;
-  virtual std::vector<TracedBlock> Gather(std::vector<TracedBlock> mine) const = 0;
 };
 
 struct TraceSettings {

@@ -22,23 +22,13 @@
 #include <vector>
 
 #include "baker/2_bin_photons.h"
+#include "baker/4_refine_settings.h"
 #include "baker/3_irradiance_field.h"
 #include "baker/baked_mesh.h"
 #include "baker/runtime/progress.h"
 
 namespace pb {
 
-// --refine, --tolerance, --max-vertices, --subdivide.
-struct RefineSettings {
-  bool adaptive = false;        // --refine: coarsen where the light is flat, refine where it changes
-  float tolerance = 0.02f;      // --tolerance: largest displayed-luminance error; range (0, 1), typical 0.01-0.05
-  size_t maxVertices = 200'000; // --max-vertices: budget of the written mesh's vertices; >= 3, typical 1e4-1e6
-  int subdivide = 0;            // --subdivide: uniform levels first; range [0, 8], each ~4x the vertices
-  // Edges are not cut below this fraction of their surface's h [m]: the estimate is smooth at scale h.
-  float minimumEdgeFraction = 0.125f;
-  bool Enabled() const { return adaptive || subdivide > 0; }
-  void Validate() const;  // the ranges above; an InputError naming the option
-};
 
 // InputError("--subdivide") when the uniform levels would need more memory than the machine has: about 400 bytes
 // per final face (half-edge mesh, display mesh and light; measured on the box at levels 3 to 5).

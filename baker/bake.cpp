@@ -265,6 +265,10 @@ BakeReport Bake(const BakeOptions& o, const Log& log, const Distribution* distri
   return report;
 }
 
+void BakeAndSummarise(const BakeOptions& o, const Log& log, const Distribution* distribution) {
+  PrintSummary(Bake(o, log, distribution), log);
+}
+
 void TraceShareOfBake(const BakeOptions& o, const Log& log, const Distribution& distribution) {
   o.Validate();
   const ThreadScope threads(o.threads);

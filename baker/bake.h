@@ -3,6 +3,7 @@
 #pragma once
 
 #include "baker/5_write_gltf.h"
+#include "baker/bake_run.h"
 #include "baker/files/atomic_file.h"
 #include "baker/options.h"
 #include "baker/runtime/progress.h"
@@ -16,8 +17,6 @@ class Distribution;
 
 // With a distribution (baker/distribution.h), on its rank 0: the photons are traced by every process.
 BakeReport Bake(const BakeOptions& options, const Log& log, const Distribution* distribution = nullptr);
-// On a distribution's other ranks: prepares the scene and traces this process's share of the photons for rank 0.
-void TraceShareOfBake(const BakeOptions& options, const Log& log, const Distribution& distribution);
 
 // Everything before writing the PLY: the report (all but the write time) and the baked
 // mesh. options.outputPath and reportPath are not used; irradiance maps are written when

@@ -17,7 +17,7 @@
 #include <span>
 #include <vector>
 
-#include "baker/1_trace_photons.h"
+#include "baker/1_trace_share.h"
 #include "estimators/rng.h"
 
 namespace pb {

@@ -9,6 +9,7 @@
 
 #include "baker/0_plan_transport.h"
 #include "baker/option_ranges.h"
+#include "estimators/density_estimator.h"
 #include "mesh/errors.h"
 
 namespace pb {

@@ -9,11 +9,11 @@
 #include <string>
 #include <string_view>
 
-#include "baker/1_trace_photons.h"
-#include "baker/3_contributions.h"
-#include "baker/3_gap_gather.h"
-#include "baker/4_refine_mesh.h"
-#include "estimators/density_estimator.h"
+#include "baker/1_trace_settings.h"
+#include "baker/3_direct_settings.h"
+#include "baker/3_gap_settings.h"
+#include "baker/4_refine_settings.h"
+#include "estimators/estimator_settings.h"
 
 namespace pb {
 
@@ -84,6 +84,4 @@ struct BakeOptions {
   void Validate() const;
 };
 
-// The noise the defaults aim at: the 95th percentile of the displayed light's predicted relative error at 3%
-// (baker/photons/progressive.h; docs/bake.md, "Defaults that suit the scene").
 }  // namespace pb

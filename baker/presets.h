@@ -35,6 +35,8 @@ struct QualityPreset {
 std::optional<QualityPreset> ParseQuality(std::string_view name);
 std::string QualityNames();  // comma-separated, for --help and error messages
 
+// The noise the defaults aim at: the 95th percentile of the displayed light's predicted relative error at 3%
+// (baker/photons/progressive.h; docs/bake.md, "Defaults that suit the scene").
 constexpr float kDefaultTargetNoise = 0.03f;
 // The defaults gather on surfaces smaller than 6 h^2 (--gap-small-area), the smallest first, while they hold at
 // most a tenth of the triangles (GapSettings::smallShare; docs/bake.md, "Narrow gaps").

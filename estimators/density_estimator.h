@@ -16,6 +16,7 @@
 #include <string>
 #include <string_view>
 
+#include "estimators/estimator_settings.h"
 #include "estimators/kernels.h"
 #include "estimators/noisy_irradiance.h"
 #include "estimators/surface_region.h"
@@ -25,18 +26,6 @@
 
 namespace pb {
 
-enum class EstimatorKind { kKernel, kHistogram, kNearest };
-inline constexpr std::array kAllEstimators = {EstimatorKind::kKernel, EstimatorKind::kHistogram,
-                                              EstimatorKind::kNearest};
-
-struct EstimatorSettings {
-  EstimatorKind kind = EstimatorKind::kKernel;
-  Kernel kernel = Kernel::kEpanechnikov;
-  float bandwidth = 0.05f;    // h [m]: kernel support radius, or histogram bucket side
-  uint32_t neighbours = 50;   // k of the knn estimator, >= 2
-  bool edgeCorrection = true;  // renormalise by the part of the kernel, bucket or disc on the surface
-  bool localLinear = true;     // the kernel estimator at edges: a local linear fit (kernel_estimator.h), not only renormalised
-};
 
 // Smallest kernel mass M(x) divided by: a corner sharper than about 11 degrees (M < 1/32) is corrected only as
 // far as 1/32, so that a needle-thin corner cannot multiply a few photons into a spike.
@@ -99,8 +88,5 @@ std::unique_ptr<DensityEstimator> MakeCoveredDensityEstimator(const EstimatorSet
                                                               std::span<const Point2> uv, std::span<const Rgb> flux,
                                                               const KernelBinning& openBinning = {}, const KernelBinning& coveredBinning = {});
 
-std::optional<EstimatorKind> ParseEstimator(std::string_view name);
-std::string EstimatorName(EstimatorKind kind);
-std::string EstimatorNames();  // comma-separated, for --help and error messages
 
 }  // namespace pb

@@ -8,8 +8,8 @@
 #include <string_view>
 
 #include "baker/runtime/interrupt.h"
-#include "baker/0_plan_transport.h"
-#include "baker/bake.h"
+#include "baker/0_effects.h"
+#include "baker/bake_run.h"
 #include "estimators/enum_names.h"
 #include "mesh/errors.h"
 #include "tools/cli_options.h"
@@ -257,7 +257,7 @@ int RunBake(int argc, char** argv) {
   return RunTool(app, argc, argv, [&] { ApplyBakeCommandLine(app, c); }, [&] {
     pb::RemoveTemporariesOnTermination();
     const Log log(c.options.quiet);
-    PrintSummary(Bake(c.options, log), log);
+    BakeAndSummarise(c.options, log);
   });
 }
 

@@ -20,7 +20,7 @@
 #include <unistd.h>
 
 #include "baker/runtime/interrupt.h"
-#include "baker/bake.h"
+#include "baker/bake_run.h"
 #include "baker/distribution.h"
 #include "baker/runtime/progress.h"
 #include "mesh/errors.h"
@@ -228,7 +228,7 @@ int Run(const tools::BakeCommandLine& c, const MpiDistribution& d) {
   const Log log(c.options.quiet || !d.Root());
   try {
     if (d.Root())
-      PrintSummary(Bake(c.options, log, &d), log);
+      BakeAndSummarise(c.options, log, &d);
     else
       TraceShareOfBake(c.options, log, d);
     return 0;
