@@ -84,9 +84,12 @@ Texture DecodePng(const std::string& path, const std::string& bytes) {
   if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size()))
     throw InputError(path, 0, std::string("cannot read texture: ") + image.message);
   // The header's size, checked before the pixels are allocated (a 69-byte PNG may declare 65535 x 65535).
-  if (uint64_t(image.width) * image.height > std::min(kMaxTexturePixels, kMostTexturePixelsPerByte * bytes.size()))
+  try {
+    CheckPixelCount(path, image.width, image.height, bytes.size());
+  } catch (const InputError&) {
     png_image_free(&image);
-  CheckPixelCount(path, image.width, image.height, bytes.size());
+    throw;
+  }
   image.format = PNG_FORMAT_RGB;  // 8-bit sRGB-encoded, as most textures are stored
   std::vector<uint8_t> pixels(PNG_IMAGE_SIZE(image));
   if (!png_image_finish_read(&image, nullptr, pixels.data(), 0, nullptr)) {
