@@ -12,7 +12,9 @@
 // over Omega is a signed sum over Omega's boundary edges e of integral_e G(r/h) dtheta, with G the kernel's
 // radial mass (estimators/kernels.h). Along an edge at distance d from x, dtheta = d ds / r^2, so the
 // integrand d G(t)/(h^2 t^2) is smooth in s and Gauss-Legendre integrates it exactly for polynomial kernels.
-// Interior edges, shared by two triangles, cancel and are dropped; T-junction edges cancel numerically. Edges
+// Interior edges, shared by two triangles, cancel and are dropped; T-junction edges cancel numerically; straight
+// runs of boundary edges (a gridded face's sides) are joined into one edge each, so a query's cost is that of the
+// region's true corners, not of the grid it was cut on. Edges
 // farther than h from x are not integrated one by one: together they add the angle they subtend, which is found
 // from the near edges and the crossings of one ray, read from per-row sums of a grid (surface_region.cpp), so a
 // query costs what the edges within h cost, not the whole boundary.

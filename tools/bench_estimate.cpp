@@ -5,6 +5,8 @@
 // to 10^8 photons on the square.
 // BM_KernelMass: the edge correction's boundary mass M(x) alone, at 1,000 points h/2 inside the boundary of a
 // disc of radius 0.5 m cut as a fan of N triangles (N boundary edges), h = 0.05 m.
+// BM_MomentsOnAGriddedFace: the local linear fit's kernel moments alone, at 1,000 points h/2 inside the sides of a
+// 4 x 4 m square cut into N x N cells (4 N boundary edges before straight runs are joined), h = 0.6 m.
 // Run: build/bench_estimate --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
@@ -100,6 +102,33 @@ void BM_KernelMass(benchmark::State& state) {
       benchmark::Counter(double(kPoints), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+std::vector<pb::Triangle2> GriddedSquare(float side, int cells) {
+  std::vector<pb::Triangle2> t;
+  const float step = side / float(cells);
+  for (int j = 0; j < cells; ++j)
+    for (int i = 0; i < cells; ++i) {
+      const pb::Point2 a{i * step, j * step}, b{(i + 1) * step, j * step}, c{(i + 1) * step, (j + 1) * step},
+          d{i * step, (j + 1) * step};
+      t.push_back({a, b, c});
+      t.push_back({a, c, d});
+    }
+  return t;
+}
+
+void BM_MomentsOnAGriddedFace(benchmark::State& state) {
+  const pb::SurfaceRegion region(GriddedSquare(4, int(state.range(0))));
+  constexpr int kPoints = 1000;
+  constexpr double kH = 0.6;
+  for (auto _ : state)
+    for (int i = 0; i < kPoints; ++i) {  // along the side v = h/2, then along u = h/2
+      const float along = float(4.0 * (i / 2 + 0.5) / (kPoints / 2)), in = float(kH / 2);
+      const pb::Point2 x = i % 2 == 0 ? pb::Point2{along, in} : pb::Point2{in, along};
+      benchmark::DoNotOptimize(region.Moments(x, pb::Kernel::kEpanechnikov, kH));
+    }
+  state.counters["ns_per_point"] =
+      benchmark::Counter(double(kPoints), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_Build, kernel, pb::EstimatorKind::kKernel)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
@@ -113,4 +142,5 @@ BENCHMARK(BM_KernelQuery)
     ->Args({1'000'000, 0})->Args({1'000'000, 1})->Args({10'000'000, 0})->Args({10'000'000, 1})->Args({100'000'000, 1})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_KernelMass)->Arg(64)->Arg(1000)->Arg(40000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MomentsOnAGriddedFace)->Arg(1)->Arg(40)->Arg(160)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -275,10 +275,43 @@ TEST(SurfaceRegion, AStarsManySpanningEdgesAreCountedFromTheRowSums) {
   EXPECT_NEAR(region.KernelMass(x, Kernel::kEpanechnikov, 0.05), PolarMass(x, Kernel::kEpanechnikov, 0.05, {star}), 1e-4);
 }
 
-TEST(SurfaceRegion, InteriorEdgesCancelSoTheBoundaryIsFour) {
+// Interior edges cancel, and the 4 n edges of a gridded square's sides join into its 4 sides: the moments' cost at
+// a point is that of the region's corners, not of the grid it was cut on.
+TEST(SurfaceRegion, InteriorEdgesCancelAndStraightRunsJoinSoTheBoundaryIsFour) {
   EXPECT_EQ(SurfaceRegion(Square(0, 1, 1)).BoundaryEdgeCount(), 4u);
-  EXPECT_EQ(SurfaceRegion(Square(0, 1, 5)).BoundaryEdgeCount(), 20u);
+  EXPECT_EQ(SurfaceRegion(Square(0, 1, 5)).BoundaryEdgeCount(), 4u);
+  EXPECT_EQ(SurfaceRegion(Square(0, 4, 160)).BoundaryEdgeCount(), 4u);
   EXPECT_NEAR(SurfaceRegion(Square(0, 2, 5)).Area(), 4.0, 1e-5);
+}
+
+// A gridded square with a gridded square hole: 8 edges, the outer sides and the hole's, and the same moments as
+// the one-cell square with a one-cell hole, for points near corners and sides (a run must not join across a corner).
+TEST(SurfaceRegion, AGriddedFaceWithAHoleReadsAsItsCorners) {
+  const std::vector<Triangle2> hole = Square(1.0f, 2.0f, 40), coarseHole = Square(1.0f, 2.0f, 1);
+  std::vector<Triangle2> face = Square(0, 4, 160), coarse = Square(0, 4, 1);
+  const SurfaceRegion fine(face, hole), plain(coarse, coarseHole);
+  EXPECT_EQ(fine.BoundaryEdgeCount(), 8u);
+  for (const Point2 x : {Point2{0.02f, 0.03f}, Point2{0.9f, 1.5f}, Point2{2.05f, 2.1f}, Point2{3.99f, 0.5f}, Point2{0.7f, 0.7f}})
+    ExpectMoments(fine.Moments(x, Kernel::kEpanechnikov, 0.4), plain.Moments(x, Kernel::kEpanechnikov, 0.4), 1e-9,
+                  "x = (" + std::to_string(x.u) + ", " + std::to_string(x.v) + ")");
+}
+
+// A boundary that bends by less than the joining tolerance at each corner, but turns through 90 degrees in all
+// (a quarter disc of 256 corners on a 1 m radius): its corners are kept, and its mass matches the polar march.
+TEST(SurfaceRegion, ARunBendingSlowlyIsNotJoinedAcrossItsTurn) {
+  constexpr int kCorners = 256;
+  std::vector<Triangle2> fan;
+  Loop loop = {{0, 0}};
+  for (int k = 0; k < kCorners; ++k) {
+    const double a0 = M_PI / 2 * k / kCorners, a1 = M_PI / 2 * (k + 1) / kCorners;
+    fan.push_back({Point2{0, 0}, Point2{float(std::cos(a0)), float(std::sin(a0))}, Point2{float(std::cos(a1)), float(std::sin(a1))}});
+    loop.push_back({std::cos(a0), std::sin(a0)});
+  }
+  loop.push_back({0, 1});
+  const SurfaceRegion region(fan);
+  EXPECT_GE(region.BoundaryEdgeCount(), size_t(kCorners));  // the arc's edges, and the two radii joined or not
+  const Point2 x{0.6f, 0.6f};
+  EXPECT_NEAR(region.KernelMass(x, Kernel::kEpanechnikov, 0.3), PolarMass(x, Kernel::kEpanechnikov, 0.3, {loop}), 1e-4);
 }
 
 // Charts put -0 where a projection rounds to zero (the box's back wall has corners at v = -0). atan2 tells -0
