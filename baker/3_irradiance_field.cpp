@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "baker/1_trace_photons.h"
 
@@ -190,14 +191,28 @@ IrradianceField WithSampledTerms(IrradianceField field, const PreparedScene& sce
 
 namespace {
 
+// A stride coprime to `count` near its golden section: k -> k * stride mod count visits every one of count items
+// once, neighbours far apart.
+size_t ScatteringStride(size_t count) {
+  size_t stride = std::max<size_t>(1, size_t(0.6180339887 * double(count)));
+  while (std::gcd(stride, count) != 1) ++stride;
+  return stride;
+}
+
 // Calls f(v, point of v) for every vertex of `mesh`, in chunks of kVertexChunk in parallel, with `title`'s progress
-// on `log`; with `owns`, only in the chunks it owns.
+// on `log`; with `owns`, only in the chunks it owns. The chunks are taken in a scattered order: the vertices come
+// surface by surface, and a point in a room lit through a door can cost 20 times one in the lit room, so in order
+// the progress line's rate (the lit room's) foretold "2 s left" for 35 s, and a time budget that cut the last
+// chunks short cut one part of the scene. A vertex's light is its own (seeded by the vertex), so the order changes
+// no value.
 template <typename F>
 void ForEachVertex(const SplitMesh& mesh, const Log& log, const char* title, const std::function<bool(size_t)>& owns,
                    F f) {
-  const size_t n = mesh.VertexCount();
+  const size_t n = mesh.VertexCount(), chunks = (n + kVertexChunk - 1) / kVertexChunk;
+  const size_t stride = ScatteringStride(chunks);
   Progress progress(log, title, n);
-  tbb::parallel_for(size_t(0), (n + kVertexChunk - 1) / kVertexChunk, [&](size_t c) {
+  tbb::parallel_for(size_t(0), chunks, [&](size_t k) {
+    const size_t c = size_t(uint64_t(k) * stride % chunks);  // chunks < 2^32: no overflow
     const size_t begin = c * kVertexChunk, end = std::min(n, begin + kVertexChunk);
     if (!owns || owns(c))
       for (size_t v = begin; v != end; ++v) f(v, mesh.Point(v));
