@@ -86,20 +86,20 @@ double FluxUnit(const std::vector<Rgb>& lightPower, const std::vector<uint64_t>&
   return unit > 0 ? unit : 1.0;
 }
 
-BinningPlan PlanBinning(const PreparedScene& scene, const EstimatorSettings& settings, bool automaticBandwidth,
+BinningPlan PlanBinning(const PreparedScene& scene, const EstimatorSettings& settings,
                         uint64_t photons) {
   BinningPlan plan;
   std::vector<Rgb> power;
   for (const Light& light : scene.lights) power.push_back(light.Power());
   plan.photonsPerLight = AllocatePhotons(scene.lights, photons, scene.plan.lightReaches);
   plan.fluxUnit = FluxUnit(power, plan.photonsPerLight);
-  if (settings.kind != EstimatorKind::kKernel || !settings.edgeCorrection || automaticBandwidth) return plan;
+  if (settings.kind != EstimatorKind::kKernel || !settings.edgeCorrection || !settings.bandwidth) return plan;
   plan.lattices.resize(scene.regions.size());
   double nodes = 0;
   for (size_t s = 0; s < scene.regions.size(); ++s) {
-    plan.lattices[s][0] = KernelEstimator::WideLattice(settings.kernel, *scene.regions[s], settings.bandwidth);
+    plan.lattices[s][0] = KernelEstimator::WideLattice(settings.kernel, *scene.regions[s], *settings.bandwidth);
     if (scene.coveredRegions[s])
-      plan.lattices[s][1] = KernelEstimator::WideLattice(settings.kernel, *scene.coveredRegions[s], settings.bandwidth);
+      plan.lattices[s][1] = KernelEstimator::WideLattice(settings.kernel, *scene.coveredRegions[s], *settings.bandwidth);
     for (const auto& lattice : plan.lattices[s])
       if (lattice) nodes += double(lattice->Count());
   }

@@ -48,7 +48,7 @@ struct BinningPlan {
 
 // The plan for a bake of `photons` photons with these estimator settings; fluxUnit from the photons each light
 // will emit.
-BinningPlan PlanBinning(const PreparedScene& scene, const EstimatorSettings& settings, bool automaticBandwidth,
+BinningPlan PlanBinning(const PreparedScene& scene, const EstimatorSettings& settings,
                         uint64_t photons);
 
 // What reached surface s, binned or stored: hits on its front and back sides and the front side's flux.

@@ -26,9 +26,9 @@ void DirectSettings::Validate() const {
 }
 
 std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
-                                     const EstimatorSettings& settings, bool automatic, const Log* log) {
-  std::vector<float> h(regions.size(), settings.bandwidth);
-  if (!automatic) return h;
+                                     const EstimatorSettings& settings, const Log* log) {
+  if (settings.bandwidth) return std::vector<float>(regions.size(), *settings.bandwidth);
+  std::vector<float> h(regions.size());
   std::optional<Progress> progress;
   if (log != nullptr) progress.emplace(*log, "choose bandwidths", regions.size());
   tbb::parallel_for(size_t(0), regions.size(), [&](size_t s) {

@@ -46,10 +46,10 @@ class IrradianceContribution {
   virtual void AddMoments(const SurfacePoint& p, IncidentMoments& moments) const = 0;
 };
 
-// h per surface [m]: settings.bandwidth everywhere, or, when `automatic`, chosen per surface from its photons (with
+// h per surface [m]: settings.bandwidth everywhere, or, where it is none, chosen per surface from its photons (with
 // its progress on `log` when given).
 std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const SurfaceBins& bins,
-                                     const EstimatorSettings& settings, bool automatic, const Log* log = nullptr);
+                                     const EstimatorSettings& settings, const Log* log = nullptr);
 
 // The photons' contribution: on each surface, the density estimate of the photons binned on its front side
 // (stage 2), with that surface's h, edge-corrected over its region. Estimators are built in parallel (with their

@@ -172,7 +172,7 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
   const EstimatorSettings& estimator = settings.estimator;
   std::vector<float> bandwidths = clock.Time("bandwidth", [&] {
     return settings.heldBandwidths.empty()
-               ? SurfaceBandwidths(scene.regions, bins, estimator, settings.automaticBandwidth, log)
+               ? SurfaceBandwidths(scene.regions, bins, estimator, log)
                : settings.heldBandwidths;
   });
   IrradianceField field = clock.Time("estimators", [&] {

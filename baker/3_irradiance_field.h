@@ -116,8 +116,7 @@ class IrradianceField {
 
 // What the field is made of: the photons' estimator, and the terms computed at the points.
 struct FieldSettings {
-  EstimatorSettings estimator;
-  bool automaticBandwidth = false;  // --h auto
+  EstimatorSettings estimator;  // its bandwidth none: --h auto
   // h per surface [m], when given: instead of the above (the rounds of --target-noise hold the first round's
   // --h auto, so that their noise falls as 1 / sqrt(photons); baker/photons/progressive.h).
   std::vector<float> heldBandwidths;

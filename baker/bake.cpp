@@ -108,7 +108,7 @@ RoundSettings RoundSettingsOf(const BakeOptions& o) {
   return {.scenePath = o.scenePath, .photons = o.photons, .maxPhotons = o.maxPhotons, .maxSeconds = o.maxSeconds,
           .maxRounds = o.maxRounds, .targetNoise = o.targetNoise, .targetError = o.targetError, .seed = o.seed,
           .maxBounces = o.maxBounces, .resumePath = o.resumePath, .savePhotonsPath = o.savePhotonsPath,
-          .estimator = o.estimator, .autoBandwidth = o.autoBandwidth, .referencePaths = o.referencePaths, .sh = o.sh,
+          .estimator = o.estimator, .referencePaths = o.referencePaths, .sh = o.sh,
           .sampledDirect = o.direct.mode == DirectLight::kSampled, .shadowRays = o.direct.samples,
           .directNoise = o.direct.noise, .fixedShadowRays = o.direct.fixedSamples, .gapPaths = o.gaps.paths,
           .gapNoise = o.gaps.noise, .fixedGapPaths = o.gaps.fixedPaths};
@@ -121,9 +121,9 @@ std::vector<bool> EstimatedSurfaces(const BakeOptions& o, const PreparedScene& s
 
 // Stage 3's own settings, from the options; the rounds add their plan (baker/photons/trace_and_estimate.h).
 FieldSettings FieldOf(const BakeOptions& o) {
-  return {.estimator = o.estimator, .automaticBandwidth = o.autoBandwidth, .direct = o.direct,
+  return {.estimator = o.estimator, .direct = o.direct,
           .referencePaths = o.referencePaths, .seed = o.seed, .gaps = o.gaps, .guidePhotons = o.guidePhotons,
-          .pool = o.autoBandwidth};
+          .pool = !o.estimator.bandwidth};
 }
 
 // Stages 1 to 3 (baker/photons/trace_and_estimate.h); --only is refused before any photon is traced when it names
@@ -139,7 +139,7 @@ void WarnAboutTheLight(Journal& journal, const BakeOptions& o, const PreparedSce
                        const Lit& lit, const Log& log) {
   if (o.referencePaths == 0) {
     journal.Warn(UnlitLightWarnings(scene, rounds.Store(), o.direct.mode == DirectLight::kSampled), log);
-    journal.Warn(BandwidthWarnings(*lit.field, rounds.Bins(), o.estimator.kind, o.autoBandwidth), log);
+    journal.Warn(BandwidthWarnings(*lit.field, rounds.Bins(), o.estimator), log);
   }
   journal.Warn(DarkBakeWarnings(o.scenePath, lit.baked), log);
   if (o.referencePaths == 0) journal.Warn(BackLitWarnings(scene, rounds.Bins(), lit.baked), log);
@@ -192,9 +192,9 @@ RefineReport RefineTheMesh(Journal& journal, const BakeOptions& o, Lit& lit, con
 constexpr double kMaxCoverSpacingPerDiagonal = 1.0 / 175, kAutoCoverSpacingPerDiagonal = 1.0 / 290;
 SceneSettings SceneOf(const BakeOptions& o) {
   const CoverSettings covers = !o.findCovers ? CoverSettings{.spacing = 0}
-                               : o.autoBandwidth
+                               : !o.estimator.bandwidth
                                    ? CoverSettings{.spacing = FLT_MAX, .maxSpacingPerDiagonal = kAutoCoverSpacingPerDiagonal}
-                                   : CoverSettings{.spacing = o.estimator.bandwidth / 2, .maxSpacingPerDiagonal = kMaxCoverSpacingPerDiagonal};
+                                   : CoverSettings{.spacing = *o.estimator.bandwidth / 2, .maxSpacingPerDiagonal = kMaxCoverSpacingPerDiagonal};
   return {o.scenePath, o.scale, ParseEffectOverrides(o.effectsText), covers, o.lightsPath, o.luminousEfficacy};
 }
 

@@ -12,11 +12,11 @@
 
 namespace pb {
 
-std::vector<std::string> BandwidthWarnings(const IrradianceField& field, const SurfaceBins& bins, EstimatorKind kind,
-                                           bool autoBandwidth) {
+std::vector<std::string> BandwidthWarnings(const IrradianceField& field, const SurfaceBins& bins,
+                                           const EstimatorSettings& estimator) {
   const PreparedScene& p = field.Prepared();
   std::vector<std::string> warnings;
-  if (kind == EstimatorKind::kNearest || autoBandwidth) return warnings;
+  if (estimator.kind == EstimatorKind::kNearest || !estimator.bandwidth) return warnings;
   for (uint32_t s = 0; s < p.surfaces.surfaces.size(); ++s) {
     const double area = p.surfaces.surfaces[s].area;
     const double open = area - (p.coveredRegions[s] ? p.coveredRegions[s]->Area() : 0.0);

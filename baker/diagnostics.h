@@ -22,8 +22,8 @@ namespace pb {
 // covers (where H is 0 in truth): most of its vertices see no photon within h, so the photons' H there reads 0
 // between them. knn adapts its radius, and --h auto keeps 20 photons within h wherever a surface has photons
 // enough to choose from (one with a handful, a table leg's end, is too small to matter): neither is warned about.
-std::vector<std::string> BandwidthWarnings(const IrradianceField& field, const SurfaceBins& bins, EstimatorKind kind,
-                                           bool autoBandwidth);
+std::vector<std::string> BandwidthWarnings(const IrradianceField& field, const SurfaceBins& bins,
+                                           const EstimatorSettings& estimator);
 
 // The lights that reach the scene but got no photon: their share n Phi_l / Phi is below one, so their light is
 // missing from the bake (with the direct light `sampled`, only their interreflected light). Up to three lights are

@@ -53,7 +53,7 @@ void ValidatePhotons(const BakeOptions& o) {
 
 // Lengths far outside these lose the estimate to float precision (h^2 under- or overflows against the scene).
 void ValidateEstimator(const EstimatorSettings& e) {
-  RequireOption(Within(e.bandwidth, kMinOptionLength, 1e4), "--h", "must be a length in [1e-6, 1e4] m");
+  RequireOption(!e.bandwidth || Within(*e.bandwidth, kMinOptionLength, 1e4), "--h", "must be a length in [1e-6, 1e4] m");
   RequireOption(e.neighbours >= 2 && e.neighbours <= 1'000'000, "--k", "must lie in [2, 1000000]");
 }
 

@@ -25,11 +25,11 @@ struct BakeOptions {
   std::string reportPath;  // JSON report; empty for none.
   bool reportAll = false;  // --report-all: every surface and light in the JSON, not only the largest (report.h)
   // Estimator, kernel, h [m] (kernel support radius or bucket side; range (0, inf), typical 0.02-0.1 for a
-  // room), k (knn) and edge correction. estimators/density_estimator.h.
+  // room; none with --h auto: chosen per surface from its photons), k (knn) and edge correction.
+  // estimators/density_estimator.h.
   EstimatorSettings estimator;
-  bool autoBandwidth = false;
   // --effects: which transport to simulate; "auto" lets the scene decide (baker/0_plan_transport.h).
-  std::string effectsText = "auto";  // --h auto: h chosen per surface from its photons (estimators/bandwidth.h)
+  std::string effectsText = "auto";
   uint64_t photons = 1'000'000;   // photons emitted over all lights; range [1, 2^40], typical 1e6-1e7.
   uint64_t seed = 1;              // any value; the same seed gives the same bytes for any thread count.
   unsigned threads = 0;           // worker threads; 0 = all cores.

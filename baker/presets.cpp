@@ -43,7 +43,7 @@ void ApplySceneDefaults(BakeOptions& o, const GivenOptions& given) {
   o.direct.fixedSamples = o.direct.fixedSamples || given.shadowRays;
   o.gaps.fixedPaths = o.gaps.fixedPaths || given.gapPaths;
   if (o.estimator.kind == EstimatorKind::kNearest) return;
-  if (!given.bandwidth) o.autoBandwidth = true;
+  if (!given.bandwidth) o.estimator.bandwidth.reset();
   if (given.photons || o.referencePaths > 0 || !o.resumePath.empty()) return;
   if (o.targetError) SizeFirstRoundForError(o, given, o.photons, kDefaultTargetNoise);
   if (!o.Rounds()) o.targetNoise = kDefaultTargetNoise;

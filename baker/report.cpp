@@ -21,7 +21,7 @@ nlohmann::json OptionsJson(const BakeOptions& o) {
           {"kernel", KernelName(o.estimator.kernel)}, {"k", o.estimator.neighbours},
           {"edge_correction", o.estimator.edgeCorrection}, {"local_linear", o.estimator.localLinear},
           {"find_covers", o.findCovers},
-          {"h_m", o.autoBandwidth ? nlohmann::json("auto") : nlohmann::json(o.estimator.bandwidth)},          {"photons", o.photons},   {"seed", o.seed},
+          {"h_m", o.estimator.bandwidth ? nlohmann::json(*o.estimator.bandwidth) : nlohmann::json("auto")},          {"photons", o.photons},   {"seed", o.seed},
           {"threads_requested", o.threads}, {"scale_m_per_unit", o.scale}, {"ascii", o.asciiPly},
           {"lights", o.lightsPath}, {"luminous_efficacy_lm_per_W", o.luminousEfficacy},
           {"max_bounces", o.maxBounces}, {"direct", DirectLightName(o.direct.mode)},
@@ -362,7 +362,7 @@ void PrintSummary(const BakeReport& r, const Log& log) {
                    "  (balance {:+.3f}%)\n", t.fluxEmitted.Mean(), t.fluxAbsorbed.Mean(), t.fluxEscaped.Mean(),
                    t.fluxForbidden.Mean(), 100.0 * balance);
   s += ProgressiveLines(r.progressive, t.emitted);
-  if (r.options.autoBandwidth) s += AutomaticBandwidthLine(r.surfaces);
+  if (!r.options.estimator.bandwidth) s += AutomaticBandwidthLine(r.surfaces);
   s += fmt::format("  noise     {:.2f}% predicted (95th percentile over the vertices, by luminance x area, of the "
                    "displayed light's relative standard error; smoothing bias not included){}\n", 100 * r.noise,
                    NoisePartsText(r));

@@ -6,11 +6,22 @@
 #include <cmath>
 
 #include "estimators/enum_names.h"
+#include "mesh/errors.h"
 #include "estimators/histogram_estimator.h"
 #include "estimators/kernel_estimator.h"
 #include "estimators/nearest_estimator.h"
 
 namespace pb {
+namespace {
+
+// The surface's own h [m]: an estimator is built once it is chosen.
+float SurfaceBandwidth(const EstimatorSettings& settings) {
+  PB_CHECK(settings.bandwidth.has_value(), "an estimator is built with its surface's h");
+  return *settings.bandwidth;
+}
+
+}  // namespace
+
 std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& settings, const SurfaceRegion& region,
                                                        std::span<const Point2> uv, std::span<const Rgb> flux,
                                                        const KernelBinning& binning) {
@@ -19,11 +30,11 @@ std::unique_ptr<DensityEstimator> MakeDensityEstimator(const EstimatorSettings& 
   switch (settings.kind) {
     case EstimatorKind::kKernel:
       if (binning.traced != nullptr)
-        return std::make_unique<KernelEstimator>(*binning.traced, settings.bandwidth, settings.kernel, region, settings.localLinear);
-      return std::make_unique<KernelEstimator>(uv, flux, settings.bandwidth, settings.kernel, correction, settings.localLinear,
+        return std::make_unique<KernelEstimator>(*binning.traced, SurfaceBandwidth(settings), settings.kernel, region, settings.localLinear);
+      return std::make_unique<KernelEstimator>(uv, flux, SurfaceBandwidth(settings), settings.kernel, correction, settings.localLinear,
                                                binning.wide ? Binning::kWide : Binning::kAuto, binning.fluxUnit);
     case EstimatorKind::kHistogram:
-      return std::make_unique<HistogramEstimator>(uv, flux, settings.bandwidth, region, settings.edgeCorrection);
+      return std::make_unique<HistogramEstimator>(uv, flux, SurfaceBandwidth(settings), region, settings.edgeCorrection);
     case EstimatorKind::kNearest:
       return std::make_unique<NearestEstimator>(uv, flux, settings.neighbours, region, settings.edgeCorrection);
   }
@@ -64,10 +75,10 @@ std::unique_ptr<DensityEstimator> MakeCoveredDensityEstimator(const EstimatorSet
 }
 
 double UniformRelativeNoise(const EstimatorSettings& settings, double photonsPerArea) {
-  const double h2 = double(settings.bandwidth) * settings.bandwidth;
+  const auto h2 = [&] { return double(SurfaceBandwidth(settings)) * SurfaceBandwidth(settings); };
   switch (settings.kind) {
-    case EstimatorKind::kKernel: return std::sqrt(MomentsOf(settings.kernel).roughness / (photonsPerArea * h2));
-    case EstimatorKind::kHistogram: return 1.0 / std::sqrt(photonsPerArea * h2);
+    case EstimatorKind::kKernel: return std::sqrt(MomentsOf(settings.kernel).roughness / (photonsPerArea * h2()));
+    case EstimatorKind::kHistogram: return 1.0 / std::sqrt(photonsPerArea * h2());
     case EstimatorKind::kNearest: return 1.0 / std::sqrt(std::max(1.0, double(settings.neighbours) - 2.0));
   }
   return INFINITY;

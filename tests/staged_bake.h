@@ -15,11 +15,10 @@
 
 namespace pb::test {
 
-// The irradiance field of `bins`, with h chosen per surface when `automatic`.
-inline IrradianceField FieldOf(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings,
-                               bool automatic = false) {
+// The irradiance field of `bins` (h chosen per surface where settings.bandwidth is none).
+inline IrradianceField FieldOf(const PreparedScene& scene, const SurfaceBins& bins, const EstimatorSettings& settings) {
   StageClock clock;
-  return BuildIrradianceField(scene, bins, {.estimator = settings, .automaticBandwidth = automatic}, clock);
+  return BuildIrradianceField(scene, bins, {.estimator = settings}, clock);
 }
 
 struct StagedBake {

@@ -69,7 +69,6 @@ pb::BakeOptions OptionsOf(const std::string& scene, const Config& c, uint64_t se
   o.gaps = c.gaps;
   o.guidePhotons = c.guidePhotons;
   o.estimator = c.estimator;
-  o.autoBandwidth = c.autoBandwidth;
   o.photons = c.photons;
   o.targetNoise = c.targetNoise;
   o.targetError = c.targetError;
@@ -217,7 +216,7 @@ std::vector<Config> ClosedFormConfigs(bool quick) {
                                              : std::vector<uint64_t>{10'000, 100'000, 1'000'000, 10'000'000};
   for (uint64_t n : counts) {
     const auto add = [&](EstimatorKind kind, Kernel kernel, float h, uint32_t k, bool correction, bool automatic) {
-      configs.push_back({{kind, kernel, h, k, correction}, automatic, n});
+      configs.push_back({{kind, kernel, automatic ? std::nullopt : std::optional(h), k, correction}, n});
     };
     add(EstimatorKind::kKernel, Kernel::kEpanechnikov, 0.05f, 50, true, true);
     if (quick) continue;
@@ -260,7 +259,7 @@ void ApplyQuality(const std::string& name, const pb::GivenOptions& given, Config
   pb::BakeOptions o = OptionsOf("", c, 1, 0);
   pb::ApplyDefaults(o, given, name);
   c.photons = o.photons, c.targetNoise = o.targetNoise, c.targetError = o.targetError, c.gaps = o.gaps, c.direct = o.direct;
-  c.autoBandwidth = o.autoBandwidth;
+  c.estimator.bandwidth = o.estimator.bandwidth;
 }
 
 std::vector<Config> Sweep(const SceneSweep& sweep) {
@@ -432,7 +431,8 @@ int main(int argc, char** argv) {
   Config one;
   one.direct.mode = pb::DirectLight::kSampled;
   app.add_option("--photons", one.photons, "box, office: measure only --direct sampled with this many photons");
-  app.add_option("--h", one.estimator.bandwidth, "with --photons: h [m]")->capture_default_str();
+  float h = *pb::EstimatorSettings{}.bandwidth;
+  app.add_option("--h", h, "with --photons: h [m]")->capture_default_str();
   app.add_option("--target-noise", one.targetNoise, "with --photons: rounds to this noise, the first of --photons (bake --target-noise)");
   app.add_option("--target-error", one.targetError,
                  "with --photons: rounds to this predicted error, the first of --photons (bake --target-error)");
@@ -441,7 +441,8 @@ int main(int argc, char** argv) {
   std::string quality;
   app.add_option("--quality", quality, "box, office: one bake of this preset, as bake --quality (" + pb::QualityNames() +
                                        "; h per surface unless --h)");
-  app.add_flag("--h-auto", one.autoBandwidth, "with --photons: h chosen per surface from its photons (bake --h auto)");
+  bool hAuto = false;
+  app.add_flag("--h-auto", hAuto, "with --photons: h chosen per surface from its photons (bake --h auto)");
   app.add_option("--direct-samples", one.direct.samples,
                  "with --photons: shadow rays per point (with --direct-noise: at most)")
       ->capture_default_str();
@@ -463,6 +464,7 @@ int main(int argc, char** argv) {
                  "many photons (bake --guide-photons)");
   const auto validate = [&] {  // with bake's ranges (baker/option_ranges.h)
     pb::RequireThreads(threads);
+    one.estimator.bandwidth = hAuto ? std::nullopt : std::optional(h);
     pb::RequireOption(!defaults || quality.empty(), "--defaults", "goes without --quality");
     if (defaults) one.photons = pb::BakeOptions{}.photons, ApplyQuality("", {}, one);  // bake's first round
     if (!quality.empty())

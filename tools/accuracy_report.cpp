@@ -21,7 +21,7 @@ void WriteCsv(const std::string& path, const std::vector<Run>& runs) {
       const pb::EstimatorSettings& e = r.config.estimator;
       out << fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.1f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},{:.5f},"
                          "{},{},{},{:.5f},{},{:.5f},{},{:.5f},{},{},{:.5f},{:.5f},{:.5f}\n",
-                         pb::EstimatorName(e.kind), pb::KernelName(e.kernel), e.bandwidth, r.config.autoBandwidth,
+                         pb::EstimatorName(e.kind), pb::KernelName(e.kernel), e.bandwidth ? fmt::format("{}", *e.bandwidth) : "auto", !e.bandwidth,
                          e.neighbours, e.edgeCorrection, r.config.photons, r.seconds, r.traceSeconds,
                          r.estimateSeconds, r.peakMiB, r.error.rmse, r.error.rmseInterior, r.error.rmseEdge,
                          r.error.bias, r.error.maxError, r.error.noise, r.error.systematic,

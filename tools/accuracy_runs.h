@@ -28,8 +28,7 @@ constexpr double kEdgeBand = 0.1 * kFloorSide;  // vertices this close to the bo
 enum class Bench { kClosedForm, kBox, kOffice, kScene };
 
 struct Config {
-  pb::EstimatorSettings estimator;
-  bool autoBandwidth = false;
+  pb::EstimatorSettings estimator;  // its bandwidth none: h per surface (--h auto)
   uint64_t photons = 0;
   std::optional<float> targetNoise;  // rounds to this noise (bake --target-noise), the first of `photons`
   std::optional<float> targetError;  // rounds to this predicted error (bake --target-error), the first of `photons`
@@ -42,7 +41,7 @@ struct Config {
   std::string Group(Bench bench) const {
     if (referencePaths > 0) return "path tracer";
     if (bench == Bench::kClosedForm) return pb::EstimatorName(estimator.kind);
-    if ((targetError || targetNoise) && autoBandwidth) return "quality targets";
+    if ((targetError || targetNoise) && !estimator.bandwidth) return "quality targets";
     return direct.mode == pb::DirectLight::kSampled ? "sampled" : "photons";
   }
   std::string Label() const {
@@ -54,8 +53,8 @@ struct Config {
     s += pb::EstimatorName(estimator.kind);
     if (estimator.kind == pb::EstimatorKind::kKernel) s += "/" + pb::KernelName(estimator.kernel);
     s += estimator.kind == pb::EstimatorKind::kNearest ? fmt::format(" k={}", estimator.neighbours)
-         : autoBandwidth                               ? std::string(" h=auto")
-                                                       : fmt::format(" h={}", estimator.bandwidth);
+         : !estimator.bandwidth                        ? std::string(" h=auto")
+                                                       : fmt::format(" h={}", *estimator.bandwidth);
     if (!estimator.edgeCorrection) s += " no-correction";
     if (direct.mode == pb::DirectLight::kSampled && gaps.paths != pb::GapSettings{}.paths)
       s += gaps.noise > 0 ? fmt::format(" gaps noise {} (<= {})", gaps.noise, gaps.paths) : fmt::format(" gaps={}", gaps.paths);

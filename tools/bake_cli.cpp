@@ -18,16 +18,16 @@ namespace pb::tools {
 namespace {
 
 
-void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e, bool& automatic) {
+void DefineEstimatorOptions(CLI::App& app, pb::EstimatorSettings& e) {
   pb::tools::AddNamedOption(app, "--estimator", e.kind, pb::ParseEstimator, pb::EstimatorName, pb::EstimatorNames(), "estimator",
                  "density estimator (the paper's three classes)");
   pb::tools::AddNamedOption(app, "--kernel", e.kernel, pb::ParseKernel, pb::KernelName, pb::KernelNames(), "kernel",
                  "kernel of --estimator kernel");
   app.add_option_function<std::string>(
          "--h",
-         [&e, &automatic](const std::string& text) {
-           automatic = text == "auto";
-           if (!automatic) e.bandwidth = float(pb::tools::ParseNumber(text));
+         [&e](const std::string& text) {
+           if (text == "auto") e.bandwidth.reset();
+           else e.bandwidth = float(pb::tools::ParseNumber(text));
          },
          "bandwidth h [m]: kernel support radius, or histogram bucket side, in the surface; range 1e-6 to 1e4, typical "
          "0.02-0.1 for a room-sized scene; or 'auto': chosen per surface from its photons (docs/conventions.md, 'Automatic h'), "
@@ -219,7 +219,7 @@ void DefineOptions(CLI::App& app, pb::BakeOptions& o) {
   DefinePhotonOptions(app, o);
   DefineRoundOptions(app, o);
   app.option_defaults()->group("Density estimation");
-  DefineEstimatorOptions(app, o.estimator, o.autoBandwidth);
+  DefineEstimatorOptions(app, o.estimator);
   app.add_flag("!--no-cover", o.findCovers, "do not find where other geometry covers a surface (a block on a floor); "
                                            "light then bleeds under objects and is lost beside them");
   DefineDirectOptions(app, o);

@@ -105,7 +105,7 @@ bool PhotonRounds::Grow(const HitSink* sink) {
 
 void PhotonRounds::TraceRound() {
   roundStart_ = ReadClock();
-  const BinningPlan plan = PlanBinning(scene_, settings_.estimator, settings_.autoBandwidth, photons_);
+  const BinningPlan plan = PlanBinning(scene_, settings_.estimator, photons_);
   if (distribution_ != nullptr && !distribution_->Agreed()) RequireAllReady(*distribution_);  // once, before any photon
   std::optional<PhotonBinner> binner;
   if (BinsWhileTracing(plan)) binner.emplace(scene_, plan, settings_.sh);
@@ -122,7 +122,7 @@ void PhotonRounds::TraceRound() {
   const Scene* directionsIn = settings_.sh ? &scene_.scene : nullptr;
   bins_ = clock_.Time("bin", [&] {
     SurfaceBins bins = BinPhotons(scene_.surfaces, store_, log_, plan, binner ? &*binner : nullptr, directionsIn);
-    if (settings_.autoBandwidth) PoolSparseHits(scene_.scene, scene_.surfaces, store_, bins);
+    if (!settings_.estimator.bandwidth) PoolSparseHits(scene_.scene, scene_.surfaces, store_, bins);
     return bins;
   });
 }
@@ -188,7 +188,7 @@ bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const BakeErro
   bool more = decides && !LastRound(baked, noise, error);
   if (distribution_ != nullptr) ShareThePlan(more);
   if (!more) return false;
-  if (settings_.autoBandwidth && heldBandwidths_.empty() && !bandwidthFollows_) heldBandwidths_ = bandwidths;
+  if (!settings_.estimator.bandwidth && heldBandwidths_.empty() && !bandwidthFollows_) heldBandwidths_ = bandwidths;
   return true;
 }
 

@@ -43,8 +43,7 @@ struct RoundSettings {
   uint64_t seed = 1;
   uint32_t maxBounces = 0;
   std::string resumePath, savePhotonsPath;
-  EstimatorSettings estimator;
-  bool autoBandwidth = false;
+  EstimatorSettings estimator;  // its bandwidth none: --h auto
   uint32_t referencePaths = 0;  // --reference: no photons; the points gather all of H
   bool sh = false;              // the photons keep their directions for --sh
   // The sampled terms as given, which the rounds raise, or cut to fit the time budget: whether the points sample
@@ -131,7 +130,7 @@ class PhotonRounds {
   // from each round's photons instead, so that the bias falls with them (where it did not, chosen again it shrank
   // faster than the noise could follow: the office with books took 3 rounds and 17M photons for 3%).
   bool BandwidthFollows(const BakeError& error) const {
-    return settings_.autoBandwidth && settings_.targetError && error.bias > kFollowingBias * *settings_.targetError;
+    return !settings_.estimator.bandwidth && settings_.targetError && error.bias > kFollowingBias * *settings_.targetError;
   }
   static constexpr double kFollowingBias = 0.5;
   bool LastRound(const BakedMesh& baked, double noise, const BakeError& error);

@@ -56,7 +56,9 @@ TEST_P(AutoBandwidth, LandsWithinAFactorOfTwoOfTheScannedOptimum) {
     }
     return std::sqrt(sum / n);
   };
-  const std::vector<float> automatic = SurfaceBandwidths(regions, bins, settings, true);
+  EstimatorSettings perSurface = settings;
+  perSurface.bandwidth.reset();
+  const std::vector<float> automatic = SurfaceBandwidths(regions, bins, perSurface);
   const size_t floor = surfaces.surfaceOfTriangle[0];
   double bestH = 0, bestError = INFINITY;
   for (double h = 0.02; h < 0.45; h *= std::pow(2.0, 0.25)) {

@@ -43,7 +43,7 @@ TEST(ClosedForm, SquareLightOverBlackFloorMatchesLambert) {
 
   const std::vector<V3> light = {{-0.5, 1, -0.5}, {0.5, 1, -0.5}, {0.5, 1, 0.5}, {-0.5, 1, 0.5}};
   const double phi = M_PI / double(o.photons);  // Phi = pi L A = pi W, split evenly
-  const double h = o.estimator.bandwidth, kernelSquareIntegral = 4.0 / (3.0 * M_PI * h * h);
+  const double h = *o.estimator.bandwidth, kernelSquareIntegral = 4.0 / (3.0 * M_PI * h * h);
   double sumRelative = 0;
   int interior = 0, worstIndex = -1;
   double worstZ = 0;
@@ -143,7 +143,7 @@ double PredictedRelativeMse(const EstimatorSettings& e, double x, double z, doub
   const double exact = Exact(x, z);
   switch (e.kind) {
     case EstimatorKind::kKernel:
-      return RelativeMse(KernelMoments(x, z, e.kernel, e.bandwidth, phi, e.localLinear), exact);
+      return RelativeMse(KernelMoments(x, z, e.kernel, *e.bandwidth, phi, e.localLinear), exact);
     case EstimatorKind::kNearest: {
       const double r = std::sqrt(e.neighbours * phi / (M_PI * exact));
       Moments m = KernelMoments(x, z, Kernel::kUniform, r, phi, false);
@@ -154,9 +154,9 @@ double PredictedRelativeMse(const EstimatorSettings& e, double x, double z, doub
       double worst = 0;
       for (double dx : {-1.0, 0.0})
         for (double dz : {-1.0, 0.0}) {
-          const double x0 = x + dx * e.bandwidth, z0 = z + dz * e.bandwidth;
-          if (!Floor::Inside(x0 + e.bandwidth / 2, z0 + e.bandwidth / 2)) continue;
-          worst = std::max(worst, RelativeMse(BucketMoments(x0, z0, e.bandwidth, phi), exact));
+          const double side = *e.bandwidth, x0 = x + dx * side, z0 = z + dz * side;
+          if (!Floor::Inside(x0 + side / 2, z0 + side / 2)) continue;
+          worst = std::max(worst, RelativeMse(BucketMoments(x0, z0, side, phi), exact));
         }
       return worst;
     }

@@ -262,7 +262,7 @@ TEST(Cover, AThinSlabOnAFloorDarkensOnlyWhatItCovers) {
   o.estimator.bandwidth = 0.1f;
   Bake(o, Log(true));
   const test::PlyData ply = test::ReadPly(o.outputPath);
-  const double phi = 10 * M_PI * 0.25 / double(o.photons), h = o.estimator.bandwidth;
+  const double phi = 10 * M_PI * 0.25 / double(o.photons), h = *o.estimator.bandwidth;
   int under = 0, beside = 0;
   double worstBias = 0;
   for (size_t v = 0; v < ply.VertexCount(); ++v) {

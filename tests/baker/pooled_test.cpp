@@ -55,11 +55,10 @@ BakeResult BakeCutFloor(unsigned threads, bool pooled = true) {
   o.scenePath = scene;
   o.photons = 30'000;
   o.direct.mode = DirectLight::kPhotons;
-  o.autoBandwidth = true;
+  o.estimator.bandwidth.reset();  // --h auto
   o.threads = threads;
   if (!pooled) {  // each cell on its own, with the h --h auto chose it
     const BakeResult automatic = BakeMesh(o, Log(true));
-    o.autoBandwidth = false;
     o.estimator.bandwidth = float(automatic.report.surfaces[0].bandwidth);
   }
   return BakeMesh(o, Log(true));

@@ -479,7 +479,7 @@ TEST(Progressive, TargetErrorIsReachedWithinAFactorOfOneAndAHalfOnTheClosedForm)
   for (float target : {0.06f, 0.03f}) {
     BakeOptions o = Options(scene, dir + "/target.ply", 100'000);
     o.targetError = target;
-    o.autoBandwidth = true;
+    o.estimator.bandwidth.reset();  // --h auto
     const BakeResult r = BakeMesh(o, Log(true));
     ASSERT_TRUE(r.report.progressive.TargetMet()) << r.report.progressive.stoppedBy;
     double squares = 0, sum = 0;

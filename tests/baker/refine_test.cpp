@@ -249,7 +249,7 @@ TEST(Refine, CtrlCDuringRefinementWritesTheMeshUnrefined) {
   BakeOptions o;
   o.scenePath = PB_SOURCE_DIR "/data/box/box.obj";
   o.photons = 50'000;
-  o.estimator.bandwidth = 0.05f, o.autoBandwidth = false;
+  o.estimator.bandwidth = 0.05f;
   o.direct.samples = 16;
   o.quiet = true;
   o.outputPath = dir + "/unrefined.ply";

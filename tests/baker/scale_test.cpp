@@ -27,7 +27,6 @@ BakeOptions ScaledBox(double scale, double h, uint64_t photons) {
   o.outputPath = test::TempDirectory("scale") + "/out.ply";
   o.photons = photons;
   o.scale = float(scale);
-  o.autoBandwidth = false;
   o.estimator.bandwidth = float(h * scale);
   return o;
 }
@@ -111,7 +110,7 @@ TEST(Scale, AtTheDefaultsHAndCoversScaleWithTheScene) {
     return BakeMesh(o, Log(true));
   };
   const BakeResult metres = bake(1);
-  ASSERT_TRUE(metres.report.options.autoBandwidth);
+  ASSERT_FALSE(metres.report.options.estimator.bandwidth.has_value());  // --h auto
   const double floor = metres.report.surfaces[0].area;
   for (const double scale : {1e-3, 1e3}) {
     const BakeResult scaled = bake(scale);
@@ -139,8 +138,7 @@ TEST(Scale, AFaintAndABlindingLightReadTheSameRelativeNoise) {
     o.outputPath = test::TempDirectory("blinding-out") + "/out.ply";
     o.photons = 100'000;
     o.direct.mode = DirectLight::kPhotons;
-    o.autoBandwidth = autoBandwidth;
-    o.estimator.bandwidth = 0.1f;
+    o.estimator.bandwidth = autoBandwidth ? std::nullopt : std::optional(0.1f);
     return BakeMesh(o, Log(true));
   };
   for (const bool autoBandwidth : {false, true}) {
