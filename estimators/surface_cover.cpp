@@ -1,35 +1,18 @@
 #include "estimators/surface_cover.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cfloat>
 #include <array>
+#include <cfloat>
 #include <cmath>
-#include <cstring>
-#include <optional>
-#include <unordered_map>
 
-#include "estimators/chart_clip.h"
 #include "estimators/cover_band.h"
-#include "estimators/surface_region.h"
-#include "estimators/warps.h"
+#include "estimators/cover_pieces.h"
+#include "estimators/cover_probe.h"
 
 namespace pb {
-namespace {
-
-constexpr int kBisections = 10;  // the contact line to s / 1024
-
-// kCoverRays directions about +z, cosine-weighted on a golden-angle spiral: the same for every point.
-std::array<Vector3, kCoverRays> HemisphereSpiral() {
-  std::array<Vector3, kCoverRays> d;
-  for (int k = 0; k < kCoverRays; ++k) d[k] = CosineSpiralDirection(k, kCoverRays);
-  return d;
-}
-
-}  // namespace
 
 // Builds one surface's cover: classifies the lattice, bisects its changing edges, and cuts the covered cells'
 // polygons to the surface's triangles.
@@ -37,11 +20,11 @@ class CoverBuilder {
  public:
   CoverBuilder(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t s,
                const CoverSettings& settings)
-      : scene_(scene), surfaces_(surfaces), rays_(rays), surface_(surfaces.surfaces[s]), surfaceIndex_(s), settings_(settings),
-        directions_(HemisphereSpiral()), whole_(ChartTriangles()) {}
+      : scene_(scene), surfaces_(surfaces), rays_(rays), surfaceIndex_(s), settings_(settings),
+        probe_(scene, surfaces, rays, s) {}
 
   SurfaceCover Build() {
-    const Bounds2& b = whole_.Bounds();
+    const Bounds2& b = probe_.Whole().Bounds();
     const double su = double(b.hi.u) - b.lo.u, sv = double(b.hi.v) - b.lo.v;
     // A surface narrower than two lattice spacings holds at most a row of lattice points: too few to find a cover.
     if (!(std::min(su, sv) >= 2 * double(settings_.spacing))) return {};
@@ -52,7 +35,7 @@ class CoverBuilder {
     c_.nu_ = int(std::ceil(su / spacing)) + 2;  // from half a spacing before the chart to at least half after
     c_.nv_ = int(std::ceil(sv / spacing)) + 2;
     const std::vector<uint64_t> band = BandPoints(CellsWhereTheCoverCanChange(
-        {scene_, surfaces_, rays_, surfaceIndex_}, {c_.lo_, c_.spacing_, c_.nu_, c_.nv_}, whole_.Bounds()));
+        {scene_, surfaces_, rays_, surfaceIndex_}, {c_.lo_, c_.spacing_, c_.nu_, c_.nv_}, probe_.Whole().Bounds()));
     ClassifyLattice(band);
     if (c_.runs_.empty()) {
       SurfaceCover empty;
@@ -62,48 +45,13 @@ class CoverBuilder {
     c_.probed_ = band.size();
     const std::vector<LatticeEdge> changing = ChangingEdges();
     FindCrossings(changing);
-    FindCorners(changing);
-    CutPieces();
+    CoverPieces pieces(c_, probe_, surfaces_, surfaceIndex_);
+    pieces.FindCorners(changing);
+    pieces.CutPieces();
     return std::move(c_);
   }
 
  private:
-  std::vector<Triangle2> ChartTriangles() const {
-    std::vector<Triangle2> triangles;
-    for (uint32_t t : surface_.triangles) triangles.push_back(surfaces_.cornerUv[t]);
-    return triangles;
-  }
-
-  // Whether chart point uv is on the surface and all but one of the rays from it, over the surface's front, first
-  // meet a triangle's back. Off the surface nothing is covered, so a contact line that reaches the surface's edge
-  // ends there. The point is on the surface's mean plane, which a surface planar to within a degree can leave by
-  // millimetres (the box's twisted red wall): a ray passes through the surface's own triangles.
-  bool CoveredAt(Point2 uv) const {
-    if (!whole_.Contains(uv)) return false;
-    const SurfaceChart& chart = surface_.chart;
-    const Point3 p = chart.origin + chart.frame.s * uv.u + chart.frame.t * uv.v;
-    int open = 0;
-    for (const Vector3& local : directions_) {
-      const Vector3 d = chart.frame.ToWorld(local);
-      if (!MeetsABack(rays_.SpawnPoint(p, chart.frame.n), d)) ++open;
-      if (open > 1) return false;
-    }
-    return true;
-  }
-
-  // Whether the ray first meets the back of a triangle of another surface.
-  bool MeetsABack(Point3 origin, Vector3 d) const {
-    constexpr int kPassesThroughOwn = 4;
-    for (int pass = 0; pass < kPassesThroughOwn; ++pass) {
-      const std::optional<RayHit> hit = rays_.Intersect(origin, d);
-      if (!hit) return false;
-      const Vector3 area = scene_.AreaVector(hit->triangle);
-      if (surfaces_.surfaceOfTriangle[hit->triangle] != surfaceIndex_) return Dot(area, d) > 0;
-      origin = rays_.SpawnPoint(origin + d * hit->t, NormalFrom(Dot(area, d) > 0 ? area : area * -1.0f));
-    }
-    return false;
-  }
-
   // Lattice cells [i, i + 1] x [j, j + 1] as keys j * nu + i, and lattice points (i, j) alike.
   uint64_t Key(int i, int j) const { return uint64_t(j) * uint64_t(c_.nu_) + uint64_t(i); }
 
@@ -131,7 +79,7 @@ class CoverBuilder {
     std::vector<uint8_t> covered(band.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, band.size()), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t k = r.begin(); k != r.end(); ++k)
-        covered[k] = CoveredAt(c_.Lattice(int(band[k] % uint64_t(c_.nu_)), int(band[k] / uint64_t(c_.nu_))));
+        covered[k] = probe_.CoveredAt(c_.Lattice(int(band[k] % uint64_t(c_.nu_)), int(band[k] / uint64_t(c_.nu_))));
     });
     std::vector<std::pair<int, SurfaceCover::Run>> runs;  // (row, run)
     for (size_t k = 0; k < band.size(); ++k) {
@@ -152,10 +100,6 @@ class CoverBuilder {
     }
     for (size_t k = 1; k < c_.rowStart_.size(); ++k) c_.rowStart_[k] += c_.rowStart_[k - 1];
   }
-
-  struct LatticeEdge {
-    int i, j, axis;  // from point (i, j) along +u (axis 0) or +v (axis 1)
-  };
 
   // The lattice edges whose ends differ: at each run's ends along its row, and where two neighbouring rows' runs
   // differ (their symmetric difference), found from the runs alone.
@@ -190,7 +134,7 @@ class CoverBuilder {
       for (size_t k = r.begin(); k != r.end(); ++k) {
         const LatticeEdge& e = edges[k];
         const int i1 = e.i + (e.axis == 0), j1 = e.j + (e.axis == 1);
-        at[k] = Bisect(c_.Lattice(e.i, e.j), c_.Lattice(i1, j1), c_.CoveredPoint(e.i, e.j));
+        at[k] = probe_.Bisect(c_.Lattice(e.i, e.j), c_.Lattice(i1, j1), c_.CoveredPoint(e.i, e.j));
       }
     });
     c_.crossing_.reserve(edges.size());
@@ -198,151 +142,12 @@ class CoverBuilder {
       c_.crossing_.emplace(SurfaceCover::EdgeKey(Key(edges[k].i, edges[k].j), edges[k].axis), at[k]);
   }
 
-  // Where along a -> b the cover changes, to 1 / 2^kBisections, rounded toward the covered end.
-  // Where the open end is off the surface, the cover usually runs up to the surface's edge (a face inside a
-  // closed object): the edge is found by the containment test alone, and one ray test just inside it confirms
-  // that the cover reaches it (else the rays decide every step).
-  float Bisect(Point2 a, Point2 b, bool coveredAtA) const {
-    if (!whole_.Contains(coveredAtA ? b : a)) {
-      const float edge = BisectBy([&](Point2 m) { return whole_.Contains(m); }, a, b, coveredAtA);
-      if (CoveredAt(Between(a, b, edge))) return edge;
-    }
-    return BisectBy([&](Point2 m) { return CoveredAt(m); }, a, b, coveredAtA);
-  }
-
-  template <typename Covered>
-  static float BisectBy(const Covered& covered, Point2 a, Point2 b, bool coveredAtA) {
-    float lo = 0, hi = 1;
-    for (int k = 0; k < kBisections; ++k) {
-      const float mid = 0.5f * (lo + hi);
-      const Point2 m{a.u + mid * (b.u - a.u), a.v + mid * (b.v - a.v)};
-      (covered(m) == coveredAtA ? lo : hi) = mid;
-    }
-    return coveredAtA ? lo : hi;  // on the covered side: no photon that reached the surface lands in the cover
-  }
-
-  // Cells whose polygon has one crossing where the cover ends and one where it begins again: where the contact
-  // line turns a corner between them, the corner (SurfaceCover::corners_). Only cells beside a changing edge can.
-  void FindCorners(const std::vector<LatticeEdge>& changing) {
-    std::vector<uint64_t> cells;
-    for (const LatticeEdge& e : changing) {
-      const int i = e.i - (e.axis == 1), j = e.j - (e.axis == 0);  // the cell before the edge, then the one after
-      for (const auto& [ci, cj] : {std::pair{i, j}, std::pair{e.i, e.j}})
-        if (ci >= 0 && cj >= 0 && ci + 1 < c_.nu_ && cj + 1 < c_.nv_) cells.push_back(Key(ci, cj));
-    }
-    std::sort(cells.begin(), cells.end());
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    std::vector<std::optional<Point2>> corner(cells.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, cells.size()), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t k = r.begin(); k != r.end(); ++k)
-        corner[k] = CornerIn(int(cells[k] % uint64_t(c_.nu_)), int(cells[k] / uint64_t(c_.nu_)));
-    });
-    for (size_t k = 0; k < cells.size(); ++k)
-      if (corner[k]) c_.corners_.emplace(size_t(cells[k]), *corner[k]);
-  }
-
-  std::optional<Point2> CornerIn(int i, int j) const {
-    const std::array<SurfaceCover::CellEdge, 4> edges = c_.EdgesOf(i, j);
-    const SurfaceCover::CellEdge *exit = nullptr, *entry = nullptr;
-    int changes = 0;
-    for (const SurfaceCover::CellEdge& e : edges) {
-      if (e.coveredA == e.coveredB) continue;
-      ++changes;
-      (e.coveredA ? exit : entry) = &e;
-    }
-    if (changes != 2) return std::nullopt;  // uniform, or a saddle
-    const std::optional<Line2> out = ContactLineAt(*exit), in = ContactLineAt(*entry);
-    if (!out || !in) return std::nullopt;
-    const std::optional<Point2> x = Intersection(*out, *in);
-    if (!x || !c_.InCell(*x, i, j)) return std::nullopt;
-    if (!Convex(c_.CellPolygon(i, j, &*x))) return std::nullopt;
-    const Point2 chordMiddle = Between(out->through, in->through, 0.5);
-    if (!CoveredAt(Between(chordMiddle, *x, 0.5))) return std::nullopt;  // the turn is not where the lines say
-    return x;
-  }
-
-  struct Line2 {
-    Point2 through, second;  // two points on it
-  };
-
-  // The contact line through the crossing on lattice edge e, from a second crossing s / 4 into the cell along a
-  // parallel segment whose ends are covered as e's are. None when the line turns within s / 4 of the edge.
-  std::optional<Line2> ContactLineAt(const SurfaceCover::CellEdge& e) const {
-    const float d = 0.25f * c_.spacing_;
-    const Point2 a{e.a.u + d * e.inward.u, e.a.v + d * e.inward.v}, b{e.b.u + d * e.inward.u, e.b.v + d * e.inward.v};
-    if (CoveredAt(a) != e.coveredA || CoveredAt(b) != e.coveredB) return std::nullopt;
-    return Line2{e.crossing, Between(a, b, Bisect(a, b, e.coveredA))};
-  }
-
-  // Where two lines meet, unless they are within 10 degrees of parallel (a straight contact line: no corner).
-  static std::optional<Point2> Intersection(const Line2& p, const Line2& q) {
-    const double pu = double(p.second.u) - p.through.u, pv = double(p.second.v) - p.through.v;
-    const double qu = double(q.second.u) - q.through.u, qv = double(q.second.v) - q.through.v;
-    const double cross = pu * qv - pv * qu;
-    if (!(std::fabs(cross) > std::sin(10 * M_PI / 180) * std::hypot(pu, pv) * std::hypot(qu, qv))) return std::nullopt;
-    const double a = ((double(q.through.u) - p.through.u) * qv - (double(q.through.v) - p.through.v) * qu) / cross;
-    return Point2{float(p.through.u + a * pu), float(p.through.v + a * pv)};
-  }
-
-  static Point2 Between(Point2 a, Point2 b, double t) {
-    return {float(a.u + t * (double(b.u) - a.u)), float(a.v + t * (double(b.v) - a.v))};
-  }
-
-  static bool Convex(const std::vector<Point2>& polygon) {
-    for (size_t k = 0; k < polygon.size(); ++k) {
-      const size_t n = polygon.size();
-      if (SignedArea(polygon[k], polygon[(k + 1) % n], polygon[(k + 2) % n]) < 0) return false;
-    }
-    return true;
-  }
-
-  // Each cell's covered polygon, cut to each surface triangle that its box meets, as triangles, in cell order.
-  void CutPieces() {
-    const std::vector<uint64_t> cells = CellsWithACoveredCorner();
-    std::vector<std::vector<uint32_t>> trianglesOfCell(cells.size());
-    const auto cellOf = [&](float c, float lo, int n) { return std::clamp(int(std::floor((c - lo) / c_.spacing_)), 0, n - 2); };
-    for (uint32_t t : surface_.triangles) {
-      Bounds2 tb;
-      for (const Point2& p : surfaces_.cornerUv[t]) tb.Extend(p);
-      const int i0 = cellOf(tb.lo.u, c_.lo_.u, c_.nu_), i1 = cellOf(tb.hi.u, c_.lo_.u, c_.nu_);
-      for (int j = cellOf(tb.lo.v, c_.lo_.v, c_.nv_); j <= cellOf(tb.hi.v, c_.lo_.v, c_.nv_); ++j)
-        for (auto c = std::lower_bound(cells.begin(), cells.end(), Key(i0, j)); c != cells.end() && *c <= Key(i1, j); ++c)
-          trianglesOfCell[size_t(c - cells.begin())].push_back(t);
-    }
-    for (size_t k = 0; k < cells.size(); ++k) {
-      const std::vector<Point2> polygon = c_.CellPolygon(int(cells[k] % uint64_t(c_.nu_)), int(cells[k] / uint64_t(c_.nu_)));
-      for (uint32_t t : trianglesOfCell[k]) {
-        std::array<Point2, 3> tri = surfaces_.cornerUv[t];
-        if (SignedArea(tri[0], tri[1], tri[2]) < 0) std::swap(tri[1], tri[2]);
-        std::vector<Point2> piece = polygon;
-        for (int e = 0; e < 3 && piece.size() >= 3; ++e) piece = ClipLeftOf(piece, tri[e], tri[(e + 1) % 3]);
-        if (piece.size() < 3 || !(TwiceSignedArea(piece) > 1e-12 * double(c_.spacing_) * c_.spacing_)) continue;
-        for (size_t m = 1; m + 1 < piece.size(); ++m) c_.pieces_.push_back({piece[0], piece[m], piece[m + 1]});
-      }
-    }
-  }
-
-  // The cells with a covered corner, from the runs: each covered point's four cells. Sorted.
-  std::vector<uint64_t> CellsWithACoveredCorner() const {
-    std::vector<uint64_t> cells;
-    const int rows = int(c_.rowStart_.size()) - 1;
-    for (int j = c_.firstRow_; j < c_.firstRow_ + rows; ++j)
-      for (const SurfaceCover::Run& run : c_.RowRuns(j))
-        for (int cj = std::max(j - 1, 0); cj <= std::min(j, c_.nv_ - 2); ++cj)
-          for (int ci = std::max(run.first - 1, 0); ci <= std::min(run.last, c_.nu_ - 2); ++ci) cells.push_back(Key(ci, cj));
-    std::sort(cells.begin(), cells.end());
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    return cells;
-  }
-
   const Scene& scene_;
   const SurfaceSet& surfaces_;
   const RayScene& rays_;
-  const Surface& surface_;
   uint32_t surfaceIndex_;
   CoverSettings settings_;
-  std::array<Vector3, kCoverRays> directions_;
-  SurfaceRegion whole_;  // the surface's chart triangles
+  CoverProbe probe_;
   SurfaceCover c_;
 };
 

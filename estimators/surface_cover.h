@@ -4,7 +4,7 @@
 // is a domain of its own, lit only by the photons that land in it (none, under a closed block), so no kernel
 // carries light across the contact line, and the boundary correction applies along it (baker/0_prepare_scene.h).
 //
-// A chart point is covered when all but one of kCoverRays fixed directions over its front hemisphere (a
+// A chart point is covered when all but one of kCoverRays (estimators/cover_probe.h) fixed directions over its front hemisphere (a
 // cosine-weighted spiral, the lowest 10 degrees above the plane) first meet the back of a triangle: the point lies
 // inside a closed object. The one spared ray forgives a crack in the object's mesh; a one-sided table top over a
 // floor lets its grazing rays out, so the floor under it stays open. The test is made on a square lattice of
@@ -54,8 +54,6 @@
 
 namespace pb {
 
-inline constexpr int kCoverRays = 16;
-
 struct CoverSettings {
   float spacing = 0.025f;            // s [m], the lattice spacing; 0 tests nothing (every cover is empty)
   // And at most this share of the diagonal of the scene's bounding box, so that the lattice scales with the scene;
@@ -79,6 +77,7 @@ class SurfaceCover {
 
  private:
   friend class CoverBuilder;
+  friend class CoverPieces;
   // The covered polygon of lattice cell (i, j), counter-clockwise; empty when none of its corners is covered.
   // With the corner its contact line turns (corners_, or `corner` when given).
   std::vector<Point2> CellPolygon(int i, int j, const Point2* corner = nullptr) const;

@@ -1,0 +1,85 @@
+#include "estimators/cover_probe.h"
+
+#include <optional>
+#include <vector>
+
+#include "estimators/warps.h"
+
+namespace pb {
+namespace {
+
+// kCoverRays directions about +z, cosine-weighted on a golden-angle spiral: the same for every point.
+std::array<Vector3, kCoverRays> HemisphereSpiral() {
+  std::array<Vector3, kCoverRays> d;
+  for (int k = 0; k < kCoverRays; ++k) d[k] = CosineSpiralDirection(k, kCoverRays);
+  return d;
+}
+
+std::vector<Triangle2> ChartTriangles(const SurfaceSet& surfaces, uint32_t s) {
+  std::vector<Triangle2> triangles;
+  for (uint32_t t : surfaces.surfaces[s].triangles) triangles.push_back(surfaces.cornerUv[t]);
+  return triangles;
+}
+
+// Halves [0, 1] kBisections times toward where `covered` changes along a -> b.
+template <typename Covered>
+float BisectBy(const Covered& covered, Point2 a, Point2 b, bool coveredAtA) {
+  float lo = 0, hi = 1;
+  for (int k = 0; k < CoverProbe::kBisections; ++k) {
+    const float mid = 0.5f * (lo + hi);
+    const Point2 m{a.u + mid * (b.u - a.u), a.v + mid * (b.v - a.v)};
+    (covered(m) == coveredAtA ? lo : hi) = mid;
+  }
+  return coveredAtA ? lo : hi;  // on the covered side: no photon that reached the surface lands in the cover
+}
+
+}  // namespace
+
+Point2 Between(Point2 a, Point2 b, double t) {
+  return {float(a.u + t * (double(b.u) - a.u)), float(a.v + t * (double(b.v) - a.v))};
+}
+
+CoverProbe::CoverProbe(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t surface)
+    : scene_(scene), surfaces_(surfaces), rays_(rays), surfaceIndex_(surface), directions_(HemisphereSpiral()),
+      whole_(ChartTriangles(surfaces, surface)) {}
+
+// The point is on the surface's mean plane, which a surface planar to within a degree can leave by millimetres
+// (the box's twisted red wall): a ray passes through the surface's own triangles.
+bool CoverProbe::CoveredAt(Point2 uv) const {
+  if (!whole_.Contains(uv)) return false;
+  const SurfaceChart& chart = surfaces_.surfaces[surfaceIndex_].chart;
+  const Point3 p = chart.origin + chart.frame.s * uv.u + chart.frame.t * uv.v;
+  int open = 0;
+  for (const Vector3& local : directions_) {
+    const Vector3 d = chart.frame.ToWorld(local);
+    if (!MeetsABack(rays_.SpawnPoint(p, chart.frame.n), d)) ++open;
+    if (open > 1) return false;
+  }
+  return true;
+}
+
+// Whether the ray first meets the back of a triangle of another surface.
+bool CoverProbe::MeetsABack(Point3 origin, Vector3 d) const {
+  constexpr int kPassesThroughOwn = 4;
+  for (int pass = 0; pass < kPassesThroughOwn; ++pass) {
+    const std::optional<RayHit> hit = rays_.Intersect(origin, d);
+    if (!hit) return false;
+    const Vector3 area = scene_.AreaVector(hit->triangle);
+    if (surfaces_.surfaceOfTriangle[hit->triangle] != surfaceIndex_) return Dot(area, d) > 0;
+    origin = rays_.SpawnPoint(origin + d * hit->t, NormalFrom(Dot(area, d) > 0 ? area : area * -1.0f));
+  }
+  return false;
+}
+
+// Where the open end is off the surface, the cover usually runs up to the surface's edge (a face inside a closed
+// object): the edge is found by the containment test alone, and one ray test just inside it confirms that the
+// cover reaches it (else the rays decide every step).
+float CoverProbe::Bisect(Point2 a, Point2 b, bool coveredAtA) const {
+  if (!whole_.Contains(coveredAtA ? b : a)) {
+    const float edge = BisectBy([&](Point2 m) { return whole_.Contains(m); }, a, b, coveredAtA);
+    if (CoveredAt(Between(a, b, edge))) return edge;
+  }
+  return BisectBy([&](Point2 m) { return CoveredAt(m); }, a, b, coveredAtA);
+}
+
+}  // namespace pb
