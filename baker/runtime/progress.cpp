@@ -1,6 +1,7 @@
 #include "baker/runtime/progress.h"
 
 #include <fmt/core.h>
+#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -60,11 +61,11 @@ Progress::~Progress() {
 void Progress::Complete() { complete_ = true; }
 
 void Progress::Advance(uint64_t done) {
-  const uint64_t now = done_.fetch_add(done) + done;
+  const uint64_t now = done_.fetch_add(done) + done, steps = steps_.fetch_add(1) + 1;
   std::unique_lock lock(drawing_, std::try_to_lock);  // a busy drawer means someone else is printing.
   if (!lock.owns_lock()) return;
   const auto t = std::chrono::steady_clock::now();
-  ForetellLength(now, t);
+  ForetellLength(now, steps, t);
   if (log_.Quiet()) return;
   const auto interval = log_.Interactive() ? std::chrono::milliseconds(100) : std::chrono::milliseconds(5000);
   if (t - lastDraw_ < interval) return;
@@ -78,9 +79,13 @@ constexpr double kLongWork = 60;  // [s]: work that would take longer is foretol
 
 }  // namespace
 
-void Progress::ForetellLength(uint64_t done, std::chrono::steady_clock::time_point now) {
+// The staircase's estimate at --quality production, 1,024-vertex steps on 2 cores, had said "about 4 min 18 s" from
+// one step ended in 1.1 s, the other nearly; it took 100 s.
+void Progress::ForetellLength(uint64_t done, uint64_t steps, std::chrono::steady_clock::time_point now) {
   const double seconds = std::chrono::duration<double>(now - start_).count();
   if (foretold_ || seconds < 1 || done == 0 || done >= total_) return;
+  const size_t workers = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  if (steps < 4 * std::max<size_t>(workers, 1)) return;
   const double all = seconds * double(total_) / double(done);
   if (all <= kLongWork) return;
   foretold_ = true;

@@ -5,7 +5,9 @@
 // and its final line. A stage that finishes before its count (coarsening stops when no collapse is left within
 // the tolerance) calls Complete(), so that its last line reads 100%. A stage that would take over a minute at its
 // rate of its first second says so once, as a warning (quiet or not): the option that multiplies its work (photons,
-// reference paths, preview size) can be changed before the time is spent.
+// reference paths, preview size) can be changed before the time is spent. The rate is read once 4 W steps (calls
+// of Advance) have ended, W the threads allowed: each worker has a step in flight when the first ones end, and the
+// first k steps' rate reads about (k + W / 2) / k times too slow.
 #pragma once
 
 #include <atomic>
@@ -66,12 +68,12 @@ class Progress {
 
  private:
   void Draw(uint64_t done, bool final);
-  void ForetellLength(uint64_t done, std::chrono::steady_clock::time_point now);
+  void ForetellLength(uint64_t done, uint64_t steps, std::chrono::steady_clock::time_point now);
 
   const Log& log_;
   std::string stage_;
   uint64_t total_;
-  std::atomic<uint64_t> done_{0};
+  std::atomic<uint64_t> done_{0}, steps_{0};
   std::mutex drawing_;
   std::chrono::steady_clock::time_point start_, lastDraw_;
   std::atomic<bool> complete_{false};
