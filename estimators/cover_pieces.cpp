@@ -37,7 +37,7 @@ void CoverPieces::FindCorners(std::span<const LatticeEdge> changing) {
   for (const LatticeEdge& e : changing) {
     const int i = e.i - (e.axis == 1), j = e.j - (e.axis == 0);  // the cell before the edge, then the one after
     for (const auto& [ci, cj] : {std::pair{i, j}, std::pair{e.i, e.j}})
-      if (ci >= 0 && cj >= 0 && ci + 1 < c_.nu_ && cj + 1 < c_.nv_) cells.push_back(Key(ci, cj));
+      if (ci >= 0 && cj >= 0 && ci + 1 < c_.nu_ && cj + 1 < c_.nv_) cells.push_back(c_.Key(ci, cj));
   }
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
@@ -88,7 +88,7 @@ void CoverPieces::CutPieces() {
     for (const Point2& p : surfaces_.cornerUv[t]) tb.Extend(p);
     const int i0 = cellOf(tb.lo.u, c_.lo_.u, c_.nu_), i1 = cellOf(tb.hi.u, c_.lo_.u, c_.nu_);
     for (int j = cellOf(tb.lo.v, c_.lo_.v, c_.nv_); j <= cellOf(tb.hi.v, c_.lo_.v, c_.nv_); ++j)
-      for (auto c = std::lower_bound(cells.begin(), cells.end(), Key(i0, j)); c != cells.end() && *c <= Key(i1, j); ++c)
+      for (auto c = std::lower_bound(cells.begin(), cells.end(), c_.Key(i0, j)); c != cells.end() && *c <= c_.Key(i1, j); ++c)
         trianglesOfCell[size_t(c - cells.begin())].push_back(t);
   }
   for (size_t k = 0; k < cells.size(); ++k) {
@@ -111,7 +111,7 @@ std::vector<uint64_t> CoverPieces::CellsWithACoveredCorner() const {
   for (int j = c_.firstRow_; j < c_.firstRow_ + rows; ++j)
     for (const SurfaceCover::Run& run : c_.RowRuns(j))
       for (int cj = std::max(j - 1, 0); cj <= std::min(j, c_.nv_ - 2); ++cj)
-        for (int ci = std::max(run.first - 1, 0); ci <= std::min(run.last, c_.nu_ - 2); ++ci) cells.push_back(Key(ci, cj));
+        for (int ci = std::max(run.first - 1, 0); ci <= std::min(run.last, c_.nu_ - 2); ++ci) cells.push_back(c_.Key(ci, cj));
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   return cells;

@@ -38,7 +38,6 @@ class CoverPieces {
   std::optional<Point2> CornerIn(int i, int j) const;
   std::optional<Line2> ContactLineAt(const SurfaceCover::CellEdge& e) const;
   std::vector<uint64_t> CellsWithACoveredCorner() const;
-  uint64_t Key(int i, int j) const { return uint64_t(j) * uint64_t(c_.nu_) + uint64_t(i); }
 
   SurfaceCover& c_;
   const CoverProbe& probe_;

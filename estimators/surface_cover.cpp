@@ -52,8 +52,6 @@ class CoverBuilder {
   }
 
  private:
-  // Lattice cells [i, i + 1] x [j, j + 1] as keys j * nu + i, and lattice points (i, j) alike.
-  uint64_t Key(int i, int j) const { return uint64_t(j) * uint64_t(c_.nu_) + uint64_t(i); }
 
   // The band's lattice points: the corners of the marked cells, sorted. A point that is not one has no marked cell
   // about it; every lattice edge that a footprint touches is a side of a cell that MarkPolygon marks, so the edges
@@ -66,7 +64,7 @@ class CoverBuilder {
     for (uint64_t cell : marked) {
       const int i = int(cell % uint64_t(c_.nu_)), j = int(cell / uint64_t(c_.nu_));
       for (int dj = 0; dj <= 1; ++dj)
-        for (int di = 0; di <= 1; ++di) points.push_back(Key(i + di, j + dj));  // cells stop one short of the rim
+        for (int di = 0; di <= 1; ++di) points.push_back(c_.Key(i + di, j + dj));  // cells stop one short of the rim
     }
     std::sort(points.begin(), points.end());
     points.erase(std::unique(points.begin(), points.end()), points.end());
@@ -139,7 +137,7 @@ class CoverBuilder {
     });
     c_.crossing_.reserve(edges.size());
     for (size_t k = 0; k < edges.size(); ++k)
-      c_.crossing_.emplace(SurfaceCover::EdgeKey(Key(edges[k].i, edges[k].j), edges[k].axis), at[k]);
+      c_.crossing_.emplace(SurfaceCover::EdgeKey(c_.Key(edges[k].i, edges[k].j), edges[k].axis), at[k]);
   }
 
   const Scene& scene_;
@@ -165,7 +163,7 @@ std::array<SurfaceCover::CellEdge, 4> SurfaceCover::EdgesOf(int i, int j) const 
     e = {Lattice(ia, ja), Lattice(ib, jb), CoveredPoint(ia, ja), CoveredPoint(ib, jb), inward[k], {}};
     if (e.coveredA == e.coveredB) continue;
     const auto [ei, ej, axis] = stored[k];
-    const float t = crossing_.at(EdgeKey(size_t(ej) * nu_ + ei, axis));
+    const float t = crossing_.at(EdgeKey(Key(ei, ej), axis));
     const Point2 p = Lattice(ei, ej), q = Lattice(ei + (axis == 0), ej + (axis == 1));
     e.crossing = {p.u + t * (q.u - p.u), p.v + t * (q.v - p.v)};
   }

@@ -99,6 +99,8 @@ class SurfaceCover {
   };
   std::span<const Run> RowRuns(int j) const;
   static size_t EdgeKey(size_t point, int axis) { return point * 2 + size_t(axis); }
+  // Lattice cells [i, i + 1] x [j, j + 1] as keys j * nu + i, and lattice points (i, j) alike.
+  uint64_t Key(int i, int j) const { return uint64_t(j) * uint64_t(nu_) + uint64_t(i); }
 
   Point2 lo_;
   float spacing_ = 0;

@@ -308,12 +308,12 @@ SurfaceRegion::SurfaceRegion(std::span<const Triangle2> triangles, std::span<con
     for (const Point2& p : t) bounds_.Extend(p);
   }
   for (const Triangle2& t : holes_) area_ -= SignedArea(t);
+  const double su = double(bounds_.hi.u) - bounds_.lo.u, sv = double(bounds_.hi.v) - bounds_.lo.v;
   // A millionth of the region's size: float corners on one straight side of a gridded face stray a few ulps.
-  const double tolerance = 1e-6 * std::max(double(bounds_.hi.u) - bounds_.lo.u, double(bounds_.hi.v) - bounds_.lo.v);
-  for (const auto& [a, b] : JoinStraightRuns(BoundaryLessHoles(triangles_, holes_), tolerance)) edges_.push_back({a, b});
+  for (const auto& [a, b] : JoinStraightRuns(BoundaryLessHoles(triangles_, holes_), 1e-6 * std::max(su, sv)))
+    edges_.push_back({a, b});
   if (edges_.empty()) return;
 
-  const double su = double(bounds_.hi.u) - bounds_.lo.u, sv = double(bounds_.hi.v) - bounds_.lo.v;
   cell_ = std::max({su, sv, 1e-30}) / std::clamp(int(std::ceil(std::sqrt(double(edges_.size())))), 1, kMaxCellsPerAxis);
   nu_ = std::clamp(int(su / cell_) + 1, 1, kMaxCellsPerAxis + 1);
   nv_ = std::clamp(int(sv / cell_) + 1, 1, kMaxCellsPerAxis + 1);
