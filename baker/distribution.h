@@ -45,10 +45,12 @@ class Distribution : public TraceShare {
   // for each chunk, from any of its threads and in any order, and estimates the chunks it won, so that a process
   // whose chunks cost more (gathered paths, pooled queries) takes fewer of them. In turn (chunk c to process c
   // modulo N) one of Lost Empire's 2 ranks had 30% more work than the other. OpenChunks(n) on every process
-  // before, CloseChunks() on every process after; ChunkHolder(c) then says, on every process, who took chunk c.
+  // before, CloseChunks() on every process after; ChunkHolder(c) then says, on every process, who took chunk c, or
+  // kNobody when no process claimed it (each stopped claiming at the rounds' deadline).
   virtual void OpenChunks(size_t chunks) const = 0;
   virtual bool ClaimChunk(size_t c) const = 0;
   virtual void CloseChunks() const = 0;
+  static constexpr unsigned kNobody = ~0u;
   unsigned ChunkHolder(size_t c) const { return holders_[c]; }
   bool HoldsChunk(size_t c) const { return ChunkHolder(c) == Rank(); }
 

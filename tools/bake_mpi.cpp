@@ -144,10 +144,7 @@ class MpiDistribution final : public Distribution {
     Broadcast(std::as_writable_bytes(std::span(taken)));
     MPI_Win_free(&window_);
     holders_.resize(chunks_);
-    for (size_t c = 0; c < chunks_; ++c) {
-      PB_CHECK(taken[c] > 0, "every vertex chunk was claimed");
-      holders_[c] = unsigned(taken[c] - 1);
-    }
+    for (size_t c = 0; c < chunks_; ++c) holders_[c] = taken[c] > 0 ? unsigned(taken[c] - 1) : kNobody;
   }
 
   // Rank r > 0 sends the chunks it HoldsChunk, in order; rank 0 puts them in place.

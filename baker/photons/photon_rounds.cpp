@@ -105,6 +105,7 @@ bool PhotonRounds::Grow(const HitSink* sink) {
 
 void PhotonRounds::TraceRound() {
   roundStart_ = ReadClock();
+  ++traced_;
   const BinningPlan plan = PlanBinning(scene_, settings_.estimator, photons_);
   if (distribution_ != nullptr && !distribution_->Agreed()) RequireAllReady(*distribution_);  // once, before any photon
   std::optional<PhotonBinner> binner;
@@ -184,13 +185,14 @@ bool PhotonRounds::LastRound(const BakedMesh& baked, double noise, const BakeErr
 bool PhotonRounds::Continue(const BakedMesh& baked, double noise, const BakeError& error,
                             const std::vector<float>& bandwidths) {
   if (!settings_.Rounds()) return false;
-  const bool decides = distribution_ == nullptr || distribution_->Root();  // the others hold their own vertices only
-  bool more = decides && !LastRound(baked, noise, error);
+  bool more = Decides() && !LastRound(baked, noise, error);  // the others hold their own vertices only
   if (distribution_ != nullptr) ShareThePlan(more);
   if (!more) return false;
   if (!settings_.estimator.bandwidth && heldBandwidths_.empty() && !bandwidthFollows_) heldBandwidths_ = bandwidths;
   return true;
 }
+
+bool PhotonRounds::Decides() const { return distribution_ == nullptr || distribution_->Root(); }
 
 // Rank 0's decision after a round, and the next round's plan, into every process's (baker/distribution.h). The
 // bandwidths to hold are every process's own: the same field, from the same photons.
@@ -207,7 +209,15 @@ void PhotonRounds::ShareThePlan(bool& more) {
 }
 
 bool PhotonRounds::FitFirstEstimate(double estimateSeconds) {
-  if (!settings_.Rounds() || !report_.rounds.empty() || distribution_ != nullptr) return false;
+  if (!settings_.Rounds() || !FirstRound()) return false;
+  bool cut = Decides() && CutFirstEstimate(distribution_ ? estimateSeconds / distribution_->Size() : estimateSeconds);
+  if (distribution_ != nullptr) ShareTheCut(cut);
+  return cut;
+}
+
+// Whether the first round's estimate, foretold to take `estimateSeconds` on this process's share of the chunks,
+// is cut to fit the budget (FitFirstEstimate); if so, its counts are cut.
+bool PhotonRounds::CutFirstEstimate(double estimateSeconds) {
   const double left = kFirstRoundShare * settings_.maxSeconds - clock_.Elapsed();
   if (estimateSeconds <= left) return false;
   const double cut = std::max(left, 0.0) / estimateSeconds;
@@ -222,6 +232,18 @@ bool PhotonRounds::FitFirstEstimate(double estimateSeconds) {
                            "{:g}): its shadow rays and gathered paths are cut to {} and {} a point",
                            estimateSeconds, settings_.maxSeconds, shadowRays_, gapPaths_));
   return true;
+}
+
+// Rank 0's cut of the first round (each process's clock and pilot differ), into every process's.
+void PhotonRounds::ShareTheCut(bool& cut) {
+  struct Cut {
+    double cut, foretold;
+    uint32_t shadowRays, gapPaths;
+    uint8_t fitted;
+  } shared{report_.firstRoundCut, report_.firstRoundForetold, shadowRays_, gapPaths_, cut};
+  distribution_->Broadcast(std::as_writable_bytes(std::span(&shared, 1)));
+  report_.firstRoundCut = shared.cut, report_.firstRoundForetold = shared.foretold;
+  shadowRays_ = shared.shadowRays, gapPaths_ = shared.gapPaths, cut = shared.fitted != 0;
 }
 
 double PhotonRounds::EstimateDeadline() const {
@@ -241,6 +263,7 @@ void PhotonRounds::EstimateInterrupted(bool interrupted) {
   report_.estimateStopped = true;
   report_.stoppedBy = fmt::format("{} during round {}, whose estimate stopped: the vertices are round {}'s",
                                   Stopper(interrupted), report_.rounds.size() + 1, report_.rounds.size());
+  if (!Decides()) return;  // every process stopped: rank 0 says so
   log_.Warning(fmt::format("{}: round {}'s estimate stopped; the vertices are round {}'s ({} photons, noise "
                            "{:.4f}); maps and refinement read all {} photons", interrupted ? "interrupted" : "time budget",
                            report_.rounds.size() + 1, report_.rounds.size(), kept.photons, kept.noise,
@@ -254,6 +277,7 @@ void PhotonRounds::FinishFirstEstimate(uint64_t done, uint64_t vertices, bool in
   report_.stoppedBy = fmt::format("{} during round 1's estimate, {} of {} vertices in: the rest read {} shadow rays "
                                   "and {} gathered paths a point", Stopper(interrupted), done, vertices,
                                   shadowRays, gapPaths);
+  if (!Decides()) return;
   log_.Warning(fmt::format("{}: stopped by {}; the vertices left are estimated at the fewest samples, and the "
                            "predicted noise says what that costs", interrupted ? "interrupted" : "time budget",
                            report_.stoppedBy));

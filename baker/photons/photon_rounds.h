@@ -101,7 +101,8 @@ class PhotonRounds {
   // round before): with --target-noise or --target-error, where the estimate foretold to take `estimateSeconds` (a
   // pilot's) would end the bake past kFirstRoundShare of --max-seconds, cuts the round's shadow rays and gathered
   // paths (those not given) in proportion to what is left, to no fewer than kFewestCutSamples; reported. Whether it
-  // cut them (the field must then be built again).
+  // cut them (the field must then be built again). With a distribution, `estimateSeconds` is each process's
+  // foretelling of all the chunks, which the processes share, and rank 0 decides for all.
   bool FitFirstEstimate(double estimateSeconds);
   static constexpr double kFirstRoundShare = 0.8;
   static constexpr uint32_t kFewestCutSamples = 16;
@@ -114,11 +115,17 @@ class PhotonRounds {
   const PhotonStore& Store() const { return store_; }
   const SurfaceBins& Bins() const { return bins_; }
   const ProgressiveReport& Report() const { return report_; }
+  // Whether the round traced last is the first, on every process.
+  bool FirstRound() const { return traced_ == 1; }
 
  private:
   PhotonOrigin Origin() const;
   bool BinsWhileTracing(const BinningPlan& plan) const;
+  // Whether this process decides what the rounds do and says it: the only one, or a distribution's rank 0.
+  bool Decides() const;
   void ShareThePlan(bool& more);
+  bool CutFirstEstimate(double estimateSeconds);
+  void ShareTheCut(bool& cut);
   double MemoryForRounds() const;
   void HoldFirstRoundToMemory();
   static constexpr double kMostHitsPerPhoton = 64;
@@ -156,6 +163,7 @@ class PhotonRounds {
   };
   ClockReading ReadClock() const { return {clock_.Elapsed(), clock_.Seconds("trace"), clock_.Seconds("bin")}; }
   ClockReading roundStart_;  // when the round began
+  uint32_t traced_ = 0;      // rounds traced, on every process (report_.rounds is rank 0's alone)
 };
 
 }  // namespace pb

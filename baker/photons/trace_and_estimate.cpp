@@ -80,19 +80,21 @@ void FinishAtTheFewestSamples(BakedMesh& baked, Lit& lit, const PreparedScene& s
 }
 
 // The round's estimate at the vertices of `base`, each with its noise; with a distribution, this process's chunks
-// of them. On one process it takes no more chunks once Ctrl-C comes or the rounds' deadline passes
+// of them. It takes no more chunks once Ctrl-C comes (on one process) or the rounds' deadline passes
 // (PhotonRounds::EstimateDeadline): a later round then ends there (nullopt; lit keeps the round before's vertices,
 // with the new round's field), and the first round estimates the chunks left at the fewest samples, with a field
 // built for them (PhotonRounds::FinishFirstEstimate), so that the bake ends within its budget with valid outputs.
+// With a distribution, each process stops claiming chunks at its own clock's deadline, and the chunks that none
+// claimed, which every process learns from the claims, are the ones left.
 std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& scene, const SplitMesh& base,
                                               const FieldSettings& field, PhotonRounds& rounds, const Distribution* d,
                                               StageClock& clock, const Log& log) {
-  const bool mayStop = d == nullptr && base.VertexCount() > 0;
+  const bool mayStop = base.VertexCount() > 0;
   const double deadline = rounds.EstimateDeadline();
   std::vector<char> taken((base.VertexCount() + kVertexChunk - 1) / kVertexChunk, 0);
   std::atomic<bool> stopped{false};
   const auto owns = [&](size_t chunk) {
-    if (mayStop && (stopped || InterruptRequested() || clock.Elapsed() > deadline)) {
+    if (mayStop && (stopped || (d == nullptr && InterruptRequested()) || clock.Elapsed() > deadline)) {
       stopped = true;
       return false;
     }
@@ -106,8 +108,12 @@ std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& sce
     if (d != nullptr) d->CloseChunks();
     return estimated;
   });
+  if (d != nullptr) {
+    for (size_t c = 0; c < taken.size(); ++c) taken[c] = d->ChunkHolder(c) != Distribution::kNobody;
+    stopped = std::find(taken.begin(), taken.end(), 0) != taken.end();
+  }
   if (!stopped) return baked;
-  const bool interrupted = InterruptRequested();
+  const bool interrupted = d == nullptr && InterruptRequested();
   if (lit.baked.mesh.VertexCount() > 0) {
     rounds.EstimateInterrupted(interrupted);
     return std::nullopt;
@@ -122,15 +128,16 @@ std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& sce
 bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, const FieldSettings& field,
                    PhotonRounds& rounds, const Distribution* d, StageClock& clock, const Log& log) {
   lit.field.emplace(BuildIrradianceField(scene, rounds.Bins(), FieldSettingsOf(field, rounds), clock, &log));
-  const bool first = rounds.Report().rounds.empty() && d == nullptr && rounds.Settings().Rounds();
-  if (first && rounds.FitFirstEstimate(ForetoldEstimateSeconds(*lit.field, base, clock)))
+  const bool first = rounds.FirstRound() && rounds.Settings().Rounds();
+  const bool root = d == nullptr || d->Root();  // which foretells for all
+  if (first && rounds.FitFirstEstimate(root ? ForetoldEstimateSeconds(*lit.field, base, clock) : 0.0))
     lit.field.emplace(WithSampledTerms(*std::move(lit.field), scene, FieldSettingsOf(field, rounds), clock));
   std::optional<BakedMesh> baked = EstimateUntilStopped(lit, scene, base, field, rounds, d, clock, log);
   if (!baked) return false;
   lit.baked = std::move(*baked);
   if (d != nullptr) clock.Time("estimate", [&] { GatherVertices(lit.baked, *d); });
-  if (d == nullptr || d->Root()) clock.Time("estimate", [&] { WeighGatheredPaths(*lit.field, lit.baked); });
-  if (d == nullptr || d->Root())
+  if (root) clock.Time("estimate", [&] { WeighGatheredPaths(*lit.field, lit.baked); });
+  if (root)
     clock.Time("noise", [&] {
       lit.noise = BakeNoise(lit.baked), lit.error = PredictedError(lit.baked), lit.noiseParts = BakeNoiseParts(lit.baked);
     });

@@ -9,6 +9,7 @@
 // Skipped where bake-mpi is not built (no MPI found), unless PB_REQUIRE_MPI is set (CI).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -106,6 +107,35 @@ TEST(BakeMpi, AtTheDefaultsAndInRoundsThreeRanksWriteTheBytesOfOneProcess) {
   }
   const nlohmann::json rounds = nlohmann::json::parse(test::ReadBytes(dir + "/mpi1.json")).at("progressive").at("rounds");
   EXPECT_GE(rounds.size(), 2u) << "--target-error 0.02 on the box takes a second round";
+}
+
+// Issue 59: the time budget bounds a distributed estimate as it does one process's (Progressive.TheFirstRoundIsFitted
+// ToTheTimeBudget, .TheDeadlineStopsTheFirstRoundsEstimate): the office with books at --quality production (about
+// 8 s of estimate on 2 cores) in a budget of 1 s. Rank 0's pilot cuts the first round's shadow rays and gathered
+// paths for all, the ranks stop claiming vertex chunks at the estimate's deadline, and the chunks none claimed are
+// estimated at the fewest samples: every vertex finite, the report saying so once.
+TEST(BakeMpi, TheTimeBudgetCutsAndStopsTheFirstRoundAsInOneProcess) {
+  REQUIRE_BAKE_MPI();
+  const std::string dir = test::TempDirectory("bake-mpi-budget");
+  const test::ToolRun run = test::RunTool(kMpirun, PB_SOURCE_DIR "/data/office_books/office_books.obj -o " + dir +
+                                                       "/out.ply --report " + dir + "/out.json --quality production --max-seconds 1");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const nlohmann::json p = nlohmann::json::parse(test::ReadBytes(dir + "/out.json")).at("progressive");
+  EXPECT_LT(p.at("first_round_cut").get<double>(), 1.0);
+  EXPECT_GT(p.at("finished_at_fewest_samples_vertices").get<uint64_t>(), 0u);
+  EXPECT_NE(p.at("stopped_by").get<std::string>().find("the estimate's deadline (90% of --max-seconds 1) during round 1's estimate"),
+            std::string::npos) << p.at("stopped_by");
+  EXPECT_EQ(Count(run.output, "are cut to"), 1u) << run.output;
+  EXPECT_EQ(Count(run.output, "the vertices left are estimated at the fewest samples"), 1u) << run.output;
+  const test::PlyData ply = test::ReadPly(dir + "/out.ply");
+  ASSERT_GT(ply.VertexCount(), 0u);
+  double sum = 0;
+  for (const char* channel : {"irradiance_r", "irradiance_g", "irradiance_b"})
+    for (double h : ply.vertex.at(channel)) {
+      ASSERT_TRUE(std::isfinite(h) && h >= 0) << channel << " " << h;
+      sum += h;
+    }
+  EXPECT_GT(sum, 0);
 }
 
 // Issue 59: --save-photons under MPI writes the file bake writes, and --resume from it (every rank reads it)
