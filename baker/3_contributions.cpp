@@ -32,7 +32,7 @@ std::vector<float> SurfaceBandwidths(const SurfaceRegions& regions, const Surfac
   std::optional<Progress> progress;
   if (log != nullptr) progress.emplace(*log, "choose bandwidths", regions.size());
   tbb::parallel_for(size_t(0), regions.size(), [&](size_t s) {
-    h[s] = ChooseBandwidth(settings.kind, settings.kernel, *regions[s], bins.Uv(s), bins.Flux(s));
+    h[s] = ChooseBandwidth(settings.kind, settings.kernel, PilotHistogram::Of(*regions[s], bins.Uv(s), bins.Flux(s), bins.fluxUnit));
     if (progress) progress->Advance(1);
   });
   return h;
@@ -131,7 +131,8 @@ PhotonIrradiance::PhotonIrradiance(const PreparedScene& scene, const SurfaceBins
   if (log != nullptr) progress.emplace(*log, "build estimators", bins.SurfaceCount());
   tbb::parallel_for(size_t(0), bins.SurfaceCount(), [&](size_t s) {
     estimators_[s] = SurfaceEstimator(scene, s, Own(s), bins.Uv(s), bins.Flux(s), bins.BinningOf(s, 0), bins.BinningOf(s, 1));
-    bias_[s] = PredictedBias(settings_.kind, settings_.kernel, *scene.regions[s], bins.Uv(s), bins.Flux(s), bandwidths_[s]);
+    const PilotHistogram pilot = PilotHistogram::Of(*scene.regions[s], bins.Uv(s), bins.Flux(s), bins.fluxUnit);
+    bias_[s] = PredictedBias(settings_.kind, settings_.kernel, pilot, bandwidths_[s]);
     if (progress) progress->Advance(1);
   });
 }

@@ -7,8 +7,6 @@
 namespace pb {
 namespace {
 
-constexpr double kPilotPhotonsPerCell = 400;
-constexpr int kMinPilotCells = 4, kMaxPilotCells = 64;
 // A surface with too few photons for a pilot: h holds this many on average, whose noise (about 1/sqrt(1000), 3%) is
 // the defaults' target; 50 left the table legs and books of the office 40-70% in error (docs/accuracy.md).
 constexpr double kFallbackPhotons = 1000, kMinPhotons = 20;
@@ -18,7 +16,7 @@ constexpr double kMaxBandwidthOfSize = 1;
 // The roughness a level of the pilot measures must stand this many of its own standard errors above 0.
 constexpr double kRoughnessSignificance = 3;
 
-// Pilot histogram: per cell, the flux, the sum of squared flux, and the cell's area on the surface.
+// A level of the pilot histogram: per cell, the flux, the sum of squared flux, and the cell's area on the surface.
 struct Pilot {
   int n = 0;          // cells per axis
   double side = 0;    // [m]
@@ -28,23 +26,14 @@ struct Pilot {
   double H(int i, int j) const { return flux[Index(i, j)] / area[Index(i, j)]; }
 };
 
-// The finest pilot: a power of two of cells per axis, about kPilotPhotonsPerCell photons each.
-Pilot BuildPilot(const SurfaceRegion& region, std::span<const Point2> uv, std::span<const Rgb> flux) {
+// The finest level: the histogram's sums, with each cell's area on the surface.
+Pilot FinestLevel(const PilotHistogram& histogram) {
   Pilot p;
-  const Bounds2& b = region.Bounds();
-  p.side = std::max(double(b.hi.u) - b.lo.u, double(b.hi.v) - b.lo.v);
-  p.n = kMinPilotCells;
-  while (p.n < kMaxPilotCells && double(2 * p.n) * double(2 * p.n) * kPilotPhotonsPerCell <= double(uv.size())) p.n *= 2;
-  p.side /= p.n;
+  p.n = histogram.CellsPerAxis(), p.side = histogram.Side();
   const size_t cells = size_t(p.n) * p.n;
-  p.flux.assign(cells, 0), p.flux2.assign(cells, 0);
-  const auto cellOf = [&](float c, float lo) { return std::clamp(int((c - lo) / p.side), 0, p.n - 1); };
-  for (size_t k = 0; k < uv.size(); ++k) {
-    const int c = p.Index(cellOf(uv[k].u, b.lo.u), cellOf(uv[k].v, b.lo.v));
-    const double phi = Luminance(flux[k]);
-    p.flux[c] += phi, p.flux2[c] += phi * phi;
-  }
-  p.area = region.GridOverlapAreas(b.lo, float(p.side), p.n, p.n);
+  p.flux.resize(cells), p.flux2.resize(cells);
+  for (size_t c = 0; c < cells; ++c) p.flux[c] = histogram.Flux(c), p.flux2[c] = histogram.Squares(c);
+  p.area = histogram.Region().GridOverlapAreas(histogram.Region().Bounds().lo, float(p.side), p.n, p.n);
   return p;
 }
 
@@ -157,18 +146,19 @@ RoughnessMeasure MeasuredRoughness(Pilot pilot, double surfaceArea, Roughness ki
   }
 }
 
-bool PilotFits(double photons) { return photons >= kPilotPhotonsPerCell * 9; }
+// At least 3 x 3 cells' photons.
+bool PilotFits(double photons) { return photons >= 9 * PilotHistogram::kPhotonsPerCell; }
 
 }  // namespace
 
-float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
-                      std::span<const Rgb> flux) {
-  const double area = std::max(region.Area(), 1e-30), n = double(uv.size());
+float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const PilotHistogram& histogram) {
+  const SurfaceRegion& region = histogram.Region();
+  const double area = std::max(region.Area(), 1e-30), n = double(histogram.Photons());
   const double hMax = kMaxBandwidthOfSize * std::sqrt(area);
   const double hFallback = std::min(hMax, std::sqrt(kFallbackPhotons * area / (M_PI * std::max(n, 1.0))));
   if (!PilotFits(n)) return float(hFallback);
   const double hMin = std::sqrt(kMinPhotons * area / (M_PI * n));
-  const Pilot pilot = BuildPilot(region, uv, flux);
+  const Pilot pilot = FinestLevel(histogram);
   const double variance = VarianceIntegral(pilot);
   const Roughness kindOfRoughness = kind == EstimatorKind::kHistogram ? Roughness::kGradient : Roughness::kLaplacian;
   const RoughnessMeasure roughness = MeasuredRoughness(pilot, area, kindOfRoughness);
@@ -205,11 +195,10 @@ double Spread(const Pilot& p) {
 
 }  // namespace
 
-double PredictedBias(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
-                     std::span<const Rgb> flux, float h) {
-  const double area = region.Area();
-  if (kind == EstimatorKind::kNearest || !(area > 0) || !PilotFits(double(uv.size()))) return 0;
-  const Pilot pilot = BuildPilot(region, uv, flux);
+double PredictedBias(EstimatorKind kind, Kernel kernel, const PilotHistogram& histogram, float h) {
+  const double area = histogram.Region().Area();
+  if (kind == EstimatorKind::kNearest || !(area > 0) || !PilotFits(double(histogram.Photons()))) return 0;
+  const Pilot pilot = FinestLevel(histogram);
   double bias = 0;
   if (kind == EstimatorKind::kHistogram) {  // bias^2 averages b^2 |grad H|^2 / 12
     const RoughnessMeasure gradient = MeasuredRoughness(pilot, area, Roughness::kGradient, false);

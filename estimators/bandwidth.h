@@ -9,7 +9,8 @@
 //   h^6 = 2 R integral(phi2 / H^2) / (mu2^2 integral((lap H / H)^2)).
 // The histogram's bias is first order instead (a point's offset from its bucket's centre times grad H): for a
 // bucket of side b, bias^2 averages b^2 |grad H|^2 / 12, and b^4 = 12 integral(phi2 / H^2) / integral(|grad H / H|^2).
-// Both integrals come from a pilot histogram of ~400 photons per cell (a power of two of cells per axis, 4 to 64),
+// Both integrals come from a pilot histogram of ~400 photons per cell (a power of two of cells per axis, 4 to 64;
+// estimators/pilot_histogram.h, whose exact sums let the processes of a distributed bake choose alike),
 // and the roughness (lap H by the 5-point stencil, grad H by central differences, on cells whose neighbours lie
 // wholly on the surface) from the finest level of that pilot's pyramid (cells merged 2 x 2, down to 4 per axis)
 // where it stands 3 standard errors above 0: a stencil's signal grows with the cell's side and its noise falls,
@@ -28,14 +29,12 @@
 #include <span>
 
 #include "estimators/density_estimator.h"
-#include "estimators/surface_region.h"
-#include "mesh/color.h"
-#include "mesh/geometry.h"
+#include "estimators/pilot_histogram.h"
 
 namespace pb {
 
-float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
-                      std::span<const Rgb> flux);
+// h for the surface of `pilot` (its region), from its pilot of all its photons.
+float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const PilotHistogram& pilot);
 
 // The smoothing bias that the same pilot predicts for the surface's estimate of H's luminance at bandwidth h [m]:
 // its RMS over the surface [W/m^2 of (u,v)], h^2 mu2 sqrt(integral((lap H)^2) / area) / 2 for the kernels and
@@ -47,7 +46,6 @@ float ChooseBandwidth(EstimatorKind kind, Kernel kernel, const SurfaceRegion& re
 // size, where the estimate tends to that mean: a 1.3 m^2 surface of the office at h = 1.13 m predicted 230% of its
 // mean). Leaves out
 // what the pilot's interior stencils cannot see: the light curving up into a concave corner at the surface's edge.
-double PredictedBias(EstimatorKind kind, Kernel kernel, const SurfaceRegion& region, std::span<const Point2> uv,
-                     std::span<const Rgb> flux, float h);
+double PredictedBias(EstimatorKind kind, Kernel kernel, const PilotHistogram& pilot, float h);
 
 }  // namespace pb

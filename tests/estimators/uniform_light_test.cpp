@@ -154,9 +154,10 @@ TEST(UniformLight, ASurfaceTooSparseForAPilotReadsWithinTheNoiseOfAThousandPhoto
   std::vector<Point2> uv, fewUv;
   std::vector<Rgb> power, fewPower;
   photons(2000, uv, power), photons(300, fewUv, fewPower);
-  const float h = ChooseBandwidth(EstimatorKind::kKernel, Kernel::kEpanechnikov, region, uv, power);
+  const float h = ChooseBandwidth(EstimatorKind::kKernel, Kernel::kEpanechnikov, PilotHistogram::Of(region, uv, power, kFlux));
   EXPECT_NEAR(h, std::sqrt(1000 * kSmall * kSmall / (M_PI * 2000)), 1e-4);
-  EXPECT_NEAR(ChooseBandwidth(EstimatorKind::kKernel, Kernel::kEpanechnikov, region, fewUv, fewPower), kSmall, 1e-4);
+  EXPECT_NEAR(ChooseBandwidth(EstimatorKind::kKernel, Kernel::kEpanechnikov, PilotHistogram::Of(region, fewUv, fewPower, kFlux)),
+              kSmall, 1e-4);
   const auto estimator = MakeDensityEstimator({EstimatorKind::kKernel, Kernel::kEpanechnikov, h, 0, true}, region, uv, power);
   const double exact = kFlux / (kSmall * kSmall);
   double all = 0, interior = 0;
@@ -194,7 +195,7 @@ TEST(UniformLight, ASurfaceNoPilotStencilFitsTakesThePilotsCell) {
   }
   const float share = float(integral / kPhotons);
   const std::vector<Rgb> power(kPhotons, Rgb{share, share, share});
-  const float h = ChooseBandwidth(EstimatorKind::kKernel, Kernel::kEpanechnikov, region, uv, power);
+  const float h = ChooseBandwidth(EstimatorKind::kKernel, Kernel::kEpanechnikov, PilotHistogram::Of(region, uv, power, share));
   EXPECT_NEAR(h, 1.0f, 1e-4f) << "the pilot's finest cell: 8 m over 8 cells";
   const auto estimator = MakeDensityEstimator({EstimatorKind::kKernel, Kernel::kEpanechnikov, h, 0, true}, region, uv, power);
   const double peak = estimator->Estimate({4, kWidth / 2}).g / H(4) - 1;
