@@ -197,7 +197,11 @@ class MpiDistribution final : public Distribution {
 constexpr char kEnded[] =
     "bake-mpi: stopped by mpirun (Ctrl-C, or another rank failed): no output written, any earlier output is left as "
     "it was\n";
+// A rank that has its exit status and has said why (a bad option, which every rank meets) waits in MPI_Finalize:
+// when mpirun ends the job for another rank that exited first, it exits quietly with it. -1 before.
+volatile std::sig_atomic_t endedWith = -1;
 void EndedByMpirun(int) {
+  if (endedWith >= 0) _exit(endedWith);
   pb::RemoveHeldTemporaries();
   [[maybe_unused]] const ssize_t written = write(STDERR_FILENO, kEnded, sizeof kEnded - 1);
   _exit(1);
@@ -268,6 +272,7 @@ int main(int argc, char** argv) {
     if (distribution.Root()) fmt::print(stderr, "error: {}\n", pb::TerminalSafe(e.what()));
     status = 2;
   }
+  pb::endedWith = status;
   MPI_Finalize();
   return status;
 }

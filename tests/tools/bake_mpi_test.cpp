@@ -199,6 +199,11 @@ TEST(BakeMpi, BadInputIsReportedOnce) {
   EXPECT_NE(longName.status, 0);
   EXPECT_EQ(Count(longName.output, "passes this folder's limit of 255"), 1u) << longName.output;
   EXPECT_EQ(longName.output.find("terminate called"), std::string::npos) << longName.output;
+  // A bad option: every rank meets it, rank 0 says it, and none then says mpirun stopped it (the first rank to exit
+  // makes mpirun end the others).
+  const test::ToolRun badOption = test::RunTool(kMpirun, kBox + " -q -o " + dir + "/x.ply --max-seconds 0.5");
+  EXPECT_EQ(Count(badOption.output, "--max-seconds: error: must lie in [1, 1e7] seconds"), 1u) << badOption.output;
+  EXPECT_EQ(badOption.output.find("stopped by mpirun"), std::string::npos) << badOption.output;
 }
 
 // dir holds out.ply as it was ("earlier output") and nothing else.
