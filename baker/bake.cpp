@@ -222,6 +222,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   journal.Warn(SubdivisionTimeWarnings(scene.scene.triangles.size(), o.refine.subdivide, secondsPerPoint), log);
   const MapsWritten maps = WriteMaps(journal, o, scene, lit, secondsPerPoint, outputs, clock, log);
   const RefineReport refine = RefineTheMesh(journal, o, lit, rounds.Bins(), exposure, clock, log);
+  if (o.referencePaths == 0) journal.Warn(MissedLightWarnings(scene, rounds.Bins(), lit.baked), log);  // as written
   if (o.sh)
     clock.Time("directions", [&] { EstimateDirections(field, lit.baked, log); });
 

@@ -116,6 +116,21 @@ std::vector<std::string> DarkBakeWarnings(const std::string& scenePath, const Ba
 namespace {
 // The back hits that make a surface lit only from behind.
 constexpr uint64_t kBackLitHits = 20;
+
+// The largest kNamedUnlit of `surfaces`, each "surface S ('MATERIAL', A m^2" and what `more(s)` adds, then ")".
+template <typename More>
+std::string TheLargest(const PreparedScene& scene, std::vector<uint32_t> surfaces, More more) {
+  std::stable_sort(surfaces.begin(), surfaces.end(), [&](uint32_t a, uint32_t b) {
+    return scene.surfaces.surfaces[a].area > scene.surfaces.surfaces[b].area;
+  });
+  std::string named;
+  for (size_t i = 0; i < std::min(surfaces.size(), kNamedUnlit); ++i) {
+    const Surface& surface = scene.surfaces.surfaces[surfaces[i]];
+    named += fmt::format("{}surface {} ('{}', {:.3g} m^2{})", i ? ", " : "", surfaces[i],
+                         scene.scene.materials[surface.material].name, surface.area, more(surfaces[i]));
+  }
+  return named;
+}
 }  // namespace
 
 std::vector<std::string> BackLitWarnings(const PreparedScene& scene, const SurfaceBins& bins, const BakedMesh& baked) {
@@ -130,19 +145,52 @@ std::vector<std::string> BackLitWarnings(const PreparedScene& scene, const Surfa
     dark.push_back(s), area += scene.surfaces.surfaces[s].area, hits += bins.BackHits(s);
   }
   if (dark.empty()) return {};
-  std::stable_sort(dark.begin(), dark.end(), [&](uint32_t a, uint32_t b) {
-    return scene.surfaces.surfaces[a].area > scene.surfaces.surfaces[b].area;
-  });
-  std::string named;
-  for (size_t i = 0; i < std::min(dark.size(), kNamedUnlit); ++i) {
-    const Surface& surface = scene.surfaces.surfaces[dark[i]];
-    named += fmt::format("{}surface {} ('{}', {:.3g} m^2, {} back hits)", i ? ", " : "", dark[i],
-                         scene.scene.materials[surface.material].name, surface.area, bins.BackHits(dark[i]));
-  }
+  const std::string named = TheLargest(scene, dark, [&](uint32_t s) { return fmt::format(", {} back hits", bins.BackHits(s)); });
   return {fmt::format("{}: warning: {} surface{} of {:.3g} m^2 in all lit only from behind: {} photons reached the "
                       "back and none the front, so the front reads black; its faces may be wound the wrong way round "
                       "(the front is the side from which the corners run counter-clockwise); the largest: {}",
                       scene.scene.path, dark.size(), dark.size() == 1 ? "" : "s", area, hits, named)};
+}
+
+namespace {
+// A surface whose vertices show less than this share of the light that its photons brought reads dark. (At a half,
+// the side of a block standing on a floor warned: its two lower corners lie in the dark of the contact line.)
+constexpr double kShownShare = 0.25;
+
+// Per surface, the mean H luminance its vertices show, interpolated across its faces [W/m^2]; NaN where it has no
+// face in the mesh (--only left it out).
+std::vector<double> ShownIrradiance(const BakedMesh& baked, size_t surfaces) {
+  const std::vector<double> area = VertexAreas(baked.mesh);
+  std::vector<double> shown(surfaces, 0.0), total(surfaces, 0.0);
+  for (size_t v = 0; v < baked.mesh.VertexCount(); ++v) {
+    const uint32_t s = baked.mesh.surface[v];
+    shown[s] += area[v] * Luminance(baked.irradiance[v]), total[s] += area[v];
+  }
+  for (size_t s = 0; s < surfaces; ++s) shown[s] = total[s] > 0 ? shown[s] / total[s] : NAN;
+  return shown;
+}
+}  // namespace
+
+std::vector<std::string> MissedLightWarnings(const PreparedScene& scene, const SurfaceBins& bins, const BakedMesh& baked) {
+  const std::vector<double> shown = ShownIrradiance(baked, bins.SurfaceCount());
+  std::vector<uint32_t> dark;
+  double area = 0;
+  for (uint32_t s = 0; s < bins.SurfaceCount(); ++s) {
+    const double brought = Luminance(bins.FrontFlux(s)) / scene.surfaces.surfaces[s].area;
+    if (bins.FrontHits(s) < kPooledBelowHits || !(shown[s] < kShownShare * brought)) continue;
+    dark.push_back(s), area += scene.surfaces.surfaces[s].area;
+  }
+  if (dark.empty()) return {};
+  const std::string named = TheLargest(scene, dark, [&](uint32_t s) {
+    return fmt::format(": its vertices {:.3g} W/m^2, its photons {:.3g}", shown[s],
+                       Luminance(bins.FrontFlux(s)) / scene.surfaces.surfaces[s].area);
+  });
+  return {fmt::format("{}: warning: {} surface{} of {:.3g} m^2 in all show less than a quarter of the light their photons "
+                      "brought: their vertices sit where little of it falls (in corners under other geometry, at the "
+                      "ends of long faces), and the faces between them are shown as dark as their corners; --refine "
+                      "adds vertices where the light is (with --max-vertices above this mesh's {}), or --maps writes "
+                      "each surface's light as a texture; the largest: {}",
+                      scene.scene.path, dark.size(), dark.size() == 1 ? "" : "s", area, baked.mesh.VertexCount(), named)};
 }
 
 std::vector<std::string> VisibleNoiseWarnings(const VisibleNoise& in) {

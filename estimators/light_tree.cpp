@@ -9,8 +9,6 @@
 namespace pb {
 namespace {
 
-constexpr float kHalfPi = 0.5f * kPi;
-
 float AngleBetween(Vector3 a, Vector3 b) { return std::acos(std::clamp(Dot(a, b), -1.0f, 1.0f)); }
 
 // cos(max(0, a - b)) for angles a, b in [0, pi] given by their cosines and sines, without trigonometry.

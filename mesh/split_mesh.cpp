@@ -240,4 +240,13 @@ SurfacePoint SurfacePointSampler::AtChartPoint(uint32_t surface, Point2 uv) cons
   return a;
 }
 
+std::vector<double> VertexAreas(const SplitMesh& mesh) {
+  std::vector<double> area(mesh.VertexCount(), 0.0);
+  for (const auto& f : mesh.faces) {
+    const double a = 0.5 * Length(Cross(mesh.positions[f[1]] - mesh.positions[f[0]], mesh.positions[f[2]] - mesh.positions[f[0]]));
+    for (uint32_t v : f) area[v] += a / 3.0;
+  }
+  return area;
+}
+
 }  // namespace pb

@@ -53,6 +53,10 @@ struct SplitMesh {
   }
 };
 
+// Each vertex's share of the mesh's area: a third of each face it is a corner of [m^2]. Over a surface's vertices,
+// sum_v A_v f_v is the integral of f interpolated linearly across the faces.
+std::vector<double> VertexAreas(const SplitMesh& mesh);
+
 // Vertices are ordered by surface, then by first use; faces by surface, then by scene order. With `keep` (one flag
 // per surface), only the kept surfaces, in the same order: their vertices are those of the whole mesh, less the
 // others.

@@ -10,19 +10,6 @@
 #include "mesh/color.h"
 
 namespace pb {
-namespace {
-
-// Each vertex's share of the mesh's area: a third of each face it is a corner of [m^2].
-std::vector<double> VertexAreas(const SplitMesh& mesh) {
-  std::vector<double> area(mesh.VertexCount(), 0.0);
-  for (const auto& f : mesh.faces) {
-    const double a = 0.5 * Length(Cross(mesh.positions[f[1]] - mesh.positions[f[0]], mesh.positions[f[2]] - mesh.positions[f[0]]));
-    for (uint32_t v : f) area[v] += a / 3.0;
-  }
-  return area;
-}
-
-}  // namespace
 
 std::string ShadowRays(const RoundReport& r) {
   if (r.shadowRays == 0) return "";

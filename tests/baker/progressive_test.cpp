@@ -744,7 +744,7 @@ TEST_P(HonestNoise, PredictedNoiseMatchesTheMeasuredErrorOnTheClosedForm) {
     // floor photon's flux phi = Phi / N makes exact, against the per-vertex prediction; away from the floor's
     // edges, where edge correction raises the noise.
     const double phi = bake.hits.PhotonFlux(0).g;
-    double weight = 0, predictedMs = 0, measuredMs = 0, modelWeight = 0, modelMs = 0, interiorMs = 0;
+    double weight = 0, predictedMs = 0, measuredMs = 0, modelMs = 0, interiorMs = 0;
     for (size_t v = 0; v < bake.base.mesh.VertexCount(); ++v) {
       const Point3 p = bake.base.mesh.positions[v];
       if (p.y != 0) continue;
@@ -755,7 +755,7 @@ TEST_P(HonestNoise, PredictedNoiseMatchesTheMeasuredErrorOnTheClosedForm) {
       measuredMs += exact * error * error;
       if (std::max(std::fabs(p.x), std::fabs(p.z)) > 1.5f) continue;
       const double model = UniformRelativeNoise(settings, exact / phi);
-      modelWeight += exact, modelMs += exact * model * model, interiorMs += exact * predicted[v] * predicted[v];
+      modelMs += exact * model * model, interiorMs += exact * predicted[v] * predicted[v];
     }
     const double ratio = std::sqrt(predictedMs / measuredMs), modelRatio = std::sqrt(modelMs / interiorMs);
     std::printf("%s, %llu photons: predicted noise %.4f, measured %.4f (ratio %.3f); model/predicted %.3f; bake noise "

@@ -649,29 +649,5 @@ TEST(BakeCli, ResumeAndTargetNoiseAreReported) {
   EXPECT_EQ(RunBake(common + " --target-noise 0.02 --photons 1000 --max-photons 10").status, 2);
 }
 
-// A panel hung under a light with its faces wound the wrong way round (its front turned down to a black floor): the
-// photons reach only its back, its front reads black, and the bake says so, naming it; wound the right way, it is
-// lit and nothing is said.
-TEST(BakeCli, SurfacesLitOnlyFromBehindAreWarnedAbout) {
-  const std::string dir = test::TempDirectory("back-lit");
-  test::WriteText(dir + "/p.mtl", "newmtl black\nKd 0 0 0\nnewmtl wood\nKd 0.5 0.5 0.5\nnewmtl light\nKd 0 0 0\nKe 5 5 5\n");
-  const auto bake = [&](bool wrong) {
-    const std::string panel = wrong ? "f 5 6 7 8\n" : "f 8 7 6 5\n";  // counter-clockwise from below: front down
-    test::WriteText(dir + "/p.obj", "mtllib p.mtl\nusemtl black\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nf 1 4 3 2\n"
-                                    "usemtl wood\nv -0.25 0.5 -0.25\nv 0.25 0.5 -0.25\nv 0.25 0.5 0.25\nv -0.25 0.5 0.25\n" +
-                                    panel + "usemtl light\nv -0.5 1 -0.5\nv 0.5 1 -0.5\nv 0.5 1 0.5\nv -0.5 1 0.5\n"
-                                            "f 9 10 11 12\n");
-    return RunBake(dir + "/p.obj -o " + dir + "/p.ply --photons 20000 --direct photons");  // first hits stored
-  };
-  const test::ToolRun wrong = bake(true);
-  ASSERT_EQ(wrong.status, 0) << wrong.output;
-  EXPECT_NE(wrong.output.find("p.obj: warning: 1 surface of 0.25 m^2 in all lit only from behind"), std::string::npos)
-      << wrong.output;
-  EXPECT_NE(wrong.output.find("('wood', 0.25 m^2,"), std::string::npos) << wrong.output;
-  const test::ToolRun right = bake(false);
-  ASSERT_EQ(right.status, 0) << right.output;
-  EXPECT_EQ(right.output.find("lit only from behind"), std::string::npos) << right.output;
-}
-
 }  // namespace
 }  // namespace pb
