@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Quick start 2 (and CI): install what is missing (the Khronos glTF Validator from npm included), build, and run
-# the whole test suite; then build it again with AddressSanitizer and UndefinedBehaviorSanitizer (into build-asan/,
-# tools/build-sanitized.sh), fuzz every file reader briefly there, and run the suite there too.
+# the whole test suite: the statistical tests (tests/sanitizers/left-out.txt) and bake-mpi's in the plain tree, then
+# every other test in a build with AddressSanitizer and UndefinedBehaviorSanitizer (into build-asan/,
+# tools/build-sanitized.sh), after fuzzing every file reader briefly there. With SANITIZE=0, the whole suite in the
+# plain tree.
 #   FUZZ_SECONDS  the fuzzing pass (tools/fuzz.sh), per reader: default 15; 0 skips it. Any crash, leak or sanitizer
 #                 finding fails the run.
-#   SANITIZE=0    skips the sanitizer pass (the larger part of the run).
+#   SANITIZE=0    skips the sanitizer pass (the larger part of the run) and runs every test in the plain tree.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -19,7 +21,13 @@ seed_test_costs() {
   [ -f "$data" ] || { mkdir -p "$(dirname "$data")" && cp "tests/ctest-costs/$2.txt" "$data"; }
 }
 phase_start=$SECONDS
-bash tools/build.sh
+# With the sanitizer pass, the plain tree builds and runs only the tests that pass leaves out or cannot run
+# (tools/plain-only-tests.sh): every test runs once, in the tree that checks the most.
+if [ "${SANITIZE:-1}" != 0 ]; then
+  bash tools/build.sh "-DPB_TEST_SOURCES_ONLY=$(bash tools/plain-only-tests.sh)"
+else
+  bash tools/build.sh
+fi
 phase "install and build"
 bash tools/install-gltf-validator.sh  # the Khronos glTF Validator, which gltf_output_test.cpp runs
 export PB_REQUIRE_GLTF_VALIDATOR=1    # so that test fails, rather than skips, if it is missing
