@@ -258,12 +258,12 @@ std::string PhotonRounds::Stopper(bool interrupted) const {
 }
 
 void PhotonRounds::EstimateInterrupted(bool interrupted) {
-  const RoundReport& kept = report_.rounds.back();
   report_.interrupted |= interrupted;
   report_.estimateStopped = true;
+  if (!Decides()) return;  // every process stopped; rank 0, which holds the rounds' report, says so
+  const RoundReport& kept = report_.rounds.back();
   report_.stoppedBy = fmt::format("{} during round {}, whose estimate stopped: the vertices are round {}'s",
                                   Stopper(interrupted), report_.rounds.size() + 1, report_.rounds.size());
-  if (!Decides()) return;  // every process stopped: rank 0 says so
   log_.Warning(fmt::format("{}: round {}'s estimate stopped; the vertices are round {}'s ({} photons, noise "
                            "{:.4f}); maps and refinement read all {} photons", interrupted ? "interrupted" : "time budget",
                            report_.rounds.size() + 1, report_.rounds.size(), kept.photons, kept.noise,
