@@ -136,11 +136,11 @@ bool EstimateLight(Lit& lit, const PreparedScene& scene, const SplitMesh& base, 
   if (!baked) return false;
   lit.baked = std::move(*baked);
   if (d != nullptr) clock.Time("estimate", [&] { GatherVertices(lit.baked, *d); });
-  if (root) clock.Time("estimate", [&] { WeighGatheredPaths(*lit.field, lit.baked); });
-  if (root)
-    clock.Time("noise", [&] {
-      lit.noise = BakeNoise(lit.baked), lit.error = PredictedError(lit.baked), lit.noiseParts = BakeNoiseParts(lit.baked);
-    });
+  if (!root) return true;  // the others hold their own vertices only
+  clock.Time("estimate", [&] { WeighGatheredPaths(*lit.field, lit.baked); });
+  clock.Time("noise", [&] {
+    lit.noise = BakeNoise(lit.baked), lit.error = PredictedError(lit.baked), lit.noiseParts = BakeNoiseParts(lit.baked);
+  });
   return true;
 }
 
