@@ -100,6 +100,15 @@ SurfaceRegions BuildRegions(const SurfaceSet& surfaces, const std::vector<Surfac
   return regions;
 }
 
+std::vector<bool> PointByPointCovers(const Scene& scene, const SurfaceSet& surfaces,
+                                     const std::vector<SurfaceCover>& covers, const CoverSettings& settings) {
+  std::vector<bool> tested(covers.size(), false);
+  if (!(settings.spacing > 0)) return tested;
+  for (size_t s = 0; s < covers.size(); ++s)
+    tested[s] = covers[s].ProbedPoints() == 0 && !scene.materials[surfaces.surfaces[s].material].IsEmissive();
+  return tested;
+}
+
 SurfaceRegions BuildCoveredRegions(const std::vector<SurfaceCover>& covers) {
   SurfaceRegions regions(covers.size());
   for (size_t s = 0; s < covers.size(); ++s)
@@ -169,6 +178,7 @@ PreparedScene PrepareScene(Scene scene, const EffectOverrides& effects, StageClo
   });
   p.regions = clock.Time("regions", [&] { return BuildRegions(p.surfaces, p.covers, log); });
   p.coveredRegions = BuildCoveredRegions(p.covers);
+  p.enclosureByPoint = PointByPointCovers(p.scene, p.surfaces, p.covers, cover);
   return p;
 }
 

@@ -31,6 +31,10 @@ SurfaceRegions BuildRegions(const SurfaceSet& surfaces, const std::vector<Surfac
 // The covered part's region of each surface that something covers; null for the others.
 SurfaceRegions BuildCoveredRegions(const std::vector<SurfaceCover>& covers);
 
+// Per surface, whether its points are tested one by one for lying inside a closed object (PreparedScene::
+// enclosureByPoint).
+std::vector<bool> PointByPointCovers(const Scene& scene, const SurfaceSet& surfaces,
+                                     const std::vector<SurfaceCover>& covers, const CoverSettings& settings);
 // What the scene is made from.
 struct SceneSettings {
   std::string path;          // OBJ file; its MTL files are found relative to it
@@ -49,6 +53,10 @@ struct PreparedScene {
   std::vector<SurfaceCover> covers;  // what other geometry covers of each surface (estimators/surface_cover.h)
   SurfaceRegions regions;            // each surface's open region: its chart triangles less its cover
   SurfaceRegions coveredRegions;     // its cover's region, or null
+  // Per surface, whether its points are tested one by one for lying inside a closed object (EnclosedAt,
+  // estimators/cover_probe.h): where covers are found (not --no-cover) but no lattice was laid on it (curved,
+  // narrower than two spacings), and it emits nothing.
+  std::vector<bool> enclosureByPoint;
   std::vector<Light> lights;  // at least one
   TransportPlan plan;
   std::unique_ptr<RayScene> rays;

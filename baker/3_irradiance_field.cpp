@@ -8,6 +8,8 @@
 #include <numeric>
 
 #include "baker/1_trace_photons.h"
+#include "baker/3_surface_point.h"
+#include "estimators/cover_probe.h"
 
 namespace pb {
 
@@ -33,6 +35,12 @@ const ImportanceCache* IrradianceField::Guide(std::unique_ptr<ImportanceCache> g
   return guide_.get();
 }
 
+bool IrradianceField::Enclosed(const SurfacePoint& p) const {
+  if (!scene_->enclosureByPoint[p.surface]) return false;
+  const SurfacePoint start = RayStart(*scene_, p);
+  return EnclosedAt(scene_->scene, scene_->surfaces, *scene_->rays, p.surface, start.position, p.normal);
+}
+
 std::optional<IrradianceField::GapTerm> IrradianceField::Gap(const SurfacePoint& p) const {
   if (!gaps_) return std::nullopt;
   const SurfacePoint start = RayStart(*scene_, p);
@@ -45,8 +53,9 @@ std::optional<IrradianceField::GapTerm> IrradianceField::Gap(const SurfacePoint&
 }
 
 Rgb IrradianceField::Irradiance(const SurfacePoint& p) const {
-  const std::optional<GapTerm> gap = Gap(p);
-  Rgb sum = gap ? gap->blended.value.irradiance : contributions_.front()->At(p);
+  const bool enclosed = Enclosed(p);
+  const std::optional<GapTerm> gap = enclosed ? std::nullopt : Gap(p);
+  Rgb sum = enclosed ? Rgb{} : gap ? gap->blended.value.irradiance : contributions_.front()->At(p);
   for (size_t i = 1; i < contributions_.size(); ++i) sum = sum + contributions_[i]->At(p);
   return sum;
 }
@@ -60,10 +69,13 @@ SurfaceLight IrradianceField::Light(const SurfacePoint& p) const { return LightW
 
 IncidentMoments IrradianceField::Moments(const SurfacePoint& p) const {
   IncidentMoments moments;
-  const std::optional<SurfacePoint> start = gaps_ ? std::optional(RayStart(*scene_, p)) : std::nullopt;
+  const bool enclosed = Enclosed(p);
+  const std::optional<SurfacePoint> start = gaps_ && !enclosed ? std::optional(RayStart(*scene_, p)) : std::nullopt;
   const GapGather::Kind kind = start ? gaps_->KindOf(p, *start) : GapGather::Kind::kNone;
   const double alpha = kind == GapGather::Kind::kNarrowGap ? GapWeightOf(p.surface).alpha : 1.0;
-  if (kind != GapGather::Kind::kNone && alpha >= 1) {
+  if (enclosed) {
+    // inside a closed object: no photon, no gathered path reaches it
+  } else if (kind != GapGather::Kind::kNone && alpha >= 1) {
     gaps_->Gathered(p, *start, &moments);
   } else if (kind != GapGather::Kind::kNone) {  // a narrow gap's mix, as its H
     IncidentMoments gathered, photons;
@@ -106,9 +118,10 @@ NoisyIrradiance Sum(const NoisyIrradiance& a, const NoisyIrradiance& b) {
 }  // namespace
 
 SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
-  // Independent contributions: their variances add (IndependentSum).
-  const std::optional<GapTerm> gap = Gap(p);
-  const NoisyIrradiance first = gap ? gap->blended.value : contributions_.front()->WithNoise(p);
+  // Independent contributions: their variances add (IndependentSum). Inside a closed object the photons' term is 0.
+  const bool enclosed = Enclosed(p);
+  const std::optional<GapTerm> gap = enclosed ? std::nullopt : Gap(p);
+  const NoisyIrradiance first = enclosed ? NoisyIrradiance{} : gap ? gap->blended.value : contributions_.front()->WithNoise(p);
   IndependentSum sum(first);
   NoisyIrradiance rest;  // the other terms' sum: the one other term itself (the direct light), as Remix adds it
   for (size_t i = 1; i < contributions_.size(); ++i) {
@@ -117,7 +130,7 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
     rest = i == 1 ? term : Sum(rest, term);
   }
   SurfaceLight light = LightWith(p, first.irradiance);
-  SetNoise(light, p.surface, p.areaRatio, gap ? &*gap : nullptr, first, sum);
+  SetNoise(light, p.surface, enclosed ? 0.0f : p.areaRatio, gap ? &*gap : nullptr, first, sum);
   if (gap && gap->estimates) light.gap = {p.surface, gap->estimates->first, gap->estimates->second, rest};
   return light;
 }

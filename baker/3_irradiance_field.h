@@ -15,6 +15,8 @@
 //            (estimators/light_sampler.h); the photons then carry only the light scattered at least once;
 //   reference with --reference SPP, all of H by SPP paths gathered at the point (estimators/irradiance_gather.h),
 //            a path tracer's vertex bake; no photons are traced then.
+// At a point inside a closed object (a baluster's end in its handrail) the photons' term is 0: no photon reaches
+// it, though the kernel's photons lie a few centimetres away (baker/0_prepare_scene.h, enclosureByPoint).
 // With --direct sampled, at a point in a narrow gap (or on a surface smaller than its kernel) the photons' term is
 // replaced by the scattered light gathered there (baker/3_gap_gather.h); in a narrow gap, once the field has
 // weighed its surface's gathered paths against the photons (WeighGaps, baker/3_gap_weights.h), by their mix.
@@ -102,6 +104,9 @@ class IrradianceField {
     std::optional<std::pair<NoisyIrradiance, NoisyIrradiance>> estimates;  // narrow gap: gathered, photons
   };
   std::optional<GapTerm> Gap(const SurfacePoint& p) const;
+  // Whether p lies inside a closed object, on a surface whose points are so tested (PreparedScene::enclosureByPoint):
+  // there the photons' term (and a gap's) is 0, as in a cover's domain.
+  bool Enclosed(const SurfacePoint& p) const;
   // H's noise and its split from the first term (the photons', or the gap's) and the sum of all terms.
   void SetNoise(SurfaceLight& light, uint32_t surface, float areaRatio, const GapTerm* gap,
                 const NoisyIrradiance& first, const IndependentSum& sum) const;

@@ -43,32 +43,52 @@ CoverProbe::CoverProbe(const Scene& scene, const SurfaceSet& surfaces, const Ray
     : scene_(scene), surfaces_(surfaces), rays_(rays), surfaceIndex_(surface), directions_(HemisphereSpiral()),
       whole_(ChartTriangles(surfaces, surface)) {}
 
+namespace {
+
+// Whether the ray first meets the back of a triangle of a surface other than `own`, passing through own's on a
+// planar surface (its triangles may leave its mean plane by millimetres); on a curved one, whose smooth normal turns
+// some directions into its own neighbouring triangles, the first triangle met decides, own or not.
+bool MeetsABack(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t own, Point3 origin,
+                Vector3 d, bool glassIsOpen = false) {
+  constexpr int kPassesThroughOwn = 4;
+  const bool planar = surfaces.surfaces[own].planar;
+  for (int pass = 0; pass < kPassesThroughOwn; ++pass) {
+    const std::optional<RayHit> hit = rays.Intersect(origin, d);
+    if (!hit) return false;
+    const Vector3 area = scene.AreaVector(hit->triangle);
+    if (glassIsOpen && scene.materials[scene.triangles[hit->triangle].material].kind == MaterialClass::kGlass) return false;
+    if (!planar || surfaces.surfaceOfTriangle[hit->triangle] != own) return Dot(area, d) > 0;
+    origin = rays.SpawnPoint(origin + d * hit->t, NormalFrom(Dot(area, d) > 0 ? area : area * -1.0f));
+  }
+  return false;
+}
+
+// All but one of the directions, turned into the world by `frame`, meet a back from p.
+bool AllButOneMeetABack(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t own, Point3 p,
+                        const Frame& frame, const std::array<Vector3, kCoverRays>& directions, bool glassIsOpen) {
+  int open = 0;
+  for (const Vector3& local : directions) {
+    if (!MeetsABack(scene, surfaces, rays, own, rays.SpawnPoint(p, frame.n), frame.ToWorld(local), glassIsOpen)) ++open;
+    if (open > 1) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool EnclosedAt(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t surface, Point3 p,
+                Normal3 n) {
+  static const std::array<Vector3, kCoverRays> directions = HemisphereSpiral();
+  return AllButOneMeetABack(scene, surfaces, rays, surface, p, Frame::FromNormal(n), directions, true);
+}
+
 // The point is on the surface's mean plane, which a surface planar to within a degree can leave by millimetres
 // (the box's twisted red wall): a ray passes through the surface's own triangles.
 bool CoverProbe::CoveredAt(Point2 uv) const {
   if (!whole_.Contains(uv)) return false;
   const SurfaceChart& chart = surfaces_.surfaces[surfaceIndex_].chart;
   const Point3 p = chart.origin + chart.frame.s * uv.u + chart.frame.t * uv.v;
-  int open = 0;
-  for (const Vector3& local : directions_) {
-    const Vector3 d = chart.frame.ToWorld(local);
-    if (!MeetsABack(rays_.SpawnPoint(p, chart.frame.n), d)) ++open;
-    if (open > 1) return false;
-  }
-  return true;
-}
-
-// Whether the ray first meets the back of a triangle of another surface.
-bool CoverProbe::MeetsABack(Point3 origin, Vector3 d) const {
-  constexpr int kPassesThroughOwn = 4;
-  for (int pass = 0; pass < kPassesThroughOwn; ++pass) {
-    const std::optional<RayHit> hit = rays_.Intersect(origin, d);
-    if (!hit) return false;
-    const Vector3 area = scene_.AreaVector(hit->triangle);
-    if (surfaces_.surfaceOfTriangle[hit->triangle] != surfaceIndex_) return Dot(area, d) > 0;
-    origin = rays_.SpawnPoint(origin + d * hit->t, NormalFrom(Dot(area, d) > 0 ? area : area * -1.0f));
-  }
-  return false;
+  return AllButOneMeetABack(scene_, surfaces_, rays_, surfaceIndex_, p, chart.frame, directions_, false);
 }
 
 // Where the open end is off the surface, the cover usually runs up to the surface's edge (a face inside a closed

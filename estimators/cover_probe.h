@@ -17,6 +17,13 @@ namespace pb {
 
 inline constexpr int kCoverRays = 16;
 
+// Whether point p of `surface`, whose front faces along unit normal n, lies inside a closed object: all but one of
+// the kCoverRays directions over its front first meet the back of another surface's triangle (the cover's test,
+// made at one point: a baluster's end inside its handrail, a post's foot inside the floor, where no cover lattice is
+// laid because the surface is curved or narrower than two of its spacings). p is the point rays start from.
+bool EnclosedAt(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t surface, Point3 p,
+                Normal3 n);
+
 // The point a + t (b - a), in double, rounded to float.
 Point2 Between(Point2 a, Point2 b, double t);
 
@@ -37,8 +44,6 @@ class CoverProbe {
   const SurfaceRegion& Whole() const { return whole_; }
 
  private:
-  bool MeetsABack(Point3 origin, Vector3 d) const;
-
   const Scene& scene_;
   const SurfaceSet& surfaces_;
   const RayScene& rays_;
