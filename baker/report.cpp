@@ -234,11 +234,23 @@ BakeReport::NarrowGaps DescribeNarrowGaps(const std::vector<GapWeight>& weights)
   return g;
 }
 
-BakeReport::Pooled DescribePooled(const PreparedScene& p, const PhotonIrradiance& photons) {
+BakeReport::Pooled DescribePooled(const PreparedScene& p, const PhotonIrradiance& photons, const BakedMesh& mesh) {
   BakeReport::Pooled pooled;
   for (uint32_t s = 0; s < p.surfaces.surfaces.size(); ++s)
     if (photons.Pooled(s)) ++pooled.surfaces, pooled.area += p.surfaces.surfaces[s].area;
+  if (pooled.surfaces == 0) return pooled;
   pooled.photons = photons.PooledPhotons();
+  pooled.reach = photons.PooledRadius();
+  double all = 0, theirs = 0;
+  for (size_t v = 0; v < mesh.mesh.VertexCount(); ++v) {
+    const double h = Luminance(mesh.irradiance[v]);
+    all += h;
+    if (!photons.Pooled(mesh.mesh.surface[v])) continue;
+    // The photons' part: what the shadow rays and the gathered paths did not bring (all of it when not known).
+    const double sampled = v < mesh.sampledShare.size() ? mesh.sampledShare[v] : 0.0;
+    ++pooled.vertices, theirs += h * (1 - sampled);
+  }
+  pooled.lightShare = all > 0 ? theirs / all : 0.0;
   return pooled;
 }
 
@@ -269,7 +281,7 @@ BakeReport DescribeBake(const BakeResults& r) {
   report.error = r.error;
   report.noiseParts = r.noiseParts;
   report.narrowGaps = DescribeNarrowGaps(r.field.GapWeights());
-  report.pooled = DescribePooled(p, r.field.Photons());
+  report.pooled = DescribePooled(p, r.field.Photons(), r.mesh);
   report.directionNoise = BakeDirectionNoise(r.mesh);
   return report;
 }
@@ -288,8 +300,10 @@ std::string NarrowGapsLine(const BakeReport::NarrowGaps& g) {
 std::string PooledLine(const BakeReport::Pooled& p) {
   if (p.surfaces == 0) return "";
   return fmt::format("  pooled    {} surface{} ({:.4g} m^2) with fewer than {} photons each, read from the {} photons "
-                     "pooled across them, near each point and turned its way\n", p.surfaces, p.surfaces == 1 ? "" : "s",
-                     p.area, kPooledBelowHits, p.photons);
+                     "pooled across them, near each point and turned its way: on their {} vertices the pooled photons "
+                     "bring {:.3g}% of the bake's light, each the light averaged over up to {:.3g} m about it, a "
+                     "smoothing the predicted bias does not count\n", p.surfaces, p.surfaces == 1 ? "" : "s", p.area, kPooledBelowHits, p.photons,
+                     p.vertices, 100 * p.lightShare, p.reach);
 }
 
 // "; alone: photons 2.10%, shadow rays 8.40%, gathered paths 60.30%", the sources that contribute; "" with one.
@@ -369,7 +383,8 @@ void PrintSummary(const BakeReport& r, const Log& log) {
   s += NarrowGapsLine(r.narrowGaps);
   s += PooledLine(r.pooled);
   s += fmt::format("  error     {:.2f}% predicted (the RMS of H's error over the vertices, relative to their mean H): "
-                   "noise {:.2f}%, smoothing bias {:.2f}%\n", 100 * r.error.Total(), 100 * r.error.noise, 100 * r.error.bias);
+                   "noise {:.2f}%, smoothing bias {:.2f}%{}\n", 100 * r.error.Total(), 100 * r.error.noise,
+                   100 * r.error.bias, r.pooled.lightShare > 1e-3 ? " (the pooled surfaces' not counted)" : "");
   s += WhereLine(r);
   if (r.options.sh)
     s += fmt::format("  directions  {:.2f} degrees predicted (95th percentile, as the noise, of the standard error of "
@@ -452,7 +467,8 @@ void WriteReportJson(OutputFiles& outputs, const std::string& path, const BakeRe
   j["noise_parts"] = {{"photons", r.noiseParts.photons}, {"points", r.noiseParts.points}, {"gathered", r.noiseParts.gathered}};
   j["narrow_gaps"] = {{"vertices", r.narrowGaps.vertices}, {"surfaces", r.narrowGaps.surfaces},
                       {"mean_weight", r.narrowGaps.meanWeight}};
-  j["pooled"] = {{"surfaces", r.pooled.surfaces}, {"area_m2", r.pooled.area}, {"photons", r.pooled.photons}};
+  j["pooled"] = {{"surfaces", r.pooled.surfaces}, {"area_m2", r.pooled.area}, {"photons", r.pooled.photons},
+                 {"vertices", r.pooled.vertices}, {"light_share", r.pooled.lightShare}, {"reach_m", r.pooled.reach}};
   if (r.options.sh) j["direction_noise_deg"] = r.directionNoise * 180 / kPi;
   const std::vector<size_t> surfaces =
       Listed(r.surfaces, r.options.reportAll, [](const SurfaceReport& a, const SurfaceReport& b) { return a.area > b.area; });

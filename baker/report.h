@@ -87,6 +87,9 @@ struct BakeReport {
     uint32_t surfaces = 0;
     double area = 0;
     uint64_t photons = 0;
+    uint64_t vertices = 0;  // of the written mesh, on pooled surfaces
+    double lightShare = 0;  // the pooled photons' part of their H, of all the vertices' summed H (luminance)
+    double reach = 0;       // the pooled estimate's reach [m] (PhotonIrradiance::PooledRadius)
   } pooled;
   double directionNoise = 0;  // with --sh, BakeDirectionNoise of the written mesh [rad]
 

@@ -7,7 +7,8 @@
 //    1.5 times the RMS of their predicted sigma plus 3% for the pooling's smoothing over r ~ 7 cm (E changes by
 //    about 4% over 7 cm at the light's rim); each cell on its own (pooling off), with the h that --h auto gives it,
 //    reads at least 1.5 times worse (measured: 24% pooled, 44% alone), which shows the check can fail.
-//  - The pooled bake is the same, bit for bit, on one thread and on two; the report counts the pooled surfaces.
+//  - The pooled bake is the same, bit for bit, on one thread and on two; the report counts the pooled surfaces, their
+//    vertices and the share of the light the pooled photons bring.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -88,6 +89,14 @@ FloorError ErrorOf(const BakedMesh& b) {
 TEST(Pooled, AFloorCutIntoSparseSurfacesReadsLambertWithinItsNoise) {
   const BakeResult pooled = BakeCutFloor(0);
   EXPECT_GT(pooled.report.pooled.surfaces, uint32_t(kCells * kCells / 2));  // those under the light hold more
+  // The report says how much of the light the pooled photons bring (all of their vertices' H, with --direct photons)
+  // and over what reach, since the predicted bias does not count their smoothing.
+  const BakeReport::Pooled& said = pooled.report.pooled;
+  EXPECT_GT(said.vertices, pooled.mesh.mesh.VertexCount() / 2);
+  EXPECT_LT(said.vertices, pooled.mesh.mesh.VertexCount());
+  EXPECT_GT(said.lightShare, 0.05);
+  EXPECT_LT(said.lightShare, 0.95);  // the cells under the light hold photons of their own
+  EXPECT_GT(said.reach, 0.0);
   const FloorError e = ErrorOf(pooled.mesh);
   EXPECT_GT(e.predicted, 0.02);
   EXPECT_LE(e.rms, 1.5 * e.predicted + 0.03) << "predicted " << e.predicted;
