@@ -6,23 +6,33 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <string_view>
+#include <system_error>
 
 #include "mesh/errors.h"
 
 namespace pb::fuzz {
 
-// A directory of this process's own, made on first use.
+// A directory of this process's own, made on first use and removed when the process exits (libFuzzer's timed run
+// ends by exit; after a finding, the input is in the artifact, and the directory is left).
+inline void RemoveDirectory();
 inline const std::string& Directory() {
   static const std::string dir = [] {
     const auto d = std::filesystem::temp_directory_path() / ("photonbake-fuzz-" + std::to_string(getpid()));
     std::filesystem::create_directories(d);
     return d.string();
   }();
+  // Registered after `dir` is made, so that it runs at exit before `dir` is destroyed.
+  [[maybe_unused]] static const bool removedAtExit = std::atexit(RemoveDirectory) == 0;
   return dir;
+}
+inline void RemoveDirectory() {
+  std::error_code ignored;
+  std::filesystem::remove_all(Directory(), ignored);
 }
 
 // Writes `bytes` to Directory()/name and returns its path.
