@@ -47,9 +47,10 @@ namespace {
 
 // Whether the ray first meets the back of a triangle of a surface other than `own`, passing through own's on a
 // planar surface (its triangles may leave its mean plane by millimetres); on a curved one, whose smooth normal turns
-// some directions into its own neighbouring triangles, the first triangle met decides, own or not.
+// some directions into its own neighbouring triangles, the first triangle met decides, own or not. With
+// `glassIsOpen`, a glass triangle met lets the ray out, either side (light passes it).
 bool MeetsABack(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t own, Point3 origin,
-                Vector3 d, bool glassIsOpen = false) {
+                Vector3 d, bool glassIsOpen) {
   constexpr int kPassesThroughOwn = 4;
   const bool planar = surfaces.surfaces[own].planar;
   for (int pass = 0; pass < kPassesThroughOwn; ++pass) {
