@@ -35,26 +35,30 @@ const ImportanceCache* IrradianceField::Guide(std::unique_ptr<ImportanceCache> g
   return guide_.get();
 }
 
-bool IrradianceField::Enclosed(const SurfacePoint& p) const {
-  if (!scene_->enclosureByPoint[p.surface]) return false;
-  const SurfacePoint start = RayStart(*scene_, p);
-  return EnclosedAt(scene_->scene, scene_->surfaces, *scene_->rays, p.surface, start.position, p.normal);
+std::optional<SurfacePoint> IrradianceField::RaysStart(const SurfacePoint& p) const {
+  if (!gaps_ && !scene_->enclosureByPoint[p.surface]) return std::nullopt;
+  return RayStart(*scene_, p);
 }
 
-std::optional<IrradianceField::GapTerm> IrradianceField::Gap(const SurfacePoint& p) const {
-  if (!gaps_) return std::nullopt;
-  const SurfacePoint start = RayStart(*scene_, p);
-  const GapGather::Kind kind = gaps_->KindOf(p, start);
-  if (kind == GapGather::Kind::kNone) return std::nullopt;
-  const NoisyIrradiance gathered = gaps_->Gathered(p, start);
-  if (kind != GapGather::Kind::kNarrowGap) return GapTerm{Blend(gathered, {}, 1), std::nullopt};
+bool IrradianceField::Enclosed(const SurfacePoint& p, const std::optional<SurfacePoint>& start) const {
+  return start && scene_->enclosureByPoint[p.surface] &&
+         EnclosedAt(scene_->scene, scene_->surfaces, *scene_->rays, p.surface, start->position, p.normal);
+}
+
+IrradianceField::Replacement IrradianceField::ReplacedAt(const SurfacePoint& p) const {
+  const std::optional<SurfacePoint> start = RaysStart(p);
+  if (Enclosed(p, start)) return {true, std::nullopt};
+  if (!gaps_) return {};
+  const GapGather::Kind kind = gaps_->KindOf(p, *start);
+  if (kind == GapGather::Kind::kNone) return {};
+  const NoisyIrradiance gathered = gaps_->Gathered(p, *start);
+  if (kind != GapGather::Kind::kNarrowGap) return {false, GapTerm{Blend(gathered, {}, 1), std::nullopt}};
   const NoisyIrradiance photons = contributions_.front()->WithNoise(p);
-  return GapTerm{Blend(gathered, photons, GapWeightOf(p.surface).alpha), std::pair(gathered, photons)};
+  return {false, GapTerm{Blend(gathered, photons, GapWeightOf(p.surface).alpha), std::pair(gathered, photons)}};
 }
 
 Rgb IrradianceField::Irradiance(const SurfacePoint& p) const {
-  const bool enclosed = Enclosed(p);
-  const std::optional<GapTerm> gap = enclosed ? std::nullopt : Gap(p);
+  const auto [enclosed, gap] = ReplacedAt(p);
   Rgb sum = enclosed ? Rgb{} : gap ? gap->blended.value.irradiance : contributions_.front()->At(p);
   for (size_t i = 1; i < contributions_.size(); ++i) sum = sum + contributions_[i]->At(p);
   return sum;
@@ -69,9 +73,9 @@ SurfaceLight IrradianceField::Light(const SurfacePoint& p) const { return LightW
 
 IncidentMoments IrradianceField::Moments(const SurfacePoint& p) const {
   IncidentMoments moments;
-  const bool enclosed = Enclosed(p);
-  const std::optional<SurfacePoint> start = gaps_ && !enclosed ? std::optional(RayStart(*scene_, p)) : std::nullopt;
-  const GapGather::Kind kind = start ? gaps_->KindOf(p, *start) : GapGather::Kind::kNone;
+  const std::optional<SurfacePoint> start = RaysStart(p);
+  const bool enclosed = Enclosed(p, start);
+  const GapGather::Kind kind = gaps_ && !enclosed ? gaps_->KindOf(p, *start) : GapGather::Kind::kNone;
   const double alpha = kind == GapGather::Kind::kNarrowGap ? GapWeightOf(p.surface).alpha : 1.0;
   if (enclosed) {
     // inside a closed object: no photon, no gathered path reaches it
@@ -119,8 +123,7 @@ NoisyIrradiance Sum(const NoisyIrradiance& a, const NoisyIrradiance& b) {
 
 SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   // Independent contributions: their variances add (IndependentSum). Inside a closed object the photons' term is 0.
-  const bool enclosed = Enclosed(p);
-  const std::optional<GapTerm> gap = enclosed ? std::nullopt : Gap(p);
+  const auto [enclosed, gap] = ReplacedAt(p);
   const NoisyIrradiance first = enclosed ? NoisyIrradiance{} : gap ? gap->blended.value : contributions_.front()->WithNoise(p);
   IndependentSum sum(first);
   NoisyIrradiance rest;  // the other terms' sum: the one other term itself (the direct light), as Remix adds it

@@ -103,10 +103,20 @@ class IrradianceField {
     BlendedGap blended;
     std::optional<std::pair<NoisyIrradiance, NoisyIrradiance>> estimates;  // narrow gap: gathered, photons
   };
-  std::optional<GapTerm> Gap(const SurfacePoint& p) const;
-  // Whether p lies inside a closed object, on a surface whose points are so tested (PreparedScene::enclosureByPoint):
-  // there the photons' term (and a gap's) is 0, as in a cover's domain.
-  bool Enclosed(const SurfacePoint& p) const;
+  // Where p's rays start (RayStart), when the field casts any there: for a gap's probes and paths, or to test
+  // whether p lies inside a closed object (PreparedScene::enclosureByPoint); else none.
+  std::optional<SurfacePoint> RaysStart(const SurfacePoint& p) const;
+  // Whether p, whose rays start at `start`, lies inside a closed object: there the photons' term (and a gap's) is 0,
+  // as in a cover's domain.
+  bool Enclosed(const SurfacePoint& p, const std::optional<SurfacePoint>& start) const;
+  // What takes the photons' term's place at p, from one RayStart: 0 inside a closed object (enclosed), or, if p
+  // lies in a gap, its gathered light (in a narrow gap mixed with the photons' by its surface's weight, with the two
+  // estimates it was mixed from); neither: the photons' own.
+  struct Replacement {
+    bool enclosed = false;
+    std::optional<GapTerm> gap;
+  };
+  Replacement ReplacedAt(const SurfacePoint& p) const;
   // H's noise and its split from the first term (the photons', or the gap's) and the sum of all terms.
   void SetNoise(SurfaceLight& light, uint32_t surface, float areaRatio, const GapTerm* gap,
                 const NoisyIrradiance& first, const IndependentSum& sum) const;
