@@ -21,29 +21,27 @@ namespace {
 constexpr uint64_t kProbeStream = 0x9a9e'0b5e'77e5'0001ull, kPathStream = 0x9a9e'0b5e'77e5'0002ull;
 constexpr float kParallelCosine = 0.5f;                       // within 60 degrees of parallel
 
-// Per surface, whether it is gathered everywhere: its area below smallArea h^2, and among the smallest such that
-// hold at most smallShare of the triangles.
-std::vector<bool> SmallSurfaces(const SurfaceSet& surfaces, const PhotonIrradiance& photons, const GapSettings& settings) {
-  const size_t n = surfaces.surfaces.size();
+// The surfaces of area below smallArea h^2, the smallest first (by area, then index).
+std::vector<uint32_t> SmallestFirst(const SurfaceSet& surfaces, const PhotonIrradiance& photons, float smallArea) {
   std::vector<uint32_t> small;
-  for (uint32_t s = 0; s < n; ++s) {
+  for (uint32_t s = 0; s < surfaces.surfaces.size(); ++s) {
     const double h = photons.Bandwidth(s);
-    if (surfaces.surfaces[s].area < settings.smallArea * h * h) small.push_back(s);
+    if (surfaces.surfaces[s].area < smallArea * h * h) small.push_back(s);
   }
-  std::vector<bool> gathered(n, false);
-  if (small.empty()) return gathered;
-  std::vector<uint32_t> triangles(n, 0);
-  for (uint32_t s : surfaces.surfaceOfTriangle) ++triangles[s];
   std::stable_sort(small.begin(), small.end(),
                    [&](uint32_t a, uint32_t b) { return surfaces.surfaces[a].area < surfaces.surfaces[b].area; });
-  const double budget = settings.smallShare * double(surfaces.surfaceOfTriangle.size());
+  return small;
+}
+
+// How many of `small` (SmallestFirst) hold at most `share` of the triangles, taken in order.
+size_t WithinShare(const SurfaceSet& surfaces, const std::vector<uint32_t>& small, float share) {
+  std::vector<uint32_t> triangles(surfaces.surfaces.size(), 0);
+  for (uint32_t s : surfaces.surfaceOfTriangle) ++triangles[s];
+  const double budget = share * double(surfaces.surfaceOfTriangle.size());
   double taken = 0;
-  for (uint32_t s : small) {
-    taken += triangles[s];
-    if (taken > budget) break;
-    gathered[s] = true;
-  }
-  return gathered;
+  for (size_t k = 0; k < small.size(); ++k)
+    if ((taken += triangles[small[k]]) > budget) return k;
+  return small.size();
 }
 
 }  // namespace
@@ -52,10 +50,19 @@ GapGather::GapGather(const PreparedScene& scene, const PhotonIrradiance& photons
                      const GapSettings& settings, uint64_t seed, const ImportanceCache* guide)
     : scene_(scene), photons_(photons), settings_(settings), seed_(seed),
       gatherer_(scene.scene, *scene.rays, lights, IrradianceGatherer::kMaxDepth, guide),
-      small_(SmallSurfaces(scene.surfaces, photons, settings)) {}
+      small_(scene.surfaces.surfaces.size(), 0) {
+  std::vector<uint32_t> small = SmallestFirst(scene.surfaces, photons, settings.smallArea);
+  const size_t within = WithinShare(scene.surfaces, small, settings.smallShare);
+  for (size_t k = 0; k < within; ++k) small_[small[k]] = kUnread;
+  leftOut_.assign(small.begin() + ptrdiff_t(within), small.end());
+}
+
+void GapGather::GatherAtPoints(uint32_t s, bool gathered) {
+  if (small_[s] != kUnread) small_[s] = gathered ? kGatheredAtPoints : 0;
+}
 
 GapGather::Kind GapGather::KindOf(const SurfacePoint& p, const SurfacePoint& start) const {
-  if (SmallerThanKernel(p.surface)) return Kind::kSmallSurface;
+  if (small_[p.surface] != 0) return Kind::kSmallSurface;
   if (settings_.edges && OnBoundary(p, start)) return Kind::kEdge;
   const float reach = settings_.reach * photons_.Bandwidth(p.surface);
   const RayScene& rays = *scene_.rays;
@@ -92,7 +99,7 @@ std::optional<Rgb> GapGather::ScatteredAt(const RayHit& hit, bool onFront) const
     if (hit.t < photons_.PooledRadius()) return std::nullopt;
     return photons_.PooledAt(scene_.scene.PointAt(hit.triangle, hit.b1, hit.b2), scene_.scene.FrontNormal(hit.triangle)).irradiance;
   }
-  if (SmallerThanKernel(s)) return std::nullopt;
+  if (small_[s] == kUnread) return std::nullopt;
   // Per unit surface area: times the chart's area ratio on this triangle (1 on planar charts).
   const auto& c = scene_.surfaces.cornerUv[hit.triangle];
   const double area = scene_.scene.Area(hit.triangle);

@@ -58,16 +58,24 @@ class GapGather final : public ScatteredLightField {
 
   std::optional<Rgb> ScatteredAt(const RayHit& hit, bool onFront) const override;
 
- private:
-  // Whether surface s is gathered everywhere as smaller than its kernel.
-  bool SmallerThanKernel(uint32_t s) const { return small_[s]; }
+  // The surfaces smaller than their kernel that `smallShare` left to the photons, the smallest first.
+  const std::vector<uint32_t>& SmallLeftOut() const { return leftOut_; }
+  // Gathers at every point of such a surface s (SmallLeftOut), or no longer: with the time a bake's rounds left
+  // (baker/photons/trace_and_estimate.h). The paths gathered elsewhere read its photons as before, so that no
+  // other point's light changes. Not while the gather is read.
+  void GatherAtPoints(uint32_t s, bool gathered);
 
+ private:
   const PreparedScene& scene_;
   const PhotonIrradiance& photons_;
   GapSettings settings_;
   uint64_t seed_;
   IrradianceGatherer gatherer_;
-  std::vector<bool> small_;  // per surface: SmallerThanKernel
+  // Per surface: kUnread, smaller than its kernel within smallShare (gathered at its points, never read); or
+  // kGatheredAtPoints (GatherAtPoints: gathered at its points, read as before); else 0.
+  static constexpr char kUnread = 1, kGatheredAtPoints = 2;
+  std::vector<char> small_;
+  std::vector<uint32_t> leftOut_;  // SmallLeftOut
 };
 
 }  // namespace pb

@@ -30,6 +30,10 @@ void IrradianceField::Add(std::unique_ptr<IrradianceContribution> contribution) 
 
 void IrradianceField::GatherGaps(std::unique_ptr<GapGather> gaps) { gaps_ = std::move(gaps); }
 
+std::span<const uint32_t> IrradianceField::SmallLeftOut() const {
+  return gaps_ ? std::span<const uint32_t>(gaps_->SmallLeftOut()) : std::span<const uint32_t>();
+}
+
 const ImportanceCache* IrradianceField::Guide(std::unique_ptr<ImportanceCache> guide) {
   guide_ = std::move(guide);
   return guide_.get();
@@ -249,18 +253,21 @@ BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const
     baked.irradianceNoise.assign(n, 0.0), baked.photonVarianceShare.assign(n, 1.0), baked.sampledShare.assign(n, 0.0),
         baked.irradianceBias.assign(n, 0.0), baked.gatheredVarianceShare.assign(n, 0.0), baked.gapPairs.assign(n, {});
   ForEachVertex(mesh, log, "estimate irradiance", owns, [&](size_t v, const SurfacePoint& p) {
-    const SurfaceLight light = withNoise ? field.LightWithNoise(p) : field.Light(p);
-    baked.irradiance[v] = light.irradiance;
-    baked.albedo[v] = light.albedo;
-    baked.emitted[v] = light.emitted;
-    if (withNoise) {
-      baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
-      baked.sampledShare[v] = light.sampledShare, baked.irradianceBias[v] = light.relativeBias;
-      baked.gatheredVarianceShare[v] = light.gatheredVarianceShare, baked.gapPairs[v] = light.gap;
-    }
+    SetVertexLight(baked, v, withNoise ? field.LightWithNoise(p) : field.Light(p));
   });
   baked.mesh = std::move(mesh);
   return baked;
+}
+
+void SetVertexLight(BakedMesh& baked, size_t v, const SurfaceLight& light) {
+  baked.irradiance[v] = light.irradiance;
+  baked.albedo[v] = light.albedo;
+  baked.emitted[v] = light.emitted;
+  if (baked.irradianceNoise.empty()) return;
+  baked.irradianceNoise[v] = light.relativeNoise, baked.photonVarianceShare[v] = light.photonVarianceShare;
+  baked.sampledShare[v] = light.sampledShare, baked.irradianceBias[v] = light.relativeBias;
+  baked.gatheredVarianceShare[v] = light.gatheredVarianceShare;
+  if (!baked.gapPairs.empty()) baked.gapPairs[v] = light.gap;
 }
 
 void WeighGatheredPaths(IrradianceField& field, BakedMesh& baked) {

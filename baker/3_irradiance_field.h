@@ -28,6 +28,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -71,6 +72,11 @@ class IrradianceField {
   // (LearnGapWeights, from the vertices' GapPairs); before, or on a surface without one, the gathered light alone.
   void WeighGaps(std::vector<GapWeight> weights) { gapWeights_ = std::move(weights); }
   GapWeight GapWeightOf(uint32_t s) const { return s < gapWeights_.size() ? gapWeights_[s] : GapWeight{}; }
+  // The surfaces smaller than their kernel that the gather's share left to the photons, the smallest first
+  // (GapGather::SmallLeftOut); none without a gather.
+  std::span<const uint32_t> SmallLeftOut() const;
+  // Gathers at every point of such a surface, or no longer (GapGather::GatherAtPoints).
+  void GatherAtPoints(uint32_t s, bool gathered) { gaps_->GatherAtPoints(s, gathered); }
   const std::vector<GapWeight>& GapWeights() const { return gapWeights_; }  // per surface; empty before WeighGaps
 
   Rgb Irradiance(const SurfacePoint& p) const;
@@ -159,6 +165,9 @@ IrradianceField BuildIrradianceField(const PreparedScene& scene, const SurfaceBi
 // terms alone (the staircase's estimators take 2.3 s).
 IrradianceField WithSampledTerms(IrradianceField field, const PreparedScene& scene, const FieldSettings& settings,
                                  StageClock& clock);
+
+// Vertex v of `baked` reads `light`: its H, R and Le, and its noise and their parts where baked holds them.
+void SetVertexLight(BakedMesh& baked, size_t v, const SurfaceLight& light);
 
 // Vertices are estimated in chunks of this many, in parallel.
 inline constexpr size_t kVertexChunk = 1024;

@@ -52,7 +52,19 @@ nlohmann::json ProgressiveJson(const ProgressiveReport& p) {
           {"finished_at_fewest_samples_vertices", p.finishedVertices}, {"target_noise", p.target && !p.targetIsError ? nlohmann::json(*p.target) : nlohmann::json()},
           {"target_error", p.target && p.targetIsError ? nlohmann::json(*p.target) : nlohmann::json()},
           {"target_met", p.TargetMet()}, {"stopped_by", p.stoppedBy}, {"rounds", rounds},
-          {"first_round_cut", p.firstRoundCut}, {"first_round_foretold_s", p.firstRoundForetold}};
+          {"first_round_cut", p.firstRoundCut}, {"first_round_foretold_s", p.firstRoundForetold},
+          {"small_surfaces_left_out", {{"surfaces", p.small.leftOut}, {"gathered", p.small.gathered},
+                                       {"vertices_gathered", p.small.vertices}, {"seconds", p.small.seconds}}}};
+}
+
+// "  small     ...", or "" where the defaults' share left no small surface out.
+std::string SmallSurfacesLine(const ProgressiveReport::SmallSurfaces& small) {
+  if (small.leftOut == 0) return "";
+  const bool all = small.gathered == small.leftOut;
+  return fmt::format("  small     the time the rounds left gathered paths at the {} vertices of {} of the {} surfaces "
+                     "smaller than their kernel that the share of the triangles left to the photons, the smallest "
+                     "first ({:.1f} s){}\n", small.vertices, small.gathered, small.leftOut, small.seconds,
+                     all ? "" : "; the time budget ended it, so this machine's speed chose how many");
 }
 
 // The rounds of --target-noise or --target-error, how they ended, and the options that repeat the bake's bytes
@@ -69,7 +81,12 @@ std::string RoundLines(const ProgressiveReport& p) {
     s += fmt::format("  fitted    the first round's estimate, foretold at {:.0f} s, would have passed the time budget: its "
                      "shadow rays and gathered paths were cut by {:.2f} (give --direct-samples and --gap-paths to "
                      "choose them)\n", p.firstRoundForetold, p.firstRoundCut);
+  s += SmallSurfacesLine(p.small);
   if (p.stoppedBy.rfind("the time budget", 0) != 0) return s;
+  if (p.small.gathered < p.small.leftOut)
+    return s + fmt::format("  repeat    the time budget, so this machine's speed, chose the last round (--max-rounds {} "
+                           "repeats the rounds on any machine) and how many small surfaces were gathered after them\n",
+                           p.rounds.size());
   return s + fmt::format("  repeat    the time budget, so this machine's speed, chose the last round: --max-rounds {} "
                          "gives these bytes on any machine\n", p.rounds.size());
 }

@@ -246,6 +246,14 @@ void PhotonRounds::ShareTheCut(bool& cut) {
   shadowRays_ = shared.shadowRays, gapPaths_ = shared.gapPaths, cut = shared.fitted != 0;
 }
 
+std::optional<double> PhotonRounds::SpareTimeUntil() const {
+  const double until = kFirstRoundShare * settings_.maxSeconds;
+  if (!settings_.Rounds() || !Decides() || report_.interrupted || report_.estimateStopped ||
+      report_.finishedVertices > 0 || report_.firstRoundCut < 1 || clock_.Elapsed() >= until)
+    return std::nullopt;
+  return until;
+}
+
 double PhotonRounds::EstimateDeadline() const {
   return settings_.Rounds() ? kEstimateDeadlineShare * settings_.maxSeconds : INFINITY;
 }

@@ -106,6 +106,13 @@ class PhotonRounds {
   bool FitFirstEstimate(double estimateSeconds);
   static constexpr double kFirstRoundShare = 0.8;
   static constexpr uint32_t kFewestCutSamples = 16;
+  // When the rounds ended on their own (their target met, or a limit) before kFirstRoundShare of --max-seconds,
+  // the time [s since the bake began] until which what is left may be spent on the estimate's vertices
+  // (GatherSmallSurfacesLeft, baker/photons/trace_and_estimate.h); nullopt without rounds, after Ctrl-C or a stopped
+  // or cut estimate, and on processes that do not decide (a distribution's ranks but 0).
+  std::optional<double> SpareTimeUntil() const;
+  // What that time gathered, for the report.
+  void SmallSurfacesGathered(const ProgressiveReport::SmallSurfaces& small) { report_.small = small; }
   // Writes --save-photons, when given.
   void Save(OutputFiles& outputs);
 

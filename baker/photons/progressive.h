@@ -53,6 +53,13 @@ struct ProgressiveReport {
   // Where the first round's estimate, foretold from a pilot, would have ended the bake past the time budget: the
   // factor its shadow rays and gathered paths were cut by (1: not cut), and its foretold seconds at the full count.
   double firstRoundCut = 1, firstRoundForetold = 0;
+  // The surfaces smaller than their kernel that the defaults' share left to the photons, and those of them the time
+  // the rounds left gathered at their points (baker/photons/trace_and_estimate.h), with their vertices and seconds.
+  struct SmallSurfaces {
+    uint32_t leftOut = 0, gathered = 0;
+    uint64_t vertices = 0;
+    double seconds = 0;
+  } small;
   double Measured(const RoundReport& r) const { return targetIsError ? r.error : r.noise; }  // what the target bounds
   bool TargetMet() const { return target && !rounds.empty() && Measured(rounds.back()) <= *target; }
 };

@@ -27,15 +27,21 @@
 namespace pb {
 namespace {
 
-BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned threads = 0, float smallArea = 0,
-                   double gapNoise = 0, bool edges = false, uint64_t photons = 1'000'000, uint64_t guidePhotons = 0,
-                   float smallShare = 1) {
+// The slab scene's bake at h = 0.1 m with `gapPaths` gathered a point.
+BakeOptions GapOptions(uint32_t gapPaths, uint64_t photons) {
   static const std::string scene = test::WriteGapScene(test::TempDirectory("gap-gather"));
   BakeOptions o;
   o.scenePath = scene;
   o.photons = photons;
   o.estimator.bandwidth = 0.1f;
   o.gaps.paths = gapPaths;
+  return o;
+}
+
+BakeResult BakeGap(uint32_t gapPaths, uint32_t referencePaths = 0, unsigned threads = 0, float smallArea = 0,
+                   double gapNoise = 0, bool edges = false, uint64_t photons = 1'000'000, uint64_t guidePhotons = 0,
+                   float smallShare = 1) {
+  BakeOptions o = GapOptions(gapPaths, photons);
   o.gaps.smallArea = smallArea;
   o.gaps.smallShare = smallShare;
   o.gaps.noise = gapNoise;
@@ -186,6 +192,38 @@ TEST(GapGather, TheSmallestSurfacesAreGatheredFirstWithinTheirShare) {
       EXPECT_LT(std::abs(two.mesh.mesh.normals[v].y), 0.5f) << "only sides change";
     }
   EXPECT_EQ(changed, 8) << "two sides of four vertices each";
+}
+
+// With rounds and time left, the small surfaces the share left to the photons (of the slab's sides, top and
+// underside and the light, the share of 5.5 triangles takes two sides) are gathered at their vertices afterwards,
+// smallest first: the bake of one round with time to spare differs from the same bake without rounds exactly
+// there, on every vertex of the surfaces left out and on nothing else, and the report counts them.
+TEST(GapGather, TheTimeTheRoundsLeaveGathersTheSmallSurfacesTheShareLeftOut) {
+  BakeOptions once = GapOptions(64, 200'000);
+  once.gaps.smallArea = 20, once.gaps.smallShare = 5.5f / 1034;
+  BakeOptions rounds = once;
+  rounds.targetNoise = 0.9f, rounds.maxRounds = 1, rounds.maxSeconds = 1000;
+  const BakeResult a = BakeMesh(once, Log(true)), b = BakeMesh(rounds, Log(true));
+  const ProgressiveReport::SmallSurfaces& small = b.report.progressive.small;
+  EXPECT_EQ(small.leftOut, 5u) << "two sides, the light, the slab's top and underside";
+  EXPECT_EQ(small.gathered, small.leftOut);
+  EXPECT_EQ(a.report.progressive.small.leftOut, 0u) << "no rounds, no time left to spend";
+  ASSERT_EQ(a.mesh.irradiance.size(), b.mesh.irradiance.size());
+  const auto onTheSlab = [&](size_t v) {
+    const Point3 p = World(a.mesh, v);
+    return p.x > 0.299f && p.x < 0.701f && p.z > 0.299f && p.z < 0.701f && p.y > 0.001f && p.y < 0.5f;
+  };
+  size_t changed = 0, slabOrLight = 0;
+  for (size_t v = 0; v < a.mesh.irradiance.size(); ++v) {
+    if (a.mesh.irradiance[v] == b.mesh.irradiance[v]) continue;
+    ++changed;
+    const bool light = a.mesh.emitted[v].r > 0;
+    if (onTheSlab(v) || light) ++slabOrLight;
+    // Gathered: with the gathered paths' noise, or dark (the slab's underside, 3 mm over the floor).
+    EXPECT_TRUE(b.mesh.gatheredVarianceShare[v] > 0 || b.mesh.irradiance[v] == Rgb{}) << "vertex " << v;
+  }
+  EXPECT_EQ(changed, small.vertices) << "every vertex of the surfaces left out, and only those";
+  EXPECT_EQ(slabOrLight, changed) << "only on the slab and the light";
 }
 
 // The floor's vertices along the walls, off the slab's corners (the room's floor is 20 x 20 cells of 5 cm).
