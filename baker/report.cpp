@@ -54,7 +54,8 @@ nlohmann::json ProgressiveJson(const ProgressiveReport& p) {
           {"target_met", p.TargetMet()}, {"stopped_by", p.stoppedBy}, {"rounds", rounds},
           {"first_round_cut", p.firstRoundCut}, {"first_round_foretold_s", p.firstRoundForetold},
           {"small_surfaces_left_out", {{"surfaces", p.small.leftOut}, {"gathered", p.small.gathered},
-                                       {"vertices_gathered", p.small.vertices}, {"seconds", p.small.seconds}}}};
+                                       {"vertices_gathered", p.small.vertices}, {"seconds", p.small.seconds},
+                                       {"interrupted", p.small.interrupted}}}};
 }
 
 // "  small     ...", or "" where the defaults' share left no small surface out.
@@ -64,7 +65,9 @@ std::string SmallSurfacesLine(const ProgressiveReport::SmallSurfaces& small) {
   return fmt::format("  small     the time the rounds left gathered paths at the {} vertices of {} of the {} surfaces "
                      "smaller than their kernel that the share of the triangles left to the photons, the smallest "
                      "first ({:.1f} s){}\n", small.vertices, small.gathered, small.leftOut, small.seconds,
-                     all ? "" : "; the time budget ended it, so this machine's speed chose how many");
+                     all                 ? ""
+                     : small.interrupted ? "; Ctrl-C ended it"
+                                         : "; the time budget ended it, so this machine's speed chose how many");
 }
 
 // The rounds of --target-noise or --target-error, how they ended, and the options that repeat the bake's bytes

@@ -59,6 +59,7 @@ struct ProgressiveReport {
     uint32_t leftOut = 0, gathered = 0;
     uint64_t vertices = 0;
     double seconds = 0;
+    bool interrupted = false;  // Ctrl-C ended it (else, where not all were gathered, the time budget)
   } small;
   double Measured(const RoundReport& r) const { return targetIsError ? r.error : r.noise; }  // what the target bounds
   bool TargetMet() const { return target && !rounds.empty() && Measured(rounds.back()) <= *target; }

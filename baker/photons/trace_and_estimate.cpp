@@ -211,7 +211,7 @@ void GatherSmallSurfacesLeft(Lit& lit, PhotonRounds& rounds, StageClock& clock) 
       small.gathered += uint32_t(next - k), small.vertices += count;
     }
   });
-  small.seconds = clock.Elapsed() - start;
+  small.seconds = clock.Elapsed() - start, small.interrupted = InterruptRequested();
   rounds.SmallSurfacesGathered(small);
   if (small.gathered > 0) JudgeTheVertices(lit, clock);
 }
