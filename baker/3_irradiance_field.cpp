@@ -278,9 +278,7 @@ void WeighGatheredPaths(IrradianceField& field, BakedMesh& baked) {
     SurfaceLight light{baked.irradiance[v], baked.albedo[v], baked.emitted[v]};
     light.gap = baked.gapPairs[v];
     field.Remix(light);
-    baked.irradiance[v] = light.irradiance, baked.irradianceNoise[v] = light.relativeNoise;
-    baked.photonVarianceShare[v] = light.photonVarianceShare, baked.gatheredVarianceShare[v] = light.gatheredVarianceShare;
-    baked.sampledShare[v] = light.sampledShare, baked.irradianceBias[v] = light.relativeBias;
+    SetVertexLight(baked, v, light);
   }
   baked.gapPairs = {};
 }
