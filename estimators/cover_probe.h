@@ -1,7 +1,8 @@
 // The rays of a surface's cover (estimators/surface_cover.h): whether a point of one planar surface's (u,v) chart
 // [m] lies under other geometry, and where along a chart segment that changes, to 1 / 2^kBisections of its
 // length. A point is covered when it is on the surface and all but one of kCoverRays fixed directions over its
-// front (a cosine-weighted spiral) first meet the back of another surface's triangle.
+// front (a cosine-weighted spiral) first meet the back of another surface's triangle, or a front that such a back
+// touches (within 2^-11 of the scene's size: an object's side flush with a wall, or sunk into it that little).
 #pragma once
 
 #include <array>

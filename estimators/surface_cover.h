@@ -6,7 +6,8 @@
 //
 // A chart point is covered when all but one of kCoverRays (estimators/cover_probe.h) fixed directions over its front hemisphere (a
 // cosine-weighted spiral, the lowest 10 degrees above the plane) first meet the back of a triangle: the point lies
-// inside a closed object. The one spared ray forgives a crack in the object's mesh; a one-sided table top over a
+// inside a closed object. A front that another triangle's back touches counts as that back (a cabinet's side flush
+// with a wall; estimators/cover_probe.h). The one spared ray forgives a crack in the object's mesh; a one-sided table top over a
 // floor lets its grazing rays out, so the floor under it stays open. The test is made on a square lattice of
 // spacing s [m] over the chart; points off the surface are open, so a contact line that reaches the surface's edge
 // ends there. On each lattice edge whose ends differ, the change is found by bisection to s / 1024, and each

@@ -14,7 +14,8 @@
 //              first: the real interiors' room lit through a gap (docs/real-assets.md).
 //   atrium:    a 12 x 12 x 8 m court of two storeys of galleries around an 8 x 8 m well open to the sky, lit only by
 //              a small sphere light 2 m above the opening: the real interiors' atrium (docs/real-assets.md).
-// Usage: make-scene led-room|one-light|grid-room|lit-copy|door-rooms|atrium [--lamps N] [--triangles N]
+//   glass-room: a bathroom lit only through a glazed window, a sky panel outside (every path crosses the glass).
+// Usage: make-scene led-room|one-light|grid-room|lit-copy|door-rooms|atrium|glass-room [--lamps N] [--triangles N]
 // [--light-triangles N] [--from OBJ] [--gap M] [--cell M] --out DIR;
 // prints the OBJ's path.
 #include <CLI/CLI.hpp>
@@ -256,6 +257,58 @@ std::string Atrium(double cell, uint64_t& vertex) {
   return obj;
 }
 
+// glass-room: a bathroom (x in [0, 3], y in [0, 2.6] up, z in [0, 2.4]; walls of tiles, Kd 0.8) lit only through
+// a 0.8 x 0.9 m window in its x = 3 wall (12 cm thick, its outer face and reveal modelled), glazed with a 6 mm pane
+// of glass (illum 7, Ni 1.5, Tf 0.9; frosted in the real ones, smooth here, as the baker reads any glass), beyond
+// which a 4 x 4 m sky panel (radiance 8) faces the window 1.5 m out. Inside: a bath along the z = 0 wall, a sink
+// cabinet and a toilet along z = 2.4, a mirror (illum 3) above the sink, a shelf under it with four bottles. Every
+// path into the room passes the glass twice; faces gridded at `cell` [m].
+std::string GlassRoom(double cell, uint64_t& vertex) {
+  constexpr double kW = 3, kH = 2.6, kD = 2.4, kT = 0.12, y0 = 1.3, y1 = 2.2, z0 = 0.8, z1 = 1.6;
+  std::string obj = "mtllib room.mtl\n";
+  const auto faces = [&](const char* object, const char* material, const std::vector<Quad>& quads) {
+    obj += fmt::format("o {}\nusemtl {}\n", object, material);
+    for (const Quad& q : quads) GridFace(obj, vertex, q.corner, q.a, q.b, cell);
+  };
+  const auto box = [&](const char* object, const char* material, std::array<double, 3> lo, std::array<double, 3> hi) {
+    obj += fmt::format("o {}\nusemtl {}\n", object, material);
+    GridBox(obj, vertex, lo.data(), hi.data(), cell, true);
+  };
+  faces("floor", "floor", {{{0, 0, 0}, {0, 0, kD}, {kW, 0, 0}}});
+  faces("room", "tiles", {{{0, kH, 0}, {kW, 0, 0}, {0, 0, kD}},    // ceiling, facing down
+                          {{0, 0, 0}, {kW, 0, 0}, {0, kH, 0}},     // z = 0, facing +z
+                          {{0, 0, kD}, {0, kH, 0}, {kW, 0, 0}},    // z = D, facing -z
+                          {{0, 0, 0}, {0, kH, 0}, {0, 0, kD}}});   // x = 0, facing +x
+  // The window wall around its opening, inside (facing -x) and out (facing +x), and the opening's reveal.
+  std::vector<Quad> wall;
+  for (const double x : {kW, kW + kT}) {
+    const bool in = x == kW;
+    for (const auto& [za, zb, ya, yb] : {std::array{0.0, kD, 0.0, y0}, std::array{0.0, kD, y1, kH},
+                                         std::array{0.0, z0, y0, y1}, std::array{z1, kD, y0, y1}})
+      wall.push_back(in ? Quad{{x, ya, za}, {0, 0, zb - za}, {0, yb - ya, 0}}
+                        : Quad{{x, ya, za}, {0, yb - ya, 0}, {0, 0, zb - za}});
+  }
+  wall.push_back({{kW, y0, z0}, {0, 0, z1 - z0}, {kT, 0, 0}});  // sill, facing up
+  wall.push_back({{kW, y1, z0}, {kT, 0, 0}, {0, 0, z1 - z0}});  // head, facing down
+  wall.push_back({{kW, y0, z0}, {kT, 0, 0}, {0, y1 - y0, 0}});  // jamb, facing +z
+  wall.push_back({{kW, y0, z1}, {0, y1 - y0, 0}, {kT, 0, 0}});  // jamb, facing -z
+  faces("window_wall", "tiles", wall);
+  const double mid = kW + kT / 2, gap = 0.001;
+  box("pane", "glass", {mid - 0.003, y0 + gap, z0 + gap}, {mid + 0.003, y1 - gap, z1 - gap});
+  box("bath", "ceramic", {0, 0, 0}, {1.7, 0.55, 0.75});
+  box("sink", "wood", {0.6, 0, 1.95}, {1.2, 0.85, kD});
+  box("toilet", "ceramic", {2.3, 0, 1.8}, {2.7, 0.42, kD});
+  box("toilet", "ceramic", {2.25, 0.42, 2.2}, {2.75, 0.8, kD});
+  faces("mirror", "mirror", {{{0.55, 1.1, kD - 0.005}, {0, 0.8, 0}, {0.7, 0, 0}}});
+  box("shelf", "wood", {0.6, 0.98, 2.25}, {1.2, 1.0, kD});
+  for (int i = 0; i < 4; ++i) {
+    const double x = 0.65 + 0.14 * i;
+    box("bottles", i % 2 == 0 ? "bottle" : "ceramic", {x, 1.0, 2.3}, {x + 0.05, 1.0 + 0.08 + 0.03 * i, 2.35});
+  }
+  faces("sky", "sky", {{{kW + 1.5, -0.5, -0.8}, {0, 0, kD + 1.6}, {0, 4, 0}}});  // facing -x, toward the window
+  return obj;
+}
+
 void Write(const std::string& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
@@ -295,12 +348,13 @@ int main(int argc, char** argv) {
   std::string kind = "led-room", out = "out/scene";
   uint64_t lamps = 100000;
   uint64_t triangles = 2'000'000;
-  app.add_option("kind", kind, "led-room, one-light, grid-room, lit-copy, door-rooms or atrium")
-      ->check(CLI::IsMember({"led-room", "one-light", "grid-room", "lit-copy", "door-rooms", "atrium"}));
+  app.add_option("kind", kind, "led-room, one-light, grid-room, lit-copy, door-rooms, atrium or glass-room")
+      ->check(CLI::IsMember({"led-room", "one-light", "grid-room", "lit-copy", "door-rooms", "atrium",
+                                 "glass-room"}));
   double gap = 0.12, cell = 0.1;
   app.add_option("--gap", gap, "door-rooms: the door's opening at its free edge [m]")->capture_default_str();
   const CLI::Option* cellGiven =
-      app.add_option("--cell", cell, "door-rooms, atrium: the faces' grid [m] (atrium: 0.2 unless given)")
+      app.add_option("--cell", cell, "door-rooms, atrium, glass-room: the faces' grid [m] (atrium: 0.2 unless given)")
           ->capture_default_str();
   app.add_option("--triangles", triangles, "grid-room: triangles of the room's faces")->capture_default_str();
   app.add_option("--lamps", lamps, "lamps of the LED ceiling (one-light: whose flux it carries)")->capture_default_str();
@@ -336,6 +390,17 @@ int main(int argc, char** argv) {
                                          "newmtl light\nKd 0 0 0\nKe {0} {0} {0}\n", kAtriumRadiance));
     Write(out + "/room.obj", Atrium(cellGiven->count() > 0 ? cell : 0.2, vertex));
     fmt::print("{}/room.obj: an atrium open to the sky, lit by a small sphere above the opening\n", out);
+    return 0;
+  }
+  if (kind == "glass-room") {
+    uint64_t vertex = 1;
+    Write(out + "/room.mtl", "newmtl floor\nKd 0.35 0.33 0.3\nnewmtl tiles\nKd 0.8 0.8 0.78\n"
+                             "newmtl ceramic\nKd 0.85 0.85 0.85\nnewmtl wood\nKd 0.45 0.3 0.2\n"
+                             "newmtl bottle\nKd 0.2 0.45 0.7\nnewmtl glass\nillum 7\nKd 0 0 0\nNi 1.5\n"
+                             "Tf 0.9 0.9 0.9\nnewmtl mirror\nillum 3\nKd 0 0 0\nKs 0.9 0.9 0.9\n"
+                             "newmtl sky\nKd 0 0 0\nKe 8 8 9\n");
+    Write(out + "/room.obj", GlassRoom(cell, vertex));
+    fmt::print("{}/room.obj: a bathroom lit only through a glazed window\n", out);
     return 0;
   }
   std::string mtl = "newmtl grey\nKd 0.5 0.5 0.5\n";

@@ -108,6 +108,21 @@ TEST(Cover, ABlockAgainstTheFloorsEdgeCoversOnlyTheFloor) {
   EXPECT_LE(FloorCover(p).Area(), 0.2 * 0.4);
 }
 
+// A block standing on the floor with its side against a wall (x = 1, facing the block): flush, and sunk into the
+// wall by 0.3 mm (touching is within 2^-11 of the scene's size, 0.49 mm here). Rays from the floor under it that run to its side meet the wall's front and the
+// block's back in the same place (flush; which one first is the BVH's choice) or the wall's front first (sunk);
+// either way the block's closed side decides, and its whole footprint is covered.
+TEST(Cover, ABlockAgainstAWallCoversItsWholeFootprint) {
+  for (const double side : {1.0, 1.0003}) {
+    const std::string dir = test::TempDirectory("cover-wall");
+    const std::string wall = "v 1 0 -1\nv 1 0 1\nv 1 1 1\nv 1 1 -1\nusemtl black\nf 5 6 7 8\n";
+    const PreparedScene p = Prepare(WithGriddedFloor(dir, wall + Slab(0.6, side, -0.2, 0.2, 0.3, 9, "black"), 12));
+    // Three corners in the floor, the fourth where the wall meets it: each left cut by at most s^2 / 8.
+    EXPECT_NEAR(FloorCover(p).Area(), 0.4 * 0.4, 3 * 0.025 * 0.025 / 8) << "side at x = " << side;
+    EXPECT_LE(FloorCover(p).Area(), 0.4 * 0.4 + 1e-6);
+  }
+}
+
 TEST(Cover, AOneSidedTableTopOverTheFloorCoversNothing) {
   const std::string dir = test::TempDirectory("cover-table");
   // One quad facing up at 0.4 m: the floor under it sees its back, but its grazing rays get out.
