@@ -40,13 +40,23 @@ const ImportanceCache* IrradianceField::Guide(std::unique_ptr<ImportanceCache> g
 }
 
 std::optional<SurfacePoint> IrradianceField::RaysStart(const SurfacePoint& p) const {
-  if (!gaps_ && !scene_->enclosureByPoint[p.surface]) return std::nullopt;
+  if (!gaps_ && !scene_->enclosureByPoint[p.surface] && !AtItsCoversRim(p)) return std::nullopt;
   return RayStart(*scene_, p);
 }
 
+bool IrradianceField::AtItsCoversRim(const SurfacePoint& p) const {
+  const SurfaceCover& cover = scene_->covers[p.surface];
+  if (cover.Empty() || cover.Covered(p.uv)) return false;
+  const float r = cover.Spacing() / 64;
+  for (const auto& [du, dv] : {std::pair{r, 0.0f}, std::pair{-r, 0.0f}, std::pair{0.0f, r}, std::pair{0.0f, -r}})
+    if (cover.Covered({p.uv.u + du, p.uv.v + dv})) return true;
+  return false;
+}
+
 bool IrradianceField::Enclosed(const SurfacePoint& p, const std::optional<SurfacePoint>& start) const {
-  return start && scene_->enclosureByPoint[p.surface] &&
-         EnclosedAt(scene_->scene, scene_->surfaces, *scene_->rays, p.surface, start->position, p.normal);
+  if (!start) return false;
+  const bool tested = scene_->enclosureByPoint[p.surface] || (OnBoundary(p, *start) && AtItsCoversRim(p));
+  return tested && EnclosedAt(scene_->scene, scene_->surfaces, *scene_->rays, p.surface, start->position, p.normal);
 }
 
 IrradianceField::Replacement IrradianceField::ReplacedAt(const SurfacePoint& p) const {

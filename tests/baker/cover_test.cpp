@@ -18,6 +18,7 @@
 #include "estimators/kernels.h"
 #include "tests/lambert.h"
 #include "tests/ply_reader.h"
+#include "tests/run_tool.h"
 #include "tests/test_scenes.h"
 
 namespace pb {
@@ -121,6 +122,64 @@ TEST(Cover, ABlockAgainstAWallCoversItsWholeFootprint) {
     EXPECT_NEAR(FloorCover(p).Area(), 0.4 * 0.4, 3 * 0.025 * 0.025 / 8) << "side at x = " << side;
     EXPECT_LE(FloorCover(p).Area(), 0.4 * 0.4 + 1e-6);
   }
+}
+
+// A block in the corner of two walls (flush with both): its cover runs to the floor's outline, which the cover's
+// bisection leaves a step outside it; the floor's vertices along the walls under the block are tested as points
+// (IrradianceField::AtItsCoversRim) and read no light, as the path tracer's do. Both ways round: the corner at
+// +x +z and at -x -z.
+TEST(Cover, TheFloorsOutlineUnderABlockInACornerReadsNoLight) {
+  for (const double c : {1.0, -1.0}) {
+    const std::string dir = test::TempDirectory("cover-corner");
+    // Walls x = c and z = c, each facing the floor's centre.
+    const std::string walls = c > 0 ? "v 1 0 -1\nv 1 0 1\nv 1 1 1\nv 1 1 -1\nv -1 0 1\nv -1 1 1\nv 1 1 1\nv 1 0 1\n"
+                                    : "v -1 0 -1\nv -1 1 -1\nv -1 1 1\nv -1 0 1\nv -1 0 -1\nv 1 0 -1\nv 1 1 -1\nv -1 1 -1\n";
+    BakeOptions o;
+    o.scenePath = WithGriddedFloor(dir, walls + "usemtl black\nf 5 6 7 8\nf 9 10 11 12\n" +
+                                            Slab(std::min(c, 0.6 * c), std::max(c, 0.6 * c), std::min(c, 0.6 * c),
+                                                 std::max(c, 0.6 * c), 0.3, 13, "black"), 16);
+    o.outputPath = dir + "/out.ply";
+    o.photons = 200'000;
+    o.estimator.bandwidth = 0.5f;  // reaching the open floor beside the block
+    Bake(o, Log(true));
+    const test::PlyData ply = test::ReadPly(o.outputPath);
+    int outline = 0;
+    for (size_t v = 0; v < ply.VertexCount(); ++v) {
+      const double x = ply.vertex.at("x")[v] * c, y = ply.vertex.at("y")[v], z = ply.vertex.at("z")[v] * c;
+      if (y != 0.0 || ply.vertex.at("ny")[v] < 0.99) continue;  // the floor's vertices only
+      if (!((x == 1.0 && z > 0.65) || (z == 1.0 && x > 0.65))) continue;  // not the contact lines' ends
+      EXPECT_EQ(ply.vertex.at("irradiance_g")[v], 0.0) << "under the block at (" << x * c << ", " << z * c << ")";
+      ++outline;
+    }
+    EXPECT_EQ(outline, 7);  // 0.7, 0.8, 0.9 and 1 along each wall, the corner once
+  }
+}
+
+// The bathroom of `make-scene glass-room`, its bath in the corner of two walls (x = 0 and z = 0, over x < 1.7,
+// z < 0.75): the floor's vertices along the walls under the bath lie on the cover's rim, which the cover's bisection
+// leaves a step outside the cover; with h = 0.75 m their open-domain estimate reached the lit floor beside the bath
+// and read 0.3-0.5 W/m^2 (truth 0). Tested as points (IrradianceField::AtItsCoversRim), they read none.
+TEST(Cover, TheFloorsOutlineUnderTheBathReadsNoLight) {
+  const std::string dir = test::TempDirectory("cover-bath");
+  ASSERT_EQ(test::RunTool(PB_MAKE_SCENE_EXE, "glass-room --out " + dir).status, 0);
+  BakeOptions o;
+  o.scenePath = dir + "/room.obj";
+  o.outputPath = dir + "/out.ply";
+  o.photons = 100'000;
+  o.estimator.bandwidth = 0.75f;
+  Bake(o, Log(true));
+  const test::PlyData ply = test::ReadPly(o.outputPath);
+  int outline = 0;
+  for (size_t v = 0; v < ply.VertexCount(); ++v) {
+    const double x = ply.vertex.at("x")[v], y = ply.vertex.at("y")[v], z = ply.vertex.at("z")[v];
+    if (y != 0.0 || ply.vertex.at("ny")[v] < 0.99) continue;  // the floor's vertices only
+    // Not the contact lines' ends, nor the room's corner (x = z = 0), where three surfaces meet and RayStart's step
+    // inward is along neither wall.
+    if (!((x == 0.0 && z > 0.05 && z < 0.72) || (z == 0.0 && x > 0.05 && x < 1.65))) continue;
+    EXPECT_EQ(ply.vertex.at("irradiance_g")[v], 0.0) << "under the bath at (" << x << ", " << z << ")";
+    ++outline;
+  }
+  EXPECT_EQ(outline, 23);  // every 10 cm: z = 0.1 to 0.7 along x = 0, x = 0.1 to 1.6 along z = 0
 }
 
 TEST(Cover, AOneSidedTableTopOverTheFloorCoversNothing) {
