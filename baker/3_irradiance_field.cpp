@@ -47,16 +47,24 @@ std::optional<SurfacePoint> IrradianceField::RaysStart(const SurfacePoint& p) co
 bool IrradianceField::AtItsCoversRim(const SurfacePoint& p) const {
   const SurfaceCover& cover = scene_->covers[p.surface];
   if (cover.Empty() || cover.Covered(p.uv)) return false;
-  const float r = cover.Spacing() / 64;
-  for (const auto& [du, dv] : {std::pair{r, 0.0f}, std::pair{-r, 0.0f}, std::pair{0.0f, r}, std::pair{0.0f, -r}})
-    if (cover.Covered({p.uv.u + du, p.uv.v + dv})) return true;
+  const float r = cover.Spacing() / 64;  // along the sides and the diagonals: a corner of a face covered whole
+  for (const float du : {-r, 0.0f, r})
+    for (const float dv : {-r, 0.0f, r})
+      if (cover.Covered({p.uv.u + du, p.uv.v + dv})) return true;
   return false;
 }
 
 bool IrradianceField::Enclosed(const SurfacePoint& p, const std::optional<SurfacePoint>& start) const {
+  const SurfaceCover& cover = scene_->covers[p.surface];
+  if (!cover.Empty() && cover.Covered(p.uv))  // its domain's photons read it, unless it is pressed against a face
+    return PressedAt(scene_->scene, scene_->surfaces, *scene_->rays, p.surface, p.position, p.normal);
   if (!start) return false;
-  const bool tested = scene_->enclosureByPoint[p.surface] || (OnBoundary(p, *start) && AtItsCoversRim(p));
-  return tested && EnclosedAt(scene_->scene, scene_->surfaces, *scene_->rays, p.surface, start->position, p.normal);
+  const auto enclosed = [&] {
+    return EnclosedAt(scene_->scene, scene_->surfaces, *scene_->rays, p.surface, start->position, p.normal);
+  };
+  if (scene_->enclosureByPoint[p.surface]) return enclosed();
+  return OnBoundary(p, *start) && AtItsCoversRim(p) &&
+         (PressedAt(scene_->scene, scene_->surfaces, *scene_->rays, p.surface, start->position, p.normal) || enclosed());
 }
 
 IrradianceField::Replacement IrradianceField::ReplacedAt(const SurfacePoint& p) const {
@@ -74,7 +82,7 @@ IrradianceField::Replacement IrradianceField::ReplacedAt(const SurfacePoint& p) 
 Rgb IrradianceField::Irradiance(const SurfacePoint& p) const {
   const auto [enclosed, gap] = ReplacedAt(p);
   Rgb sum = enclosed ? Rgb{} : gap ? gap->blended.value.irradiance : contributions_.front()->At(p);
-  for (size_t i = 1; i < contributions_.size(); ++i) sum = sum + contributions_[i]->At(p);
+  for (size_t i = 1; i < contributions_.size() && !enclosed; ++i) sum = sum + contributions_[i]->At(p);
   return sum;
 }
 
@@ -103,7 +111,7 @@ IncidentMoments IrradianceField::Moments(const SurfacePoint& p) const {
   } else {
     contributions_.front()->AddMoments(p, moments);
   }
-  for (size_t i = 1; i < contributions_.size(); ++i) contributions_[i]->AddMoments(p, moments);
+  for (size_t i = 1; i < contributions_.size() && !enclosed; ++i) contributions_[i]->AddMoments(p, moments);
   return moments;
 }
 
@@ -141,7 +149,7 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   const NoisyIrradiance first = enclosed ? NoisyIrradiance{} : gap ? gap->blended.value : contributions_.front()->WithNoise(p);
   IndependentSum sum(first);
   NoisyIrradiance rest;  // the other terms' sum: the one other term itself (the direct light), as Remix adds it
-  for (size_t i = 1; i < contributions_.size(); ++i) {
+  for (size_t i = 1; i < contributions_.size() && !enclosed; ++i) {
     const NoisyIrradiance term = contributions_[i]->WithNoise(p);
     sum.Add(term);
     rest = i == 1 ? term : Sum(rest, term);

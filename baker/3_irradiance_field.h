@@ -112,13 +112,16 @@ class IrradianceField {
   // Where p's rays start (RayStart), when the field casts any there: for a gap's probes and paths, or to test
   // whether p lies inside a closed object (PreparedScene::enclosureByPoint); else none.
   std::optional<SurfacePoint> RaysStart(const SurfacePoint& p) const;
-  // Whether p, whose rays start at `start`, lies inside a closed object: there the photons' term (and a gap's) is 0,
-  // as in a cover's domain. Tested where the surface has no cover lattice (PreparedScene::enclosureByPoint), and at a
-  // point of the surface's outline beside its cover (AtItsCoversRim).
+  // Whether p, whose rays start at `start`, lies inside a closed object: there every term is 0 (no photon, gathered
+  // path or shadow ray reaches it). Tested by rays where the surface has no cover lattice
+  // (PreparedScene::enclosureByPoint); at a point of the surface's outline beside its cover (AtItsCoversRim), by rays
+  // and for being pressed face to face against another surface (PressedAt: its rays would start behind that face);
+  // at a covered point, for being pressed. (A point query at every point of the unlatticed surfaces, for their being
+  // pressed, cost the conference room's estimate 13 s of 21.)
   bool Enclosed(const SurfacePoint& p, const std::optional<SurfacePoint>& start) const;
-  // Whether p lies within 1/64 of its surface's cover spacing of the cover, outside it: where a cover runs to the
-  // surface's outline (a floor under a bath in the room's corner), the cover's bisection leaves the outline itself a
-  // step outside it, in the open domain.
+  // Whether p lies within 1/64 of its surface's cover spacing of the cover (along u, v or a diagonal), outside it:
+  // where a cover runs to the surface's outline (a floor under a bath in the room's corner, a face covered whole),
+  // the cover's bisection leaves the outline itself a step outside it, in the open domain.
   bool AtItsCoversRim(const SurfacePoint& p) const;
   // What takes the photons' term's place at p, from one RayStart: 0 inside a closed object (enclosed), or, if p
   // lies in a gap, its gathered light (in a narrow gap mixed with the photons' by its surface's weight, with the two

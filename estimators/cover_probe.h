@@ -25,6 +25,13 @@ inline constexpr int kCoverRays = 16;
 bool EnclosedAt(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t surface, Point3 p,
                 Normal3 n);
 
+// Whether point p of `surface`, facing along unit normal n, is pressed face to face against another surface: a
+// triangle facing back at it (normals opposed within 2.6 degrees) lies within 2^-11 of the scene's size of p, over
+// it (a bath's side against a wall, its bottom on the floor). No light reaches p, and rays spawned off p would start
+// behind the other face. Glass does not press.
+bool PressedAt(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t surface, Point3 p,
+               Normal3 n);
+
 // The point a + t (b - a), in double, rounded to float.
 Point2 Between(Point2 a, Point2 b, double t);
 
