@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "estimators/warps.h"
@@ -63,14 +64,10 @@ bool InTriangle(const Scene& scene, uint32_t t, Point3 y) {
   return b1 >= kSlack && b2 >= kSlack && b1 + b2 <= 1 - kSlack;
 }
 
-// Whether a triangle touches point x (not `skip`, not one of `own`'s, nor glass with `glassIsOpen`): x within
-// kTouchingOffsets spawn offsets of its plane and over it, its unit normal n with n . along > minCosine.
-bool TouchedAt(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t own, Point3 x,
-               Vector3 along, float minCosine, uint32_t skip, bool glassIsOpen) {
-  const float reach = kTouchingOffsets * rays.SpawnOffset();
-  thread_local std::vector<uint32_t> near;
-  near.clear();
-  rays.TrianglesNear(x, reach, near);
+// Whether one of the triangles `near` touches point x (not `skip`, not one of `own`'s, nor glass with `glassIsOpen`):
+// x within `reach` of its plane and over it, its unit normal n with n . along > minCosine.
+bool TouchedAt(const Scene& scene, const SurfaceSet& surfaces, std::span<const uint32_t> near, float reach,
+               uint32_t own, Point3 x, Vector3 along, float minCosine, uint32_t skip, bool glassIsOpen) {
   for (const uint32_t t : near) {
     if (t == skip || surfaces.surfaceOfTriangle[t] == own) continue;
     if (glassIsOpen && scene.materials[scene.triangles[t].material].kind == MaterialClass::kGlass) continue;
@@ -82,22 +79,50 @@ bool TouchedAt(const Scene& scene, const SurfaceSet& surfaces, const RayScene& r
   return false;
 }
 
+// The triangles within `radius` of x (RayScene::TrianglesNear), in a buffer of the calling thread's.
+std::span<const uint32_t> TrianglesNear(const RayScene& rays, Point3 x, float radius) {
+  thread_local std::vector<uint32_t> near;
+  near.clear();
+  rays.TrianglesNear(x, radius, near);
+  return near;
+}
+
 // Whether the ray, having met the front of triangle `hit` at point x, finds there the back of another triangle: one
 // facing along the ray that touches x. Two faces that touch, one of them the side of a closed object pressed against
 // the other (a bath along a wall, seen from the floor under it): which of two coincident triangles a ray meets first
 // is the BVH's choice, and the object's closed side is what decides.
 bool BackTouchesTheFront(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t own,
                          Point3 origin, Vector3 d, const RayHit& hit, bool glassIsOpen) {
-  return TouchedAt(scene, surfaces, rays, own, origin + d * hit.t, d, 0, hit.triangle, glassIsOpen);
+  const float reach = kTouchingOffsets * rays.SpawnOffset();
+  const Point3 x = origin + d * hit.t;
+  return TouchedAt(scene, surfaces, TrianglesNear(rays, x, reach), reach, own, x, d, 0, hit.triangle, glassIsOpen);
 }
 
 // Whether point p of surface `own`, facing along n, is pressed face to face against another surface: a triangle
 // facing back at it (normals opposed within 2.6 degrees) touches p (the bath's side against the wall, its bottom on
 // the floor). No light reaches p; rays spawned off p would start behind the other face and find the light beyond it.
+constexpr float kOpposed = 0.999f;
 bool PressedAgainst(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t own, Point3 p,
                     Normal3 n, bool glassIsOpen) {
-  constexpr float kOpposed = 0.999f;
-  return TouchedAt(scene, surfaces, rays, own, p, AsVector(n) * -1.0f, kOpposed, UINT32_MAX, glassIsOpen);
+  const float reach = kTouchingOffsets * rays.SpawnOffset();
+  return TouchedAt(scene, surfaces, TrianglesNear(rays, p, reach), reach, own, p, AsVector(n) * -1.0f, kOpposed,
+                   UINT32_MAX, glassIsOpen);
+}
+
+// The same, at p and at four points kInsetOffsets spawn offsets from it along the chart's axes: the cover's lattice
+// takes only what lies that far inside the other face, so that its contact line is found inside the footprint and a
+// vertex on that line stays open (it is where the floor beside the bath meets the bath, and its value is the light
+// beside it). The four points, not a strict test at p alone, so that the other face's own inner edges (a wall cut
+// into triangles) leave no gaps.
+constexpr float kInsetOffsets = 8;
+bool PressedWellInside(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t own, Point3 p,
+                       const Frame& frame) {
+  const float reach = kTouchingOffsets * rays.SpawnOffset(), inset = kInsetOffsets * rays.SpawnOffset();
+  const std::span<const uint32_t> near = TrianglesNear(rays, p, reach + inset);
+  const Vector3 against = AsVector(frame.n) * -1.0f;
+  for (const Vector3 step : {Vector3{}, frame.s * inset, frame.s * -inset, frame.t * inset, frame.t * -inset})
+    if (!TouchedAt(scene, surfaces, near, reach, own, p + step, against, kOpposed, UINT32_MAX, false)) return false;
+  return true;
 }
 
 // Whether the ray first meets the back of a triangle of a surface other than `own` (or a front that such a back
@@ -156,7 +181,7 @@ bool CoverProbe::CoveredAt(Point2 uv) const {
   if (!whole_.Contains(uv)) return false;
   const SurfaceChart& chart = surfaces_.surfaces[surfaceIndex_].chart;
   const Point3 p = chart.origin + chart.frame.s * uv.u + chart.frame.t * uv.v;
-  return PressedAgainst(scene_, surfaces_, rays_, surfaceIndex_, p, chart.frame.n, false) ||
+  return PressedWellInside(scene_, surfaces_, rays_, surfaceIndex_, p, chart.frame) ||
          AllButOneMeetABack(scene_, surfaces_, rays_, surfaceIndex_, p, chart.frame, directions_, false, true);
 }
 
