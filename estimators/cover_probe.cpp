@@ -126,9 +126,9 @@ bool PressedWellInside(const Scene& scene, const SurfaceSet& surfaces, const Ray
 }
 
 // Whether the ray first meets the back of a triangle of a surface other than `own` (or a front that such a back
-// touches: BackTouchesTheFront), passing through own's on a
-// planar surface (its triangles may leave its mean plane by millimetres); on a curved one, whose smooth normal turns
-// some directions into its own neighbouring triangles, the first triangle met decides, own or not. With
+// touches: BackTouchesTheFront), passing through own's on a planar surface (its triangles may leave its mean plane by
+// millimetres); on a curved one, whose smooth normal turns some directions into its own neighbouring triangles, the
+// first triangle met decides, own or not. With
 // `glassIsOpen`, a glass triangle met lets the ray out, either side (light passes it). Without `touching`, a front is
 // a front (the test made point by point in the estimate, where a point query at every front met would cost more than
 // the rays: the conference room's estimate took 31 s against 8).
