@@ -2,7 +2,8 @@
 // [m] lies under other geometry, and where along a chart segment that changes, to 1 / 2^kBisections of its
 // length. A point is covered when it is on the surface and all but one of kCoverRays fixed directions over its
 // front (a cosine-weighted spiral) first meet the back of another surface's triangle, or a front that such a back
-// touches (within 2^-11 of the scene's size: an object's side flush with a wall, or sunk into it that little).
+// touches (within 2^-11 of the scene's size: an object's side flush with a wall, or sunk into it that little); or
+// when it, and four points a few spawn offsets around it, are pressed face to face against another surface (PressedAt).
 #pragma once
 
 #include <array>
@@ -21,7 +22,8 @@ inline constexpr int kCoverRays = 16;
 // Whether point p of `surface`, whose front faces along unit normal n, lies inside a closed object: all but one of
 // the kCoverRays directions over its front first meet the back of another surface's triangle (the cover's test,
 // made at one point: a baluster's end inside its handrail, a post's foot inside the floor, where no cover lattice is
-// laid because the surface is curved or narrower than two of its spacings). p is the point rays start from.
+// laid because the surface is curved or narrower than two of its spacings). p is the point rays start from. A front
+// is a front here, touched or not: a point query at every front met, at every point, would cost more than the rays.
 bool EnclosedAt(const Scene& scene, const SurfaceSet& surfaces, const RayScene& rays, uint32_t surface, Point3 p,
                 Normal3 n);
 
