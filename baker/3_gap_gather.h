@@ -52,6 +52,9 @@ class GapGather final : public ScatteredLightField {
   // on a planar surface's boundary, or in a narrow gap; kNone when it is not.
   enum class Kind { kNone, kSmallSurface, kEdge, kNarrowGap };
   Kind KindOf(const SurfacePoint& p, const SurfacePoint& start) const;
+  // Whether a point of this kind has its gathered light weighed against the photons' (baker/3_gap_weights.h): in a
+  // narrow gap and on a surface smaller than its kernel; a boundary keeps the gathered light.
+  static bool Weighed(Kind kind) { return kind == Kind::kNarrowGap || kind == Kind::kSmallSurface; }
   bool InGap(const SurfacePoint& p, const SurfacePoint& start) const { return KindOf(p, start) != Kind::kNone; }
   // E_s at p by `paths` gathered paths, and its relative noise; with `moments`, their moments added to it.
   NoisyIrradiance Gathered(const SurfacePoint& p, const SurfacePoint& start, IncidentMoments* moments = nullptr) const;

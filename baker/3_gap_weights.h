@@ -11,9 +11,13 @@
 // times its mean and p lies within g's own error, it falls towards the photons (docs/real-assets.md, "What holds
 // the sports car's noise"). As the paths grow, s_g falls and alpha goes to 1: the mix is consistent.
 //
-// Only narrow gaps are weighed: on a surface smaller than its kernel the photons are not read at all, and on a
-// planar surface's boundary (--gap-edges) the photons' bias of 0.5-1.3% is below what a surface's few noisy edge
-// vertices can show, so the edges keep the gathered light (alpha 1).
+// A surface smaller than its kernel, gathered at every point, is weighed alike: there p is the photons' estimate the
+// surface would have had (its own kernel, or the photons pooled across sparse surfaces, which average the light
+// over up to half a metre about it). A bath's side in a room lit through a window, 0.3-0.9 m^2, reads its pooled
+// photons faithfully and its 256 paths 20-28% noisy, so alpha falls; bottles on a shelf, whose pooled photons read
+// a third of their light, keep alpha near 1 (docs/bake.md, "Narrow gaps"). On a planar surface's boundary
+// (--gap-edges) the photons' bias of 0.5-1.3% is below what a surface's few noisy edge vertices can show, so the
+// edges keep the gathered light (alpha 1).
 #pragma once
 
 #include <cstdint>
@@ -24,15 +28,16 @@
 
 namespace pb {
 
-// A narrow-gap vertex's two estimates of E_s, and the rest of its H (the direct light, whose noise is independent).
+// A weighed vertex's two estimates of E_s (in a narrow gap, on a surface smaller than its kernel), and the rest of
+// its H (the direct light, whose noise is independent).
 struct GapPair {
   static constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
-  uint32_t surface = kNone;  // kNone: the vertex is not in a narrow gap
+  uint32_t surface = kNone;  // kNone: the vertex's light is not weighed
   NoisyIrradiance gathered, photons, rest;
   bool Present() const { return surface != kNone; }
 };
 
-// Per surface: the weight of the gathered paths, the photons' RMS bias at its narrow-gap vertices [W/m^2,
+// Per surface: the weight of the gathered paths, the photons' RMS bias at its weighed vertices [W/m^2,
 // luminance] (what 1 - alpha of it leaves in H), and how many vertices it was learned from.
 struct GapWeight {
   double alpha = 1, bias = 0;

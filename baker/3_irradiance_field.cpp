@@ -74,7 +74,7 @@ IrradianceField::Replacement IrradianceField::ReplacedAt(const SurfacePoint& p) 
   const GapGather::Kind kind = gaps_->KindOf(p, *start);
   if (kind == GapGather::Kind::kNone) return {};
   const NoisyIrradiance gathered = gaps_->Gathered(p, *start);
-  if (kind != GapGather::Kind::kNarrowGap) return {false, GapTerm{Blend(gathered, {}, 1), std::nullopt}};
+  if (!GapGather::Weighed(kind)) return {false, GapTerm{Blend(gathered, {}, 1), std::nullopt}};
   const NoisyIrradiance photons = contributions_.front()->WithNoise(p);
   return {false, GapTerm{Blend(gathered, photons, GapWeightOf(p.surface).alpha), std::pair(gathered, photons)}};
 }
@@ -98,7 +98,7 @@ IncidentMoments IrradianceField::Moments(const SurfacePoint& p) const {
   const std::optional<SurfacePoint> start = RaysStart(p);
   const bool enclosed = Enclosed(p, start);
   const GapGather::Kind kind = gaps_ && !enclosed ? gaps_->KindOf(p, *start) : GapGather::Kind::kNone;
-  const double alpha = kind == GapGather::Kind::kNarrowGap ? GapWeightOf(p.surface).alpha : 1.0;
+  const double alpha = GapGather::Weighed(kind) ? GapWeightOf(p.surface).alpha : 1.0;
   if (enclosed) {
     // inside a closed object: no photon, no gathered path reaches it
   } else if (kind != GapGather::Kind::kNone && alpha >= 1) {
@@ -158,6 +158,14 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   SetNoise(light, p.surface, enclosed ? 0.0f : p.areaRatio, gap ? &*gap : nullptr, first, sum);
   if (gap && gap->estimates) light.gap = {p.surface, gap->estimates->first, gap->estimates->second, rest};
   return light;
+}
+
+void IrradianceField::WeighGaps(const std::vector<GapPair>& pairs) {
+  const size_t surfaces = scene_->surfaces.surfaces.size();
+  const std::vector<GapWeight> learned = LearnGapWeights(pairs, surfaces);
+  gapWeights_.resize(surfaces);
+  for (size_t s = 0; s < surfaces; ++s)
+    if (learned[s].vertices > 0) gapWeights_[s] = learned[s];
 }
 
 void IrradianceField::Remix(SurfaceLight& light) const {
@@ -290,7 +298,7 @@ void SetVertexLight(BakedMesh& baked, size_t v, const SurfaceLight& light) {
 
 void WeighGatheredPaths(IrradianceField& field, BakedMesh& baked) {
   if (baked.gapPairs.empty()) return;
-  field.WeighGaps(LearnGapWeights(baked.gapPairs, field.Prepared().surfaces.surfaces.size()));
+  field.WeighGaps(baked.gapPairs);
   for (size_t v = 0; v < baked.gapPairs.size(); ++v) {
     if (!baked.gapPairs[v].Present()) continue;
     SurfaceLight light{baked.irradiance[v], baked.albedo[v], baked.emitted[v]};

@@ -18,8 +18,8 @@
 // At a point inside a closed object (a baluster's end in its handrail) the photons' term is 0: no photon reaches
 // it, though the kernel's photons lie a few centimetres away (baker/0_prepare_scene.h, enclosureByPoint).
 // With --direct sampled, at a point in a narrow gap (or on a surface smaller than its kernel) the photons' term is
-// replaced by the scattered light gathered there (baker/3_gap_gather.h); in a narrow gap, once the field has
-// weighed its surface's gathered paths against the photons (WeighGaps, baker/3_gap_weights.h), by their mix.
+// replaced by the scattered light gathered there (baker/3_gap_gather.h); but for a surface's boundary, once the field
+// has weighed its surface's gathered paths against the photons (WeighGaps, baker/3_gap_weights.h), by their mix.
 //
 // With --sh the field also says where the light at a point comes from: the moments of its incident radiance, the
 // sum of every term's (estimators/incident_moments.h), each from the same samples (and photons) as its H.
@@ -68,9 +68,10 @@ class IrradianceField {
   // The importance maps that guide the gathered paths' first directions (--guide-photons), kept for the field's
   // life; null when none.
   const ImportanceCache* Guide(std::unique_ptr<ImportanceCache> guide);
-  // From here on, mixes the gathered light of each surface's narrow gaps with the photons' by its weight
-  // (LearnGapWeights, from the vertices' GapPairs); before, or on a surface without one, the gathered light alone.
-  void WeighGaps(std::vector<GapWeight> weights) { gapWeights_ = std::move(weights); }
+  // From here on, mixes the gathered light at each surface's weighed points (narrow gaps, a surface smaller than its
+  // kernel: GapGather::Weighed) with the photons' by its weight, learned from the points of it that `pairs` holds
+  // (LearnGapWeights); a surface with none keeps the weight it had (before any, the gathered light alone).
+  void WeighGaps(const std::vector<GapPair>& pairs);
   GapWeight GapWeightOf(uint32_t s) const { return s < gapWeights_.size() ? gapWeights_[s] : GapWeight{}; }
   // The surfaces smaller than their kernel that the gather's share left to the photons, the smallest first
   // (GapGather::SmallLeftOut); none without a gather.
@@ -187,7 +188,7 @@ inline constexpr size_t kVertexChunk = 1024;
 BakedMesh EstimateIrradiance(const IrradianceField& field, SplitMesh mesh, const Log& log, bool withNoise = false,
                              const std::function<bool(size_t)>& owns = {});
 
-// Learns each surface's weight of its narrow gaps' gathered paths from `baked`'s vertices (their GapPairs, which it
+// Learns each surface's weight of its weighed points' gathered paths (GapGather::Weighed) from `baked`'s vertices (their GapPairs, which it
 // empties), gives the field the weights, and mixes those vertices' light by them (IrradianceField::Remix): the bake's
 // vertices then read what the field says at the same points. Deterministic: the vertices are summed in order.
 void WeighGatheredPaths(IrradianceField& field, BakedMesh& baked);

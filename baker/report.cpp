@@ -308,11 +308,12 @@ BakeReport DescribeBake(const BakeResults& r) {
 
 namespace {
 
-// "  gaps      ...", or "" where no vertex lies in a narrow gap.
+// "  gaps      ...", or "" where no vertex's gathered light was weighed.
 std::string NarrowGapsLine(const BakeReport::NarrowGaps& g) {
   if (g.vertices == 0) return "";
-  return fmt::format("  gaps      {} vertices in narrow gaps on {} surface{}, their gathered light weighed against the "
-                     "photons': mean weight {:.3f} (1: the gathered light alone)\n", g.vertices, g.surfaces,
+  return fmt::format("  gaps      {} vertices gathered in narrow gaps or on surfaces smaller than their kernel, on {} "
+                     "surface{}, their gathered light weighed against the photons': mean weight {:.3f} (1: the gathered "
+                     "light alone)\n", g.vertices, g.surfaces,
                      g.surfaces == 1 ? "" : "s", g.meanWeight);
 }
 

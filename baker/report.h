@@ -74,8 +74,9 @@ struct BakeReport {
   double noise = 0;  // the bake's predicted noise: 95th percentile of sigma_L / L (baker/photons/progressive.h, BakeNoise)
   BakeError error;   // its predicted relative RMS error of H, noise and bias (baker/photons/progressive.h, PredictedError)
   NoiseParts noiseParts;  // the noise of each source alone (baker/photons/progressive.h, BakeNoiseParts)
-  // The vertices in narrow gaps, the surfaces they lie on, and the mean over those vertices of their surface's
-  // weight of the gathered light against the photons' (baker/3_gap_weights.h; 1: the gathered light alone).
+  // The gathered vertices whose light is weighed against the photons' (in narrow gaps, on surfaces smaller than their
+  // kernel), the surfaces they lie on, and the mean over those vertices of their surface's weight of the gathered
+  // light (baker/3_gap_weights.h; 1: the gathered light alone).
   struct NarrowGaps {
     uint64_t vertices = 0;
     uint32_t surfaces = 0;

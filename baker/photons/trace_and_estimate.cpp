@@ -161,6 +161,15 @@ std::vector<std::vector<uint32_t>> VerticesOn(const SplitMesh& mesh, std::span<c
   return on;
 }
 
+// Learns the weights of the surfaces whose points `lights` gathered at (surfaces the first estimate gathered nowhere)
+// and mixes their light by them, as the first estimate's vertices were (WeighGatheredPaths).
+void WeighTheirPaths(IrradianceField& field, std::vector<SurfaceLight>& lights) {
+  std::vector<GapPair> pairs(lights.size());
+  std::transform(lights.begin(), lights.end(), pairs.begin(), [](const SurfaceLight& l) { return l.gap; });
+  field.WeighGaps(pairs);
+  for (SurfaceLight& light : lights) field.Remix(light);
+}
+
 // Gathers at the vertices of `surfaces` into `baked`, unless `until` [s on the clock] or Ctrl-C comes first, when
 // nothing changes: false.
 bool GatherWhole(Lit& lit, std::span<const uint32_t> surfaces, std::span<const std::vector<uint32_t>> vertices,
@@ -181,6 +190,7 @@ bool GatherWhole(Lit& lit, std::span<const uint32_t> surfaces, std::span<const s
     for (uint32_t s : surfaces) lit.field->GatherAtPoints(s, false);
     return false;
   }
+  WeighTheirPaths(*lit.field, lights);
   for (size_t i = 0; i < batch.size(); ++i) SetVertexLight(lit.baked, batch[i], lights[i]);
   return true;
 }

@@ -8,7 +8,9 @@
 //    estimate bit for bit;
 //  - in a bake (the grey slab 3 mm over a floor, test::WriteGapScene), the vertices mixed after the estimate read
 //    what the field then says at the same points, bit for bit; the report counts the narrow-gap vertices and
-//    their surfaces, with their mean weight.
+//    their surfaces, with their mean weight;
+//  - a surface smaller than its kernel, gathered at every point (the slab's sides), is weighed as the narrow gaps
+//    are: the field holds its weight, and the report counts it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -129,6 +131,7 @@ TEST(GapWeights, MixedVerticesReadWhatTheFieldSays) {
   settings.estimator.bandwidth = 0.1f;
   settings.direct = {DirectLight::kSampled, 16};
   settings.gaps.paths = 16;
+  settings.gaps.smallArea = 1;  // the slab's sides (0.004 m^2) too, below h^2
   StageClock clock;
   IrradianceField field = BuildIrradianceField(scene, bins, settings, clock);
   const SplitMesh mesh = SplitBySurface(scene.scene, scene.surfaces);
@@ -141,6 +144,10 @@ TEST(GapWeights, MixedVerticesReadWhatTheFieldSays) {
   double lowest = 1;
   for (uint32_t s = 0; s < scene.surfaces.surfaces.size(); ++s) lowest = std::min(lowest, field.GapWeightOf(s).alpha);
   EXPECT_LT(lowest, 1) << "some surface's gathered light is mixed: the comparison below can fail";
+  size_t sides = 0;  // the slab's four sides: 0.4 m x 1 cm, every one of their vertices gathered and weighed
+  for (uint32_t s = 0; s < scene.surfaces.surfaces.size(); ++s)
+    sides += std::abs(scene.surfaces.surfaces[s].area - 0.004) < 1e-4 && field.GapWeightOf(s).vertices == 4;
+  EXPECT_EQ(sides, 4u);
   const BakedMesh again = EstimateIrradiance(field, mesh, Log(true));
   for (size_t v = 0; v < baked.irradiance.size(); ++v) {
     ASSERT_EQ(baked.irradiance[v].r, again.irradiance[v].r) << "vertex " << v;
@@ -149,7 +156,7 @@ TEST(GapWeights, MixedVerticesReadWhatTheFieldSays) {
   }
 }
 
-TEST(GapWeights, TheReportCountsTheNarrowGapsAndTheirWeight) {
+BakeReport::NarrowGaps WeighedInTheGapScene(float smallArea) {
   const std::string dir = test::TempDirectory("gap-weights-report");
   BakeOptions o;
   o.scenePath = test::WriteGapScene(dir);
@@ -158,13 +165,25 @@ TEST(GapWeights, TheReportCountsTheNarrowGapsAndTheirWeight) {
   o.estimator.bandwidth = 0.1f;
   o.direct.samples = 16;
   o.gaps.paths = 16;
+  o.gaps.smallArea = smallArea;
   o.quiet = true;
-  const BakeResult r = BakeMesh(o, Log(true));
-  const BakeReport::NarrowGaps& g = r.report.narrowGaps;
+  return BakeMesh(o, Log(true)).report.narrowGaps;
+}
+
+TEST(GapWeights, TheReportCountsTheNarrowGapsAndTheirWeight) {
+  const BakeReport::NarrowGaps g = WeighedInTheGapScene(0);
   EXPECT_GT(g.vertices, 50u) << "the floor under the slab, the slab's underside, the ceiling over the light";
   EXPECT_GE(g.surfaces, 3u);
   EXPECT_GT(g.meanWeight, 0);
   EXPECT_LE(g.meanWeight, 1);
+}
+
+// The slab's four sides, smaller than their kernel (0.004 m^2 against h^2 = 0.01 m^2), gathered at each of their
+// four vertices, are weighed as the narrow gaps are: four surfaces and 16 vertices more.
+TEST(GapWeights, SurfacesSmallerThanTheirKernelAreWeighedToo) {
+  const BakeReport::NarrowGaps gaps = WeighedInTheGapScene(0), sides = WeighedInTheGapScene(1);
+  EXPECT_EQ(sides.surfaces, gaps.surfaces + 4);
+  EXPECT_EQ(sides.vertices, gaps.vertices + 16);
 }
 
 }  // namespace

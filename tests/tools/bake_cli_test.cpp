@@ -348,7 +348,7 @@ TEST(BakeCli, EveryStageEndsAt100PercentWithItsRate) {
 // shadow rays. On the square light over a grey floor (Lambert's formula is H), with the photons carrying the
 // direct light too (so that the photons' noise is the error), draft's error target of 8% is met, and the floor
 // vertices' error in the target's measure (the RMS over them relative to their mean H) lies within 1.5 times it.
-// draft's first round takes 32 shadow rays and 32 gathered paths a point. medium is the defaults' noise target.
+// draft's first round takes 16 shadow rays and 16 gathered paths a point. medium is the defaults' noise target.
 // production also gathers the edges. What the command line gives explicitly wins.
 TEST(BakeCli, QualityPresetsAreTargetsWithTheScenesH) {
   const std::string dir = test::TempDirectory("cli-quality");
@@ -381,8 +381,8 @@ TEST(BakeCli, QualityPresetsAreTargetsWithTheScenesH) {
   EXPECT_LT(rmse, 1.5 * 0.08);
   const nlohmann::json sampledReport = report("--quality draft");
   const nlohmann::json& sampled = sampledReport.at("options");
-  EXPECT_EQ(sampled.at("direct_samples"), 32);
-  EXPECT_EQ(sampled.at("gap_paths"), 32);
+  EXPECT_EQ(sampled.at("direct_samples"), 16);
+  EXPECT_EQ(sampled.at("gap_paths"), 16);
   const double noise = sampledReport.at("noise").get<double>();  // each source alone is at most the whole
   EXPECT_GT(sampledReport.at("noise_parts").at("points").get<double>(), 0.0);
   for (const char* part : {"photons", "points", "gathered"})
