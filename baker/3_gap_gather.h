@@ -67,6 +67,7 @@ class GapGather final : public ScatteredLightField {
   // (baker/photons/trace_and_estimate.h). The paths gathered elsewhere read its photons as before, so that no
   // other point's light changes. Not while the gather is read.
   void GatherAtPoints(uint32_t s, bool gathered);
+  bool GatheredAtPoints(uint32_t s) const { return small_[s] == kGatheredAtPoints; }
 
  private:
   const PreparedScene& scene_;

@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 #include "baker/1_trace_photons.h"
+#include "baker/distribution.h"
 #include "baker/3_surface_point.h"
 #include "estimators/cover_probe.h"
 
@@ -158,6 +160,35 @@ SurfaceLight IrradianceField::LightWithNoise(const SurfacePoint& p) const {
   SetNoise(light, p.surface, enclosed ? 0.0f : p.areaRatio, gap ? &*gap : nullptr, first, sum);
   if (gap && gap->estimates) light.gap = {p.surface, gap->estimates->first, gap->estimates->second, rest};
   return light;
+}
+
+std::vector<std::byte> IrradianceField::LateState() const {
+  const size_t surfaces = scene_->surfaces.surfaces.size();
+  const std::span<const uint32_t> left = SmallLeftOut();
+  std::vector<std::byte> bytes(surfaces * sizeof(GapWeight) + left.size());
+  for (size_t s = 0; s < surfaces; ++s) {
+    const GapWeight w = GapWeightOf(uint32_t(s));
+    std::memcpy(bytes.data() + s * sizeof(GapWeight), &w, sizeof w);
+  }
+  for (size_t k = 0; k < left.size(); ++k)
+    bytes[surfaces * sizeof(GapWeight) + k] = std::byte(gaps_->GatheredAtPoints(left[k]) ? 1 : 0);
+  return bytes;
+}
+
+void IrradianceField::SetLateState(std::span<const std::byte> bytes) {
+  const size_t surfaces = scene_->surfaces.surfaces.size();
+  const std::span<const uint32_t> left = SmallLeftOut();
+  PB_CHECK_EQ(bytes.size(), surfaces * sizeof(GapWeight) + left.size());
+  gapWeights_.resize(surfaces);
+  for (size_t s = 0; s < surfaces; ++s) std::memcpy(&gapWeights_[s], bytes.data() + s * sizeof(GapWeight), sizeof(GapWeight));
+  for (size_t k = 0; k < left.size(); ++k)
+    gaps_->GatherAtPoints(left[k], bytes[surfaces * sizeof(GapWeight) + k] != std::byte(0));
+}
+
+void IrradianceField::TakeRankZerosLateState(const Distribution& distribution) {
+  std::vector<std::byte> bytes = LateState();
+  distribution.Broadcast(bytes);
+  SetLateState(bytes);
 }
 
 void IrradianceField::WeighGaps(const std::vector<GapPair>& pairs) {

@@ -45,6 +45,8 @@
 
 namespace pb {
 
+class Distribution;
+
 // The light at a point: H, R, Le and the relative noise of H (0 unless asked for).
 struct SurfaceLight {
   Rgb irradiance, albedo, emitted;
@@ -79,6 +81,15 @@ class IrradianceField {
   // Gathers at every point of such a surface, or no longer (GapGather::GatherAtPoints).
   void GatherAtPoints(uint32_t s, bool gathered) { gaps_->GatherAtPoints(s, gathered); }
   const std::vector<GapWeight>& GapWeights() const { return gapWeights_; }  // per surface; empty before WeighGaps
+  // What the process that finishes a bake (rank 0 of a distributed one) gives the field after the vertices' estimate:
+  // each surface's gap weight (WeighGaps) and which of the small surfaces left out the rounds' spare time gathered
+  // (GatherAtPoints). As bytes of the same length on every process of a distributed bake, so that rank 0's can be
+  // broadcast into the others' fields before they share the maps' texels.
+  std::vector<std::byte> LateState() const;
+  void SetLateState(std::span<const std::byte> bytes);
+  // Rank 0's late state into this process's field (a broadcast: every process calls it), so that each estimates its
+  // share of the maps' texels as rank 0 would.
+  void TakeRankZerosLateState(const Distribution& distribution);
 
   Rgb Irradiance(const SurfacePoint& p) const;
   SurfaceLight Light(const SurfacePoint& p) const;

@@ -23,6 +23,8 @@
 
 namespace pb {
 
+class Distribution;
+
 struct MapsWritten {
   std::vector<std::string> paths;
   size_t texels = 0;
@@ -52,8 +54,13 @@ double MapMemoryBytes(float texel, const SurfaceRegions& regions, unsigned threa
 // `base` is SplitBySurface of the field's scene, every surface. With `only` (a flag per surface, --only), the maps
 // of those surfaces alone, each the same as in a bake of them all. With `sh` (--sh; the field's moments prepared),
 // each map also holds the channels sh_r0..sh_b3, the texel's L1 SH as a vertex's (EstimateDirections).
+// With `distribution` (rank 0 of a distributed bake), the texels are shared among the processes, each of which
+// calls ShareIrradianceMaps with the same arguments meanwhile, and rank 0 writes the maps: the bytes of one process.
 MapsWritten WriteIrradianceMaps(OutputFiles& outputs, const std::string& directory, float texel, const IrradianceField& field,
                                 const SplitMesh& base, const Log& log, const std::vector<bool>& only = {},
-                                bool sh = false);
+                                bool sh = false, const Distribution* distribution = nullptr);
+// A process other than rank 0's share of the maps' texels (WriteIrradianceMaps with a distribution); it writes nothing.
+void ShareIrradianceMaps(float texel, const IrradianceField& field, const SplitMesh& base, const std::vector<bool>& only,
+                         bool sh, const Distribution& distribution);
 
 }  // namespace pb

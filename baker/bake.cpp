@@ -151,15 +151,23 @@ void WarnAboutTheLight(Journal& journal, const BakeOptions& o, const PreparedSce
 
 // --maps: each surface's irradiance map (with --only, its surfaces'), staged in `outputs`, with the warnings of
 // their time and of an earlier bake's maps in the folder.
-MapsWritten WriteMaps(Journal& journal, const BakeOptions& o, const PreparedScene& scene, const Lit& lit,
-                      double secondsPerPoint, OutputFiles& outputs, StageClock& clock, const Log& log) {
+// The mesh the maps are made over: the estimated one, or with --only every surface's (and the maps only theirs).
+SplitMesh MapsBase(const BakeOptions& o, const PreparedScene& scene, const Lit& lit) {
+  return o.only.empty() ? lit.baked.mesh : SplitBySurface(scene.scene, scene.surfaces);
+}
+std::vector<bool> MappedSurfaces(const BakeOptions& o, const PreparedScene& scene) {
+  return o.only.empty() ? std::vector<bool>{} : EstimatedSurfaces(o, scene);
+}
+
+MapsWritten WriteMaps(Journal& journal, const BakeOptions& o, const PreparedScene& scene, Lit& lit,
+                      double secondsPerPoint, OutputFiles& outputs, const Distribution* distribution, StageClock& clock,
+                      const Log& log) {
   if (o.mapsDirectory.empty()) return {};
   journal.Warn(MapTimeWarnings(o.texel, scene.regions, secondsPerPoint), log);
   const MapsWritten maps = clock.Time("maps", [&] {
-    const IrradianceField& field = *lit.field;
-    if (o.only.empty()) return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, lit.baked.mesh, log, {}, o.sh);
-    return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, field, SplitBySurface(scene.scene, scene.surfaces),
-                               log, EstimatedSurfaces(o, scene), o.sh);
+    if (distribution != nullptr) lit.field->TakeRankZerosLateState(*distribution);
+    return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, *lit.field, MapsBase(o, scene, lit), log,
+                               MappedSurfaces(o, scene), o.sh, distribution);
   });
   journal.Warn(StaleMapWarnings(o.mapsDirectory, maps.paths), log);
   return maps;
@@ -220,7 +228,7 @@ BakeResult BakeMesh(const BakeOptions& o, const Log& log, OutputFiles& outputs, 
   if (o.sh) clock.Time("directions", [&] { lit.field->PrepareMoments(rounds.Bins(), &log); });
   const double secondsPerPoint = SecondsPerPoint(lit, rounds, clock);  // what a texel or a refined vertex costs
   journal.Warn(SubdivisionTimeWarnings(scene.scene.triangles.size(), o.refine.subdivide, secondsPerPoint), log);
-  const MapsWritten maps = WriteMaps(journal, o, scene, lit, secondsPerPoint, outputs, clock, log);
+  const MapsWritten maps = WriteMaps(journal, o, scene, lit, secondsPerPoint, outputs, distribution, clock, log);
   const RefineReport refine = RefineTheMesh(journal, o, lit, rounds.Bins(), exposure, clock, log);
   if (o.referencePaths == 0) journal.Warn(MissedLightWarnings(scene, rounds.Bins(), lit.baked), log);  // as written
   if (o.sh)
@@ -278,7 +286,11 @@ void TraceShareOfBake(const BakeOptions& o, const Log& log, const Distribution& 
   const PreparedScene scene = PrepareScene(SceneOf(o), clock, &log);
   PhotonRounds rounds(scene, RoundSettingsOf(o), &distribution, clock, log);
   OutputFiles none;  // a process other than rank 0 writes nothing
-  TraceAndEstimate(rounds, scene, o, none, &distribution, clock, log);
+  Lit lit = TraceAndEstimate(rounds, scene, o, none, &distribution, clock, log);
+  if (o.mapsDirectory.empty()) return;  // rank 0 alone refines and writes the rest
+  if (o.sh) lit.field->PrepareMoments(rounds.Bins());
+  lit.field->TakeRankZerosLateState(distribution);
+  ShareIrradianceMaps(o.texel, *lit.field, MapsBase(o, scene, lit), MappedSurfaces(o, scene), o.sh, distribution);
 }
 
 }  // namespace pb

@@ -5,8 +5,9 @@
 // summed over the processes; otherwise (the defaults: h chosen per surface, rounds to a target) every process
 // takes every process's blocks and holds the whole store, as one process would. Every process then holds the same
 // irradiance field and estimates the chunks of vertices it claims first (kVertexChunk, baker/3_irradiance_field.h;
-// ClaimChunk), which rank 0 gathers; rank 0 decides whether another round follows and broadcasts its plan; rank 0 alone
-// refines, writes maps and writes the outputs. The photons are exactly those of a single-process bake, so its bytes
+// ClaimChunk), which rank 0 gathers; rank 0 decides whether another round follows and broadcasts its plan. With --maps,
+// rank 0 broadcasts what its field learned last (IrradianceField::LateState) and the processes share the maps'
+// texels alike (baker/5_write_maps.h); rank 0 alone refines and writes the outputs. The photons are exactly those of a single-process bake, so its bytes
 // are too, for any N and --threads.
 //
 // Before any photon is traced, every process says whether it is ready (Agree): a process that failed to read the

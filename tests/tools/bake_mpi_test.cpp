@@ -3,6 +3,7 @@
 //   photon figures and per-surface tallies are the same: at a fixed h (photons binned while traced), at the
 //   defaults and with --target-error (h chosen per surface, rounds), with an IES lamp and a sky image through a
 //   portal, and for a photon file saved and then resumed;
+// - --maps: the texels shared among the ranks, the maps those of one process;
 // - bad input is reported once (by rank 0) and exits non-zero;
 // - a rank killed part-way makes mpirun exit non-zero naming a rank, and the earlier output is left as it was, with
 //   no temporary file beside it.
@@ -156,6 +157,32 @@ TEST(BakeMpi, APhotonFileSavedAndResumedIsThatOfOneProcess) {
   const test::ToolRun resumed = bake(kMpirun, 500000, "mpi2", "--resume " + dir + "/mpi.photons");
   ASSERT_EQ(resumed.status, 0) << resumed.output;
   EXPECT_TRUE(test::ReadBytes(dir + "/mpi2.ply") == test::ReadBytes(dir + "/one2.ply"));
+}
+
+// --maps under MPI (issue 59): the texels are shared among the ranks, each estimating the chunks it claims, from
+// rank 0's field as its last steps left it (the box's short block's back weighs its gathered light against its
+// photons: a rank that had not learned that weight would read it otherwise), and rank 0 writes the maps: at the
+// defaults with --sh, and with --only, every map the bytes of one process's.
+TEST(BakeMpi, TheMapsAreSharedAmongTheRanksAndAreThoseOfOneProcess) {
+  REQUIRE_BAKE_MPI();
+  const std::string dir = test::TempDirectory("bake-mpi-maps");
+  const std::string box = PB_SOURCE_DIR "/data/box/box.obj -q --texel 0.02";
+  for (const std::string options : {" --sh", " --only short_block_side3,floor"}) {
+    SCOPED_TRACE(options);
+    const test::ToolRun single = test::RunTool(PB_BAKE_EXE, box + options + " -o " + dir + "/one.ply --maps " + dir + "/one");
+    ASSERT_EQ(single.status, 0) << single.output;
+    const test::ToolRun run = test::RunTool(kMpirun, box + options + " -o " + dir + "/mpi.ply --maps " + dir + "/mpi");
+    ASSERT_EQ(run.status, 0) << run.output;
+    size_t maps = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir + "/one")) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_TRUE(test::ReadBytes(dir + "/mpi/" + name) == test::ReadBytes(entry.path().string())) << name;
+      ++maps;
+    }
+    EXPECT_EQ(maps, options == " --sh" ? 17u : 2u);
+    EXPECT_TRUE(test::ReadBytes(dir + "/mpi.ply") == test::ReadBytes(dir + "/one.ply"));
+    std::filesystem::remove_all(dir + "/one"), std::filesystem::remove_all(dir + "/mpi");
+  }
 }
 
 // A grey room under an image sky through its window and an IES lamp inside, with --sh: three ranks bake the bytes of
