@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <set>
 #include <span>
@@ -125,7 +126,8 @@ void MakeSurfaceMap(OutputFiles& outputs, const std::string& path, float texel, 
 // A distributed bake's maps (baker/distribution.h): the mapped surfaces in batches of about kBatchTexels texels
 // (a larger surface alone), whose texels, one run across the batch's maps, are shared in chunks of kTexelChunk,
 // each estimated by the process that claims it first; rank 0 gathers them and calls write(map) for each. A texel's
-// value is its own, so the maps are those of one process, whoever took which chunk.
+// value is its own, so the maps are those of one process, whoever took which chunk. Should a write fail, rank 0 still
+// takes its part in every batch's exchange, so that no process is left waiting, and then throws.
 constexpr size_t kBatchTexels = size_t(1) << 20, kTexelChunk = 1024;
 
 // A batch's texels as floats, one record of H (and the SH) per texel, in the maps' order; or back into the maps.
@@ -146,6 +148,7 @@ template <typename Write>
 void ShareSurfaceMaps(const std::vector<uint32_t>& mapped, float texel, const IrradianceField& field,
                       const SurfacePointSampler& sampler, bool sh, const Distribution& d, Progress& progress,
                       Write write) {
+  std::exception_ptr failed;  // rank 0's first failure to write a map (a full disk), thrown once every batch is shared
   for (size_t first = 0, next = 0; first < mapped.size(); first = next) {
     std::vector<SurfaceMap> maps;
     std::vector<size_t> start{0};  // flat index of each map's first texel
@@ -173,11 +176,16 @@ void ShareSurfaceMaps(const std::vector<uint32_t>& mapped, float texel, const Ir
     });
     d.CloseChunks();
     d.GatherChunks(std::as_writable_bytes(std::span(flat)), floats * sizeof(float), kTexelChunk);
-    if (!d.Root()) continue;
+    if (!d.Root() || failed) continue;  // a failed write waits for the batches left, whose collectives the others await
     for (size_t c = 0; c < chunks; ++c)
       forEach(c, [&](SurfaceMap& m, size_t k, size_t t) { UnpackTexel(m, k, sh, &flat[t * floats]); });
-    for (const SurfaceMap& m : maps) write(m);
+    try {
+      for (const SurfaceMap& m : maps) write(m);
+    } catch (...) {
+      failed = std::current_exception();
+    }
   }
+  if (failed) std::rethrow_exception(failed);
 }
 
 }  // namespace

@@ -3,7 +3,8 @@
 //   photon figures and per-surface tallies are the same: at a fixed h (photons binned while traced), at the
 //   defaults and with --target-error (h chosen per surface, rounds), with an IES lamp and a sky image through a
 //   portal, and for a photon file saved and then resumed;
-// - --maps: the texels shared among the ranks, the maps those of one process;
+// - --maps: the texels shared among the ranks, the maps those of one process; a disk that fills while rank 0 writes
+//   them ends the job, naming the map, with nothing left behind;
 // - bad input is reported once (by rank 0) and exits non-zero;
 // - a rank killed part-way makes mpirun exit non-zero naming a rank, and the earlier output is left as it was, with
 //   no temporary file beside it.
@@ -183,6 +184,25 @@ TEST(BakeMpi, TheMapsAreSharedAmongTheRanksAndAreThoseOfOneProcess) {
     EXPECT_TRUE(test::ReadBytes(dir + "/mpi.ply") == test::ReadBytes(dir + "/one.ply"));
     std::filesystem::remove_all(dir + "/one"), std::filesystem::remove_all(dir + "/mpi");
   }
+}
+
+// A disk that fills while rank 0 writes the first of two batches of texels (a 1 m floor at 0.8 mm texels, 1.56
+// million, a batch of its own, and the lamp's): rank 0 still takes its part in the second batch, which the others
+// wait for, then fails naming the map; the job ends (it hung until mpirun was killed when rank 0 threw at once), and
+// nothing is left behind.
+TEST(BakeMpi, ADiskThatFillsWhileTheMapsAreWrittenEndsTheJob) {
+  REQUIRE_BAKE_MPI();
+  const std::string dir = test::TempDirectory("bake-mpi-full-disk");
+  test::WriteText(dir + "/q.mtl", "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
+  test::WriteText(dir + "/q.obj", "mtllib q.mtl\nusemtl grey\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nf 1 4 3 2\n"
+                                  "usemtl lamp\nv 0.4 1 0.4\nv 0.6 1 0.4\nv 0.6 1 0.6\nv 0.4 1 0.6\nf 5 6 7 8\n");
+  const test::ToolRun run = test::RunTool("PB_FAIL_WRITES_AFTER=1000 timeout 300 " + kMpirun,
+                                          dir + "/q.obj -q -o " + dir + "/q.ply --maps " + dir + "/maps --texel 0.0008 "
+                                          "--photons 20000 --h 0.2 --direct photons");
+  EXPECT_EQ(run.status, 1) << run.output;  // 124: timeout ended a job that hung
+  EXPECT_NE(run.output.find("surface_0.exr"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/q.ply"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/maps"));
 }
 
 // A grey room under an image sky through its window and an IES lamp inside, with --sh: three ranks bake the bytes of
