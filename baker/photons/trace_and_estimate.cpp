@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <functional>
 #include <span>
+#include <type_traits>
 
 #include "baker/distribution.h"
 #include "baker/runtime/interrupt.h"
@@ -170,29 +172,69 @@ void WeighTheirPaths(IrradianceField& field, std::vector<SurfaceLight>& lights) 
   for (SurfaceLight& light : lights) field.Remix(light);
 }
 
+// The lights of a batch's vertices shared among the processes of `d`: chunks of kSharedChunk vertices, each
+// estimated by the process that claims it first while it is not `late`, gathered on rank 0. Whole when every chunk
+// was claimed, which every process then knows (ChunkHolder), so that all keep or drop the batch together.
+constexpr size_t kSharedChunk = 32;
+bool ShareTheBatch(const Lit& lit, const std::vector<uint32_t>& batch, std::vector<SurfaceLight>& lights,
+                   const std::function<bool()>& late, const Distribution& d) {
+  static_assert(std::is_trivially_copyable_v<SurfaceLight>, "lights travel as bytes");
+  const size_t chunks = (batch.size() + kSharedChunk - 1) / kSharedChunk;
+  d.OpenChunks(chunks);
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    if (late() || !d.ClaimChunk(c)) return;
+    for (size_t i = c * kSharedChunk; i < std::min(batch.size(), (c + 1) * kSharedChunk); ++i)
+      lights[i] = lit.field->LightWithNoise(lit.baked.mesh.Point(batch[i]));
+  });
+  d.CloseChunks();
+  for (size_t c = 0; c < chunks; ++c)
+    if (d.ChunkHolder(c) == Distribution::kNobody) return false;
+  d.GatherChunks(std::as_writable_bytes(std::span(lights)), sizeof(SurfaceLight), kSharedChunk);
+  return true;
+}
+
 // Gathers at the vertices of `surfaces` into `baked`, unless `until` [s on the clock] or Ctrl-C comes first, when
-// nothing changes: false.
+// nothing changes: false. With `d`, every process takes its part (ShareTheBatch) and rank 0 keeps the lights; the
+// others mark the surfaces gathered, as rank 0 does, and learn its weights with the maps (LateState).
 bool GatherWhole(Lit& lit, std::span<const uint32_t> surfaces, std::span<const std::vector<uint32_t>> vertices,
-                 double until, StageClock& clock) {
+                 double until, const Distribution* d, StageClock& clock) {
   std::vector<uint32_t> batch;
   for (const auto& on : vertices) batch.insert(batch.end(), on.begin(), on.end());
   for (uint32_t s : surfaces) lit.field->GatherAtPoints(s, true);
   std::vector<SurfaceLight> lights(batch.size());
-  std::atomic<bool> late{false};
-  tbb::parallel_for(size_t(0), batch.size(), [&](size_t i) {
-    if (late || clock.Elapsed() > until || InterruptRequested()) {
-      late = true;
-      return;
-    }
-    lights[i] = lit.field->LightWithNoise(lit.baked.mesh.Point(batch[i]));
-  });
-  if (late) {
+  std::atomic<bool> stopped{false};
+  const std::function<bool()> late = [&] {
+    if (!stopped && (clock.Elapsed() > until || InterruptRequested())) stopped = true;
+    return bool(stopped);
+  };
+  bool whole = true;
+  if (d != nullptr) {
+    whole = ShareTheBatch(lit, batch, lights, late, *d);
+  } else {
+    tbb::parallel_for(size_t(0), batch.size(), [&](size_t i) {
+      if (!late()) lights[i] = lit.field->LightWithNoise(lit.baked.mesh.Point(batch[i]));
+    });
+    whole = !stopped;
+  }
+  if (!whole) {
     for (uint32_t s : surfaces) lit.field->GatherAtPoints(s, false);
     return false;
   }
+  if (d != nullptr && !d->Root()) return true;
   WeighTheirPaths(*lit.field, lights);
   for (size_t i = 0; i < batch.size(); ++i) SetVertexLight(lit.baked, batch[i], lights[i]);
   return true;
+}
+
+// Rank 0's spare time into every process of `d` (none without one): whether the pass runs, and until when.
+std::optional<double> RankZerosSpareTime(std::optional<double> until, const Distribution* d) {
+  if (d == nullptr) return until;
+  struct Shared {
+    double until;
+    uint8_t runs;
+  } shared{until.value_or(0.0), uint8_t(until ? 1 : 0)};
+  d->Broadcast(std::as_writable_bytes(std::span(&shared, 1)));
+  return shared.runs != 0 ? std::optional<double>(shared.until) : std::nullopt;
 }
 
 // At least this many vertices are gathered together (whole surfaces, in parallel).
@@ -206,10 +248,15 @@ constexpr size_t kGatheredTogether = 256;
 // other vertex changes, and the bake's noise is judged again. It depends on the machine's speed where the time ends
 // before the last surface (the report says how many were gathered); --gap-small-area, given, gathers on every small
 // surface from the start.
-void GatherSmallSurfacesLeft(Lit& lit, PhotonRounds& rounds, StageClock& clock) {
-  const std::optional<double> until = rounds.SpareTimeUntil();
+//
+// In a distributed bake the processes share each batch's vertices (GatherWhole); rank 0 decides whether the pass runs
+// and until when (its rounds hold the time), and alone reports it and judges the vertices again.
+void GatherSmallSurfacesLeft(Lit& lit, PhotonRounds& rounds, const Distribution* d, StageClock& clock) {
+  std::optional<double> until = rounds.SpareTimeUntil();
   const std::span<const uint32_t> left = lit.field->SmallLeftOut();
-  if (!until || left.empty() || lit.baked.irradianceNoise.empty()) return;
+  if (left.empty() || lit.baked.irradianceNoise.empty()) until.reset();
+  until = RankZerosSpareTime(until, d);
+  if (!until) return;
   ProgressiveReport::SmallSurfaces small{uint32_t(left.size())};
   const double start = clock.Elapsed();
   const std::vector<std::vector<uint32_t>> vertices = VerticesOn(lit.baked.mesh, left);
@@ -217,11 +264,12 @@ void GatherSmallSurfacesLeft(Lit& lit, PhotonRounds& rounds, StageClock& clock) 
     for (size_t k = 0, next = 0; k < left.size(); k = next) {
       size_t count = 0;
       for (next = k; next < left.size() && count < kGatheredTogether; ++next) count += vertices[next].size();
-      if (!GatherWhole(lit, left.subspan(k, next - k), std::span(vertices).subspan(k, next - k), *until, clock)) break;
+      if (!GatherWhole(lit, left.subspan(k, next - k), std::span(vertices).subspan(k, next - k), *until, d, clock)) break;
       small.gathered += uint32_t(next - k), small.vertices += count;
     }
   });
   small.seconds = clock.Elapsed() - start, small.interrupted = InterruptRequested();
+  if (d != nullptr && !d->Root()) return;
   rounds.SmallSurfacesGathered(small);
   if (small.gathered > 0) JudgeTheVertices(lit, clock);
 }
@@ -249,7 +297,7 @@ Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const Fie
     rounds.TraceRound();
     if (!EstimateLight(lit, scene, base, field, rounds, distribution, clock, log)) break;
   } while (rounds.Continue(lit.baked, lit.noise, lit.error, lit.field->Photons().Bandwidths()));
-  GatherSmallSurfacesLeft(lit, rounds, clock);
+  GatherSmallSurfacesLeft(lit, rounds, distribution, clock);
   rounds.Save(outputs);
   return lit;
 }

@@ -3,6 +3,7 @@
 //   photon figures and per-surface tallies are the same: at a fixed h (photons binned while traced), at the
 //   defaults and with --target-error (h chosen per surface, rounds), with an IES lamp and a sky image through a
 //   portal, and for a photon file saved and then resumed;
+// - the small surfaces the rounds' spare time gathers, shared among the ranks, as one process gathers them;
 // - --maps: the texels shared among the ranks, the maps those of one process; a disk that fills while rank 0 writes
 //   them ends the job, naming the map, with nothing left behind;
 // - bad input is reported once (by rank 0) and exits non-zero;
@@ -158,6 +159,25 @@ TEST(BakeMpi, APhotonFileSavedAndResumedIsThatOfOneProcess) {
   const test::ToolRun resumed = bake(kMpirun, 500000, "mpi2", "--resume " + dir + "/mpi.photons");
   ASSERT_EQ(resumed.status, 0) << resumed.output;
   EXPECT_TRUE(test::ReadBytes(dir + "/mpi2.ply") == test::ReadBytes(dir + "/one2.ply"));
+}
+
+// The time the rounds leave gathers the small surfaces the share left out (the door left ajar: one, 187 vertices);
+// under MPI the ranks share each batch of their vertices (issue 59), and the bake is one process's, the report saying
+// the same.
+TEST(BakeMpi, TheSpareTimesSmallSurfacesAreSharedAndAreThoseOfOneProcess) {
+  REQUIRE_BAKE_MPI();
+  const std::string dir = test::TempDirectory("bake-mpi-spare-time");
+  const std::string scene = PB_SOURCE_DIR "/data/door_ajar/door_ajar.obj -q";
+  const test::ToolRun single = test::RunTool(PB_BAKE_EXE, scene + " -o " + dir + "/one.ply --report " + dir + "/one.json");
+  ASSERT_EQ(single.status, 0) << single.output;
+  const test::ToolRun run = test::RunTool(kMpirun, scene + " -o " + dir + "/mpi.ply --report " + dir + "/mpi.json");
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_TRUE(test::ReadBytes(dir + "/mpi.ply") == test::ReadBytes(dir + "/one.ply"));
+  ExpectTheSameFigures(dir + "/one.json", dir + "/mpi.json");
+  const nlohmann::json small =
+      nlohmann::json::parse(test::ReadBytes(dir + "/mpi.json")).at("progressive").at("small_surfaces_left_out");
+  EXPECT_EQ(small.at("gathered"), 1) << small;
+  EXPECT_EQ(small.at("vertices_gathered"), 187) << small;
 }
 
 // --maps under MPI (issue 59): the texels are shared among the ranks, each estimating the chunks it claims, from
