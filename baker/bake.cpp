@@ -151,9 +151,11 @@ void WarnAboutTheLight(Journal& journal, const BakeOptions& o, const PreparedSce
 
 // --maps: each surface's irradiance map (with --only, its surfaces'), staged in `outputs`, with the warnings of
 // their time and of an earlier bake's maps in the folder.
-// The mesh the maps are made over: the estimated one, or with --only every surface's (and the maps only theirs).
-SplitMesh MapsBase(const BakeOptions& o, const PreparedScene& scene, const Lit& lit) {
-  return o.only.empty() ? lit.baked.mesh : SplitBySurface(scene.scene, scene.surfaces);
+// The mesh the maps are made over: the estimated one, or with --only every surface's, held in `all` (and the maps
+// only theirs).
+const SplitMesh& MapsBase(const BakeOptions& o, const PreparedScene& scene, const Lit& lit, std::optional<SplitMesh>& all) {
+  if (o.only.empty()) return lit.baked.mesh;
+  return all.emplace(SplitBySurface(scene.scene, scene.surfaces));
 }
 std::vector<bool> MappedSurfaces(const BakeOptions& o, const PreparedScene& scene) {
   return o.only.empty() ? std::vector<bool>{} : EstimatedSurfaces(o, scene);
@@ -166,7 +168,8 @@ MapsWritten WriteMaps(Journal& journal, const BakeOptions& o, const PreparedScen
   journal.Warn(MapTimeWarnings(o.texel, scene.regions, secondsPerPoint), log);
   const MapsWritten maps = clock.Time("maps", [&] {
     if (distribution != nullptr) lit.field->TakeRankZerosLateState(*distribution);
-    return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, *lit.field, MapsBase(o, scene, lit), log,
+    std::optional<SplitMesh> all;
+    return WriteIrradianceMaps(outputs, o.mapsDirectory, o.texel, *lit.field, MapsBase(o, scene, lit, all), log,
                                MappedSurfaces(o, scene), o.sh, distribution);
   });
   journal.Warn(StaleMapWarnings(o.mapsDirectory, maps.paths), log);
@@ -290,7 +293,8 @@ void TraceShareOfBake(const BakeOptions& o, const Log& log, const Distribution& 
   if (o.mapsDirectory.empty()) return;  // rank 0 alone refines and writes the rest
   if (o.sh) lit.field->PrepareMoments(rounds.Bins());
   lit.field->TakeRankZerosLateState(distribution);
-  ShareIrradianceMaps(o.texel, *lit.field, MapsBase(o, scene, lit), MappedSurfaces(o, scene), o.sh, distribution);
+  std::optional<SplitMesh> all;
+  ShareIrradianceMaps(o.texel, *lit.field, MapsBase(o, scene, lit, all), MappedSurfaces(o, scene), o.sh, distribution);
 }
 
 }  // namespace pb
