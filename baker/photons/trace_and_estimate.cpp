@@ -250,8 +250,10 @@ constexpr size_t kGatheredTogether = 256;
 // surface from the start.
 //
 // In a distributed bake the processes share each batch's vertices (GatherWhole); rank 0 decides whether the pass runs
-// and until when (its rounds hold the time), and alone reports it and judges the vertices again.
-void GatherSmallSurfacesLeft(Lit& lit, PhotonRounds& rounds, const Distribution* d, StageClock& clock) {
+// and until when (its rounds hold the time), and alone reports it and judges the vertices again. A progress line
+// counts the vertices of every surface left (at 1,024 paths a point the staircase's pass ran for minutes without
+// a word), within the time the rounds left; one that ends below 100% is that time running out.
+void GatherSmallSurfacesLeft(Lit& lit, PhotonRounds& rounds, const Distribution* d, StageClock& clock, const Log& log) {
   std::optional<double> until = rounds.SpareTimeUntil();
   const std::span<const uint32_t> left = lit.field->SmallLeftOut();
   if (left.empty() || lit.baked.irradianceNoise.empty()) until.reset();
@@ -260,12 +262,17 @@ void GatherSmallSurfacesLeft(Lit& lit, PhotonRounds& rounds, const Distribution*
   ProgressiveReport::SmallSurfaces small{uint32_t(left.size())};
   const double start = clock.Elapsed();
   const std::vector<std::vector<uint32_t>> vertices = VerticesOn(lit.baked.mesh, left);
+  size_t all = 0;
+  for (const auto& on : vertices) all += on.size();
   clock.Time("small surfaces", [&] {  // apart from "estimate", whose seconds per vertex foretell maps and refinement
+    Progress progress(log, "gather small surfaces", all);
+    progress.EndsWithin(*until - clock.Elapsed());
     for (size_t k = 0, next = 0; k < left.size(); k = next) {
       size_t count = 0;
       for (next = k; next < left.size() && count < kGatheredTogether; ++next) count += vertices[next].size();
       if (!GatherWhole(lit, left.subspan(k, next - k), std::span(vertices).subspan(k, next - k), *until, d, clock)) break;
       small.gathered += uint32_t(next - k), small.vertices += count;
+      progress.Advance(count);
     }
   });
   small.seconds = clock.Elapsed() - start, small.interrupted = InterruptRequested();
@@ -297,7 +304,7 @@ Lit TraceAndEstimate(PhotonRounds& rounds, const PreparedScene& scene, const Fie
     rounds.TraceRound();
     if (!EstimateLight(lit, scene, base, field, rounds, distribution, clock, log)) break;
   } while (rounds.Continue(lit.baked, lit.noise, lit.error, lit.field->Photons().Bandwidths()));
-  GatherSmallSurfacesLeft(lit, rounds, distribution, clock);
+  GatherSmallSurfacesLeft(lit, rounds, distribution, clock, log);
   rounds.Save(outputs);
   return lit;
 }

@@ -86,7 +86,7 @@ void Progress::ForetellLength(uint64_t done, uint64_t steps, std::chrono::steady
   if (foretold_ || seconds < 1 || done == 0 || done >= total_) return;
   const size_t workers = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
   if (steps < 4 * std::max<size_t>(workers, 1)) return;
-  const double all = seconds * double(total_) / double(done);
+  const double all = std::min(seconds * double(total_) / double(done), endsWithin_);
   if (all <= kLongWork) return;
   foretold_ = true;
   if (log_.Interactive()) fmt::print(stderr, "\n");  // below the progress line being drawn
@@ -128,7 +128,7 @@ void Progress::Draw(uint64_t done, bool final) {
   const double rate = seconds > 0 ? double(done) / seconds : 0.0;
   std::string tail = fmt::format("{:7.2f} s  {:>8}/s", seconds, Count(rate));
   if (!final && seconds >= 0.1 && rate > 0 && done < total_)
-    tail += fmt::format("  {} left", DurationText(double(total_ - done) / rate));
+    tail += fmt::format("  {} left", DurationText(std::min(double(total_ - done) / rate, endsWithin_ - seconds)));
   fmt::print(stderr, "{}  {:<22} {:5.1f}%  {:>12} / {:<12} {:<40}{}", log_.Interactive() ? "\r" : "", stage_,
              percent, std::min(done, total_ ? total_ : done), total_, tail, final || !log_.Interactive() ? "\n" : "");
   std::fflush(stderr);

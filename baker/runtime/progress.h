@@ -11,6 +11,7 @@
 #pragma once
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -65,6 +66,9 @@ class Progress {
   // The stage's work is done before its count (an upper bound) was reached: the count reached becomes the total,
   // and the last line reads 100%.
   void Complete();
+  // The stage stops within `seconds` of its start whatever its count (a pass that fills the time a budget left):
+  // the time left shown is at most what remains of them, and its length is foretold only past a minute of them.
+  void EndsWithin(double seconds) { endsWithin_ = seconds; }
 
  private:
   void Draw(uint64_t done, bool final);
@@ -78,6 +82,7 @@ class Progress {
   std::chrono::steady_clock::time_point start_, lastDraw_;
   std::atomic<bool> complete_{false};
   bool foretold_ = false;  // the warning of a long stage was given
+  double endsWithin_ = INFINITY;  // [s] from start_
 };
 
 // A stage's progress on `log` as `stage`, for a library's callback (mesh/work_progress.h), from its first report

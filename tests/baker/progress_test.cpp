@@ -5,6 +5,7 @@
 #include <tbb/global_control.h>
 
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <thread>
 #include <vector>
@@ -16,12 +17,15 @@ namespace {
 
 // A stage of `total` steps' worth on `workers` threads: `steps` steps of `firstStep` ended at once, a pause of over a
 // second, one more step, then one more (a warning is said once), then the rest.
-std::vector<std::string> Heard(uint64_t total, uint64_t firstStep, size_t workers = 1, int steps = 3) {
+// With `endsWithin`, the stage stops within that many seconds whatever its count.
+std::vector<std::string> Heard(uint64_t total, uint64_t firstStep, size_t workers = 1, int steps = 3,
+                               double endsWithin = INFINITY) {
   const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, workers);
   std::vector<std::string> heard;
   const Log log(true, [&](const std::string& line) { heard.push_back(line); });
   {
     Progress progress(log, "trace photons", total);
+    progress.EndsWithin(endsWithin);
     for (int k = 0; k < steps; ++k) progress.Advance(firstStep);
     std::this_thread::sleep_for(std::chrono::milliseconds(1050));
     progress.Advance(firstStep);
@@ -42,6 +46,15 @@ TEST(Progress, AStageOverAMinuteAtItsFirstSecondsRateSaysSoOnce) {
   const std::vector<std::string> quick = Heard(1000, 100);
   ASSERT_EQ(quick.size(), 1u);
   EXPECT_EQ(quick[0], "trace photons: done");
+}
+
+// A stage that fills the time a budget left (the small surfaces gathered after the rounds) is not foretold past
+// that time: its count is only an upper bound.
+TEST(Progress, AStageBoundedInTimeIsForetoldOnlyPastAMinuteOfIt) {
+  ASSERT_EQ(Heard(1000, 1, 1, 3, 50.0).size(), 1u);  // about 260 s at its rate, but ends within 50 s
+  const std::vector<std::string> bounded = Heard(1000, 1, 1, 3, 200.0);
+  ASSERT_EQ(bounded.size(), 2u);
+  EXPECT_NE(bounded[0].find("trace photons: warning: about 3 min 20 s in all"), std::string::npos) << bounded[0];
 }
 
 // With W threads, each has a step in flight when the first end: the rate is read only once 4 W steps have ended.
