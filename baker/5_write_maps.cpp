@@ -28,6 +28,11 @@ struct GridSize {
 GridSize TexelGrid(const Bounds2& b, float texel) {
   return {std::max(1, int(std::ceil((b.hi.u - b.lo.u) / texel))), std::max(1, int(std::ceil((b.hi.v - b.lo.v) / texel)))};
 }
+// The texels of a surface's map.
+size_t TexelsOn(const SurfaceRegion& region, float texel) {
+  const auto [nu, nv] = TexelGrid(region.Bounds(), texel);
+  return size_t(nu) * size_t(nv);
+}
 
 std::string Vec(double x, double y, double z) { return fmt::format("{:.9g} {:.9g} {:.9g}", x, y, z); }
 
@@ -192,10 +197,7 @@ void ShareSurfaceMaps(const std::vector<uint32_t>& mapped, float texel, const Ir
 
 double MapTexelCount(float texel, const SurfaceRegions& regions) {
   double texels = 0;
-  for (const auto& region : regions) {
-    const auto [nu, nv] = TexelGrid(region->Bounds(), texel);
-    texels += double(nu) * double(nv);
-  }
+  for (const auto& region : regions) texels += double(TexelsOn(*region, texel));
   return texels;
 }
 
@@ -210,10 +212,7 @@ std::vector<std::string> MapTimeWarnings(float texel, const SurfaceRegions& regi
 double MapMemoryBytes(float texel, const SurfaceRegions& regions, unsigned threads) {
   constexpr double kBytesPerTexel = 40;
   std::vector<double> texels;
-  for (const auto& region : regions) {
-    const auto [nu, nv] = TexelGrid(region->Bounds(), texel);
-    texels.push_back(double(nu) * double(nv));
-  }
+  for (const auto& region : regions) texels.push_back(double(TexelsOn(*region, texel)));
   std::sort(texels.rbegin(), texels.rend());
   double bytes = 0;
   for (size_t i = 0; i < texels.size() && i < threads; ++i) bytes += texels[i] * kBytesPerTexel;
@@ -269,10 +268,7 @@ std::vector<uint32_t> MappedSurfaces(const SurfaceSet& surfaces, const std::vect
 }
 size_t TexelsOf(const std::vector<uint32_t>& mapped, const SurfaceRegions& regions, float texel) {
   size_t texels = 0;
-  for (uint32_t s : mapped) {
-    const auto [nu, nv] = TexelGrid(regions[s]->Bounds(), texel);
-    texels += size_t(nu) * size_t(nv);
-  }
+  for (uint32_t s : mapped) texels += TexelsOn(*regions[s], texel);
   return texels;
 }
 
