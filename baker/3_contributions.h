@@ -85,6 +85,9 @@ class PhotonIrradiance final : public IrradianceContribution {
     return estimators_[s]->Estimate(uv);
   }
   float Bandwidth(uint32_t s) const { return bandwidths_[s]; }
+  // Whether ChartDensity is a kernel's estimate, smooth on the scale of h (not a histogram's or the nearest
+  // neighbours').
+  bool KernelEstimates() const { return settings_.kind == EstimatorKind::kKernel; }
   // Whether surface s is estimated from the pooled photons; and their estimate at a point of it [W/m^2].
   bool Pooled(uint32_t s) const { return pooled_ && s < pooledSurface_.size() && pooledSurface_[s]; }
   NoisyIrradiance PooledAt(Point3 position, Normal3 normal) const { return pooled_->Estimate(position, normal); }

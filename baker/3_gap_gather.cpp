@@ -49,7 +49,7 @@ size_t WithinShare(const SurfaceSet& surfaces, const std::vector<uint32_t>& smal
 GapGather::GapGather(const PreparedScene& scene, const PhotonIrradiance& photons, const LightSampler& lights,
                      const GapSettings& settings, uint64_t seed, const ImportanceCache* guide)
     : scene_(scene), photons_(photons), settings_(settings), seed_(seed),
-      gatherer_(scene.scene, *scene.rays, lights, IrradianceGatherer::kMaxDepth, guide),
+      gatherer_(scene.scene, *scene.rays, lights, IrradianceGatherer::kMaxDepth, guide), ends_(scene, photons),
       small_(scene.surfaces.surfaces.size(), 0) {
   std::vector<uint32_t> small = SmallestFirst(scene.surfaces, photons, settings.smallArea);
   const size_t within = WithinShare(scene.surfaces, small, settings.smallShare);
@@ -97,7 +97,7 @@ std::optional<Rgb> GapGather::ScatteredAt(const RayHit& hit, bool onFront) const
   if (!onFront || hit.t < photons_.Bandwidth(s)) return std::nullopt;
   if (photons_.Pooled(s)) {  // read where the pooled photons' reach lies well within the path's last step
     if (hit.t < photons_.PooledRadius()) return std::nullopt;
-    return photons_.PooledAt(scene_.scene.PointAt(hit.triangle, hit.b1, hit.b2), scene_.scene.FrontNormal(hit.triangle)).irradiance;
+    return ends_.Pooled(hit.triangle, hit.b1, hit.b2);
   }
   if (small_[s] == kUnread) return std::nullopt;
   // Per unit surface area: times the chart's area ratio on this triangle (1 on planar charts).
@@ -106,7 +106,7 @@ std::optional<Rgb> GapGather::ScatteredAt(const RayHit& hit, bool onFront) const
   const float ratio = scene_.surfaces.surfaces[s].planar || !(area > 0)
                           ? 1.0f
                           : float(std::fabs(SignedArea(c[0], c[1], c[2])) / area);
-  return photons_.ChartDensity(s, scene_.surfaces.UvAt(hit.triangle, hit.b1, hit.b2)) * ratio;
+  return ends_.ChartDensity(s, scene_.surfaces.UvAt(hit.triangle, hit.b1, hit.b2)) * ratio;
 }
 
 }  // namespace pb

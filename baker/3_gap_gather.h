@@ -30,6 +30,7 @@
 
 #include "baker/0_prepare_scene.h"
 #include "baker/3_gap_settings.h"
+#include "baker/3_path_end_light.h"
 #include "estimators/irradiance_gather.h"
 #include "estimators/light_sampler.h"
 #include "estimators/noisy_irradiance.h"
@@ -68,6 +69,10 @@ class GapGather final : public ScatteredLightField {
   // other point's light changes. Not while the gather is read.
   void GatherAtPoints(uint32_t s, bool gathered);
   bool GatheredAtPoints(uint32_t s) const { return small_[s] == kGatheredAtPoints; }
+  // The paths read the photons where they end directly, not from the tables (baker/3_path_end_light.h), or from
+  // them again: a pilot over a few points would pay the tables' filling at nearly every end, and foretell the
+  // whole estimate from that. Not while the gather is read.
+  void ReadEndsDirectly(bool direct) { ends_.ReadDirectly(direct); }
 
  private:
   const PreparedScene& scene_;
@@ -75,6 +80,7 @@ class GapGather final : public ScatteredLightField {
   GapSettings settings_;
   uint64_t seed_;
   IrradianceGatherer gatherer_;
+  PathEndLight ends_;  // the photons' light where the paths end
   // Per surface: kUnread, smaller than its kernel within smallShare (gathered at its points, never read); or
   // kGatheredAtPoints (GatherAtPoints: gathered at its points, read as before); else 0.
   static constexpr char kUnread = 1, kGatheredAtPoints = 2;

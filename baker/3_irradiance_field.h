@@ -80,6 +80,11 @@ class IrradianceField {
   std::span<const uint32_t> SmallLeftOut() const;
   // Gathers at every point of such a surface, or no longer (GapGather::GatherAtPoints).
   void GatherAtPoints(uint32_t s, bool gathered) { gaps_->GatherAtPoints(s, gathered); }
+  // Gathered paths read the photons where they end directly, not from their tables, or from them again
+  // (GapGather::ReadEndsDirectly). Not while the field is read.
+  void ReadPathEndsDirectly(bool direct) {
+    if (gaps_) gaps_->ReadEndsDirectly(direct);
+  }
   const std::vector<GapWeight>& GapWeights() const { return gapWeights_; }  // per surface; empty before WeighGaps
   // What the process that finishes a bake (rank 0 of a distributed one) gives the field after the vertices' estimate:
   // each surface's gap weight (WeighGaps) and which of the small surfaces left out the rounds' spare time gathered

@@ -1,0 +1,112 @@
+#include "baker/3_path_end_light.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "baker/3_contributions.h"
+
+namespace pb {
+
+// A surface's lattice: nodes lo + (i, j) spacing, i in [0, nu], j in [0, nv]; cell (i, j) has nodes (i, j) to
+// (i + 1, j + 1). Empty (nu = 0) where the surface is read directly.
+struct PathEndLight::Lattice {
+  Point2 lo{};
+  float spacing = 0;
+  int nu = 0, nv = 0;
+  std::vector<uint8_t> whole;             // per cell: wholly on the surface
+  std::vector<Rgb> nodes;                 // (nu + 1) x (nv + 1), row by row
+  int tilesU = 0;
+  std::unique_ptr<std::once_flag[]> filled;  // per tile
+  int NodeRow() const { return nu + 1; }
+};
+
+// A pooled triangle's estimate at its corners.
+struct PathEndLight::Corners {
+  std::once_flag filled;
+  std::array<Rgb, 3> light;
+  bool interpolated = false;  // small enough against the pooled reach
+};
+
+PathEndLight::PathEndLight(const PreparedScene& scene, const PhotonIrradiance& photons)
+    : scene_(scene), photons_(photons), smooth_(photons.KernelEstimates()),
+      latticeOnce_(new std::once_flag[scene.surfaces.surfaces.size()]), lattices_(scene.surfaces.surfaces.size()),
+      pooledSlot_(scene.surfaces.surfaceOfTriangle.size(), UINT32_MAX) {
+  uint32_t pooled = 0;
+  for (size_t t = 0; t < pooledSlot_.size(); ++t)
+    if (photons.Pooled(scene.surfaces.surfaceOfTriangle[t])) pooledSlot_[t] = pooled++;
+  corners_.reset(new Corners[pooled]);
+}
+
+PathEndLight::~PathEndLight() = default;
+
+// The lattice of h / kNodesPerH over the surface's chart, and which of its cells lie wholly on the surface.
+PathEndLight::Lattice& PathEndLight::LatticeOf(uint32_t s) const {
+  std::call_once(latticeOnce_[s], [&] {
+    auto lattice = std::make_unique<Lattice>();
+    const SurfaceRegion& region = *scene_.regions[s];
+    const Bounds2 b = region.Bounds();
+    const float spacing = photons_.Bandwidth(s) / float(kNodesPerH);
+    const double nu = std::ceil((double(b.hi.u) - b.lo.u) / spacing), nv = std::ceil((double(b.hi.v) - b.lo.v) / spacing);
+    if (smooth_ && spacing > 0 && nu >= 1 && nv >= 1 && nu * nv <= double(kMaxCells)) {
+      Lattice& l = *lattice;
+      l.lo = b.lo, l.spacing = spacing, l.nu = int(nu), l.nv = int(nv);
+      const std::vector<double> areas = region.GridOverlapAreas(l.lo, spacing, l.nu, l.nv);
+      const double whole = 0.999 * double(spacing) * spacing;
+      l.whole.resize(areas.size());
+      std::transform(areas.begin(), areas.end(), l.whole.begin(), [&](double a) { return uint8_t(a >= whole); });
+      l.nodes.resize(size_t(l.nu + 1) * size_t(l.nv + 1));
+      l.tilesU = l.nu / kTile + 1;
+      l.filled.reset(new std::once_flag[size_t(l.tilesU) * size_t(l.nv / kTile + 1)]);
+    }
+    lattices_[s] = std::move(lattice);
+  });
+  return *lattices_[s];
+}
+
+// The nodes of tile (tu, tv) that are a corner of a cell wholly on the surface.
+void PathEndLight::FillTile(Lattice& l, uint32_t s, int tu, int tv) const {
+  const auto whole = [&](int i, int j) { return i >= 0 && j >= 0 && i < l.nu && j < l.nv && l.whole[size_t(j) * l.nu + i]; };
+  for (int j = tv * kTile; j < std::min((tv + 1) * kTile, l.nv + 1); ++j)
+    for (int i = tu * kTile; i < std::min((tu + 1) * kTile, l.nu + 1); ++i)
+      if (whole(i - 1, j - 1) || whole(i, j - 1) || whole(i - 1, j) || whole(i, j))
+        l.nodes[size_t(j) * l.NodeRow() + i] =
+            photons_.ChartDensity(s, {l.lo.u + float(i) * l.spacing, l.lo.v + float(j) * l.spacing});
+}
+
+Rgb PathEndLight::Node(Lattice& l, uint32_t s, int i, int j) const {
+  const int tu = i / kTile, tv = j / kTile;
+  std::call_once(l.filled[size_t(tv) * l.tilesU + tu], [&] { FillTile(l, s, tu, tv); });
+  return l.nodes[size_t(j) * l.NodeRow() + i];
+}
+
+Rgb PathEndLight::ChartDensity(uint32_t s, Point2 uv) const {
+  if (direct_) return photons_.ChartDensity(s, uv);
+  Lattice& l = LatticeOf(s);
+  if (l.nu == 0) return photons_.ChartDensity(s, uv);
+  const float fu = (uv.u - l.lo.u) / l.spacing, fv = (uv.v - l.lo.v) / l.spacing;
+  const int i = int(std::floor(fu)), j = int(std::floor(fv));
+  if (i < 0 || j < 0 || i >= l.nu || j >= l.nv || !l.whole[size_t(j) * l.nu + i]) return photons_.ChartDensity(s, uv);
+  const float a = fu - float(i), b = fv - float(j);
+  return Node(l, s, i, j) * ((1 - a) * (1 - b)) + Node(l, s, i + 1, j) * (a * (1 - b)) +
+         Node(l, s, i, j + 1) * ((1 - a) * b) + Node(l, s, i + 1, j + 1) * (a * b);
+}
+
+Rgb PathEndLight::Pooled(uint32_t triangle, float b1, float b2) const {
+  const Scene& mesh = scene_.scene;
+  const Normal3 normal = mesh.FrontNormal(triangle);
+  const uint32_t slot = pooledSlot_[triangle];
+  if (slot == UINT32_MAX || direct_) return photons_.PooledAt(mesh.PointAt(triangle, b1, b2), normal).irradiance;
+  Corners& c = corners_[slot];
+  std::call_once(c.filled, [&] {
+    float longest = 0;
+    for (int k = 0; k < 3; ++k) longest = std::max(longest, Length(mesh.Corner(triangle, (k + 1) % 3) - mesh.Corner(triangle, k)));
+    c.interpolated = longest <= 0.5f * photons_.PooledRadius();
+    if (c.interpolated)
+      for (int k = 0; k < 3; ++k) c.light[size_t(k)] = photons_.PooledAt(mesh.Corner(triangle, k), normal).irradiance;
+  });
+  if (!c.interpolated) return photons_.PooledAt(mesh.PointAt(triangle, b1, b2), normal).irradiance;
+  return c.light[0] * (1 - b1 - b2) + c.light[1] * b1 + c.light[2] * b2;
+}
+
+}  // namespace pb
