@@ -249,7 +249,7 @@ void PhotonRounds::ShareTheCut(bool& cut) {
 std::optional<double> PhotonRounds::SpareTimeUntil() const {
   const double until = kFirstRoundShare * settings_.maxSeconds;
   if (!settings_.Rounds() || !Decides() || report_.interrupted || report_.estimateStopped ||
-      report_.finishedVertices > 0 || report_.firstRoundCut < 1 || clock_.Elapsed() >= until)
+      report_.finishedVertices > 0 || clock_.Elapsed() >= until)
     return std::nullopt;
   return until;
 }

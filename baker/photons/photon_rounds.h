@@ -109,7 +109,9 @@ class PhotonRounds {
   // When the rounds ended on their own (their target met, or a limit) before kFirstRoundShare of --max-seconds,
   // the time [s since the bake began] until which what is left may be spent on the estimate's vertices
   // (GatherSmallSurfacesLeft, baker/photons/trace_and_estimate.h); nullopt without rounds, after Ctrl-C or a stopped
-  // or cut estimate, and on processes that do not decide (a distribution's ranks but 0).
+  // estimate, and on processes that do not decide (a distribution's ranks but 0). A first round cut to fit the
+  // budget may leave time too: its pilot reads the photons directly where gathered paths end, so it foretells more
+  // than the estimate takes (the sports car: 56 s foretold, 34 s taken).
   std::optional<double> SpareTimeUntil() const;
   // What that time gathered, for the report.
   void SmallSurfacesGathered(const ProgressiveReport::SmallSurfaces& small) { report_.small = small; }
