@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "baker/3_contributions.h"
 
@@ -36,6 +37,26 @@ PathEndLight::PathEndLight(const PreparedScene& scene, const PhotonIrradiance& p
   for (size_t t = 0; t < pooledSlot_.size(); ++t)
     if (photons.Pooled(scene.surfaces.surfaceOfTriangle[t])) pooledSlot_[t] = pooled++;
   corners_.reset(new Corners[pooled]);
+  // The plan: the surfaces of fewest cells first (then by index) within kMaxTableCells.
+  std::vector<std::pair<size_t, uint32_t>> cells;
+  for (uint32_t s = 0; s < lattices_.size(); ++s)
+    if (const Shape shape = ShapeOf(s); shape.nu > 0) cells.push_back({size_t(shape.nu) * size_t(shape.nv), s});
+  std::sort(cells.begin(), cells.end());
+  tabled_.assign(lattices_.size(), 0);
+  size_t total = 0;
+  for (const auto& [c, s] : cells) {
+    if ((total += c) > kMaxTableCells) break;
+    tabled_[s] = 1;
+  }
+}
+
+PathEndLight::Shape PathEndLight::ShapeOf(uint32_t s) const {
+  if (!smooth_ || photons_.Pooled(s)) return {};
+  const Bounds2 b = scene_.regions[s]->Bounds();
+  const float spacing = photons_.Bandwidth(s) / float(kNodesPerH);
+  const double nu = std::ceil((double(b.hi.u) - b.lo.u) / spacing), nv = std::ceil((double(b.hi.v) - b.lo.v) / spacing);
+  if (!(spacing > 0 && nu >= 1 && nv >= 1 && nu * nv <= double(kMaxCells))) return {};
+  return {spacing, int(nu), int(nv)};
 }
 
 PathEndLight::~PathEndLight() = default;
@@ -45,14 +66,12 @@ PathEndLight::Lattice& PathEndLight::LatticeOf(uint32_t s) const {
   std::call_once(latticeOnce_[s], [&] {
     auto lattice = std::make_unique<Lattice>();
     const SurfaceRegion& region = *scene_.regions[s];
-    const Bounds2 b = region.Bounds();
-    const float spacing = photons_.Bandwidth(s) / float(kNodesPerH);
-    const double nu = std::ceil((double(b.hi.u) - b.lo.u) / spacing), nv = std::ceil((double(b.hi.v) - b.lo.v) / spacing);
-    if (smooth_ && spacing > 0 && nu >= 1 && nv >= 1 && nu * nv <= double(kMaxCells)) {
+    if (tabled_[s]) {
+      const Shape shape = ShapeOf(s);
       Lattice& l = *lattice;
-      l.lo = b.lo, l.spacing = spacing, l.nu = int(nu), l.nv = int(nv);
-      const std::vector<double> areas = region.GridOverlapAreas(l.lo, spacing, l.nu, l.nv);
-      const double whole = 0.999 * double(spacing) * spacing;
+      l.lo = region.Bounds().lo, l.spacing = shape.spacing, l.nu = shape.nu, l.nv = shape.nv;
+      const std::vector<double> areas = region.GridOverlapAreas(l.lo, l.spacing, l.nu, l.nv);
+      const double whole = 0.999 * double(l.spacing) * l.spacing;
       l.whole.resize(areas.size());
       std::transform(areas.begin(), areas.end(), l.whole.begin(), [&](double a) { return uint8_t(a >= whole); });
       l.nodes.resize(size_t(l.nu + 1) * size_t(l.nv + 1));

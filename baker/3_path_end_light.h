@@ -13,8 +13,10 @@
 //     longest edge is at most half the pooled reach; elsewhere the estimate itself.
 // Each table entry is a pure function of the photons and the scene, computed once (std::call_once), so a hit reads
 // the same value whichever thread filled the entry and in whatever order: the bake's bytes do not depend on the
-// threads. A surface whose lattice would pass kMaxCells cells, and the histogram and nearest-neighbour estimators
-// (not smooth), are read directly.
+// threads. The lattices are planned when the tables are made, the surfaces of fewest cells first, so that all of
+// them together hold at most kMaxTableCells cells (about 110 MB, whichever surfaces the paths reach): a surface
+// past that, or whose own lattice would pass kMaxCells cells, is read directly, as are the histogram and
+// nearest-neighbour estimators (not smooth).
 #pragma once
 
 #include <cstdint>
@@ -34,7 +36,8 @@ class PathEndLight {
  public:
   static constexpr int kNodesPerH = 4;   // lattice nodes per h
   static constexpr int kTile = 8;        // nodes on a tile's side
-  static constexpr size_t kMaxCells = size_t(1) << 18;  // 3 MB of nodes
+  static constexpr size_t kMaxCells = size_t(1) << 18;       // a surface's: 3 MB of nodes
+  static constexpr size_t kMaxTableCells = size_t(1) << 23;  // all surfaces'
 
   // Both must outlive this.
   PathEndLight(const PreparedScene& scene, const PhotonIrradiance& photons);
@@ -52,6 +55,12 @@ class PathEndLight {
  private:
   struct Lattice;
   struct Corners;
+  // Surface s's lattice spacing [m] and cells, or none (nu = 0) where it is read directly whatever the plan.
+  struct Shape {
+    float spacing = 0;
+    int nu = 0, nv = 0;
+  };
+  Shape ShapeOf(uint32_t s) const;
   Lattice& LatticeOf(uint32_t s) const;
   void FillTile(Lattice& lattice, uint32_t s, int tu, int tv) const;
   Rgb Node(Lattice& lattice, uint32_t s, int i, int j) const;
@@ -60,6 +69,7 @@ class PathEndLight {
   const PhotonIrradiance& photons_;
   bool smooth_;  // the photons' estimate is a kernel's
   bool direct_ = false;
+  std::vector<uint8_t> tabled_;  // per surface: within the plan
   // Per surface, made the first time a path ends on it.
   std::unique_ptr<std::once_flag[]> latticeOnce_;
   mutable std::vector<std::unique_ptr<Lattice>> lattices_;
