@@ -20,6 +20,7 @@ struct PathEndLight::Lattice {
   int tilesU = 0;
   std::unique_ptr<std::once_flag[]> filled;  // per tile
   int NodeRow() const { return nu + 1; }
+  bool Whole(int i, int j) const { return i >= 0 && j >= 0 && i < nu && j < nv && whole[size_t(j) * nu + i]; }
 };
 
 // A pooled triangle's estimate at its corners.
@@ -85,10 +86,9 @@ PathEndLight::Lattice& PathEndLight::LatticeOf(uint32_t s) const {
 
 // The nodes of tile (tu, tv) that are a corner of a cell wholly on the surface.
 void PathEndLight::FillTile(Lattice& l, uint32_t s, int tu, int tv) const {
-  const auto whole = [&](int i, int j) { return i >= 0 && j >= 0 && i < l.nu && j < l.nv && l.whole[size_t(j) * l.nu + i]; };
   for (int j = tv * kTile; j < std::min((tv + 1) * kTile, l.nv + 1); ++j)
     for (int i = tu * kTile; i < std::min((tu + 1) * kTile, l.nu + 1); ++i)
-      if (whole(i - 1, j - 1) || whole(i, j - 1) || whole(i - 1, j) || whole(i, j))
+      if (l.Whole(i - 1, j - 1) || l.Whole(i, j - 1) || l.Whole(i - 1, j) || l.Whole(i, j))
         l.nodes[size_t(j) * l.NodeRow() + i] =
             photons_.ChartDensity(s, {l.lo.u + float(i) * l.spacing, l.lo.v + float(j) * l.spacing});
 }
@@ -105,7 +105,7 @@ Rgb PathEndLight::ChartDensity(uint32_t s, Point2 uv) const {
   if (l.nu == 0) return photons_.ChartDensity(s, uv);
   const float fu = (uv.u - l.lo.u) / l.spacing, fv = (uv.v - l.lo.v) / l.spacing;
   const int i = int(std::floor(fu)), j = int(std::floor(fv));
-  if (i < 0 || j < 0 || i >= l.nu || j >= l.nv || !l.whole[size_t(j) * l.nu + i]) return photons_.ChartDensity(s, uv);
+  if (!l.Whole(i, j)) return photons_.ChartDensity(s, uv);
   const float a = fu - float(i), b = fv - float(j);
   return Node(l, s, i, j) * ((1 - a) * (1 - b)) + Node(l, s, i + 1, j) * (a * (1 - b)) +
          Node(l, s, i, j + 1) * ((1 - a) * b) + Node(l, s, i + 1, j + 1) * (a * b);
