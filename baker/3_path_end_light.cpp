@@ -9,8 +9,8 @@
 
 namespace pb {
 
-// A surface's lattice: nodes lo + (i, j) spacing, i in [0, nu], j in [0, nv]; cell (i, j) has nodes (i, j) to
-// (i + 1, j + 1). Empty (nu = 0) where the surface is read directly.
+// A tabled surface's lattice: nodes lo + (i, j) spacing, i in [0, nu], j in [0, nv]; cell (i, j) has nodes (i, j)
+// to (i + 1, j + 1).
 struct PathEndLight::Lattice {
   Point2 lo{};
   float spacing = 0;
@@ -62,23 +62,21 @@ PathEndLight::Shape PathEndLight::ShapeOf(uint32_t s) const {
 
 PathEndLight::~PathEndLight() = default;
 
-// The lattice of h / kNodesPerH over the surface's chart, and which of its cells lie wholly on the surface.
+// The lattice of h / kNodesPerH over a tabled surface's chart, and which of its cells lie wholly on the surface.
 PathEndLight::Lattice& PathEndLight::LatticeOf(uint32_t s) const {
   std::call_once(latticeOnce_[s], [&] {
     auto lattice = std::make_unique<Lattice>();
     const SurfaceRegion& region = *scene_.regions[s];
-    if (tabled_[s]) {
-      const Shape shape = ShapeOf(s);
-      Lattice& l = *lattice;
-      l.lo = region.Bounds().lo, l.spacing = shape.spacing, l.nu = shape.nu, l.nv = shape.nv;
-      const std::vector<double> areas = region.GridOverlapAreas(l.lo, l.spacing, l.nu, l.nv);
-      const double whole = 0.999 * double(l.spacing) * l.spacing;
-      l.whole.resize(areas.size());
-      std::transform(areas.begin(), areas.end(), l.whole.begin(), [&](double a) { return uint8_t(a >= whole); });
-      l.nodes.resize(size_t(l.nu + 1) * size_t(l.nv + 1));
-      l.tilesU = l.nu / kTile + 1;
-      l.filled.reset(new std::once_flag[size_t(l.tilesU) * size_t(l.nv / kTile + 1)]);
-    }
+    const Shape shape = ShapeOf(s);
+    Lattice& l = *lattice;
+    l.lo = region.Bounds().lo, l.spacing = shape.spacing, l.nu = shape.nu, l.nv = shape.nv;
+    const std::vector<double> areas = region.GridOverlapAreas(l.lo, l.spacing, l.nu, l.nv);
+    const double whole = 0.999 * double(l.spacing) * l.spacing;
+    l.whole.resize(areas.size());
+    std::transform(areas.begin(), areas.end(), l.whole.begin(), [&](double a) { return uint8_t(a >= whole); });
+    l.nodes.resize(size_t(l.nu + 1) * size_t(l.nv + 1));
+    l.tilesU = l.nu / kTile + 1;
+    l.filled.reset(new std::once_flag[size_t(l.tilesU) * size_t(l.nv / kTile + 1)]);
     lattices_[s] = std::move(lattice);
   });
   return *lattices_[s];
@@ -100,9 +98,8 @@ Rgb PathEndLight::Node(Lattice& l, uint32_t s, int i, int j) const {
 }
 
 Rgb PathEndLight::ChartDensity(uint32_t s, Point2 uv) const {
-  if (direct_) return photons_.ChartDensity(s, uv);
+  if (direct_ || !tabled_[s]) return photons_.ChartDensity(s, uv);
   Lattice& l = LatticeOf(s);
-  if (l.nu == 0) return photons_.ChartDensity(s, uv);
   const float fu = (uv.u - l.lo.u) / l.spacing, fv = (uv.v - l.lo.v) / l.spacing;
   const int i = int(std::floor(fu)), j = int(std::floor(fv));
   if (!l.Whole(i, j)) return photons_.ChartDensity(s, uv);
@@ -114,8 +111,9 @@ Rgb PathEndLight::ChartDensity(uint32_t s, Point2 uv) const {
 Rgb PathEndLight::Pooled(uint32_t triangle, float b1, float b2) const {
   const Scene& mesh = scene_.scene;
   const Normal3 normal = mesh.FrontNormal(triangle);
+  const auto at = [&](float u, float v) { return photons_.PooledAt(mesh.PointAt(triangle, u, v), normal).irradiance; };
   const uint32_t slot = pooledSlot_[triangle];
-  if (slot == UINT32_MAX || direct_) return photons_.PooledAt(mesh.PointAt(triangle, b1, b2), normal).irradiance;
+  if (slot == UINT32_MAX || direct_) return at(b1, b2);
   Corners& c = corners_[slot];
   std::call_once(c.filled, [&] {
     float longest = 0;
@@ -124,7 +122,7 @@ Rgb PathEndLight::Pooled(uint32_t triangle, float b1, float b2) const {
     if (c.interpolated)
       for (int k = 0; k < 3; ++k) c.light[size_t(k)] = photons_.PooledAt(mesh.Corner(triangle, k), normal).irradiance;
   });
-  if (!c.interpolated) return photons_.PooledAt(mesh.PointAt(triangle, b1, b2), normal).irradiance;
+  if (!c.interpolated) return at(b1, b2);
   return c.light[0] * (1 - b1 - b2) + c.light[1] * b1 + c.light[2] * b2;
 }
 

@@ -70,7 +70,7 @@ class PathEndLight {
   bool smooth_;  // the photons' estimate is a kernel's
   bool direct_ = false;
   std::vector<uint8_t> tabled_;  // per surface: within the plan
-  // Per surface, made the first time a path ends on it.
+  // Per tabled surface, made the first time a path ends on it.
   std::unique_ptr<std::once_flag[]> latticeOnce_;
   mutable std::vector<std::unique_ptr<Lattice>> lattices_;
   std::vector<uint32_t> pooledSlot_;                 // per triangle: its Corners, or UINT32_MAX
