@@ -181,6 +181,7 @@ double PhotonIrradiance::UniformNoise(uint32_t s, uint64_t hits, double area) co
 NoisyIrradiance PointSampledIrradiance::WithNoise(const SurfacePoint& p) const {
   Rng rng = PointStream(seed_, p);
   const DirectSample e = Sample(RayStart(scene_, p).position, p.normal, count_, rng, nullptr);
+  drawn_.fetch_add(e.samples, std::memory_order_relaxed);
   return {e.irradiance, e.relativeNoise};
 }
 

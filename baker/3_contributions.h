@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <optional>
 #include <string>
 #include <memory>
@@ -44,6 +45,9 @@ class IrradianceContribution {
   virtual NoisyIrradiance WithNoise(const SurfacePoint& p) const = 0;
   // Adds the moments of the light this term brings to p (estimators/incident_moments.h).
   virtual void AddMoments(const SurfacePoint& p, IncidentMoments& moments) const = 0;
+  // The samples WithNoise has drawn at points so far, over every thread (shadow rays, or --reference's paths); 0
+  // for a term drawn at no point (the photons').
+  virtual uint64_t SamplesDrawn() const { return 0; }
 };
 
 // h per surface [m]: settings.bandwidth everywhere, or, where it is none, chosen per surface from its photons (with
@@ -127,6 +131,7 @@ class PointSampledIrradiance : public IrradianceContribution {
   NoisyIrradiance WithNoise(const SurfacePoint& p) const final;
   // From the same samples as WithNoise's.
   void AddMoments(const SurfacePoint& p, IncidentMoments& moments) const final;
+  uint64_t SamplesDrawn() const final { return drawn_.load(std::memory_order_relaxed); }
 
  protected:
   PointSampledIrradiance(const PreparedScene& scene, uint32_t count, uint64_t seed)
@@ -140,6 +145,7 @@ class PointSampledIrradiance : public IrradianceContribution {
  private:
   uint32_t count_;
   uint64_t seed_;
+  mutable std::atomic<uint64_t> drawn_{0};
 };
 
 // The direct light at a point, sampled there with `direct.samples` shadow rays, or with as many as its noise

@@ -73,6 +73,7 @@ class GapGather final : public ScatteredLightField {
   // them again: a pilot over a few points would pay the tables' filling at nearly every end, and foretell the
   // whole estimate from that. Not while the gather is read.
   void ReadEndsDirectly(bool direct) { ends_.ReadDirectly(direct); }
+  uint64_t RaysCast() const { return gatherer_.RaysCast(); }  // by the gathered paths so far
 
  private:
   const PreparedScene& scene_;

@@ -32,6 +32,12 @@ void IrradianceField::Add(std::unique_ptr<IrradianceContribution> contribution) 
 
 void IrradianceField::GatherGaps(std::unique_ptr<GapGather> gaps) { gaps_ = std::move(gaps); }
 
+FieldWork IrradianceField::Work() const {
+  FieldWork work{0, gaps_ ? gaps_->RaysCast() : 0};
+  for (const auto& c : contributions_) work.pointSamples += c->SamplesDrawn();
+  return work;
+}
+
 std::span<const uint32_t> IrradianceField::SmallLeftOut() const {
   return gaps_ ? std::span<const uint32_t>(gaps_->SmallLeftOut()) : std::span<const uint32_t>();
 }

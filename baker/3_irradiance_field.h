@@ -59,6 +59,14 @@ struct SurfaceLight {
   Rgb Radiance() const { return OutgoingRadiance(emitted, albedo, irradiance); }
 };
 
+// The work of the field's reads so far, counted over every thread: the samples drawn at the points (shadow rays, or
+// --reference's paths) and the rays of the paths gathered in gaps (segments and light samples). What the rounds
+// weigh each source's noise against (baker/photons/progressive.h, RoundWork).
+struct FieldWork {
+  uint64_t pointSamples = 0, gatheredRays = 0;
+  FieldWork operator-(const FieldWork& o) const { return {pointSamples - o.pointSamples, gatheredRays - o.gatheredRays}; }
+};
+
 class IrradianceField {
  public:
   // `scene` must outlive the field.
@@ -86,6 +94,7 @@ class IrradianceField {
     if (gaps_) gaps_->ReadEndsDirectly(direct);
   }
   const std::vector<GapWeight>& GapWeights() const { return gapWeights_; }  // per surface; empty before WeighGaps
+  FieldWork Work() const;
   // What the process that finishes a bake (rank 0 of a distributed one) gives the field after the vertices' estimate:
   // each surface's gap weight (WeighGaps) and which of the small surfaces left out the rounds' spare time gathered
   // (GatherAtPoints). As bytes of the same length on every process of a distributed bake, so that rank 0's can be

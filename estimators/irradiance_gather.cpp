@@ -13,11 +13,13 @@ IrradianceGatherer::IrradianceGatherer(const Scene& scene, const RayScene& rays,
                                        uint32_t maxDepth, const ImportanceCache* guide)
     : scene_(scene), rays_(rays), lights_(lights), maxDepth_(maxDepth), guide_(guide) {}
 
-Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, const ScatteredLightField* field) const {
+Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, const ScatteredLightField* field,
+                                          uint64_t& rays) const {
   Rgb radiance, throughput{1, 1, 1};
   bool countEmission = false;  // only after a specular event: the light samples cover every other path to a light
   for (uint32_t depth = 0; depth < maxDepth_; ++depth) {
     const auto hit = rays_.Intersect(origin, d);
+    ++rays;
     if (!hit) {  // the sky, seen through mirrors and glass (the light samples cover it after a diffuse bounce)
       if (countEmission) radiance = radiance + throughput * lights_.SkyRadiance(d);
       break;
@@ -32,6 +34,7 @@ Rgb IrradianceGatherer::ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, co
     if (s.event == ScatterEvent::kDiffuse) {
       // Kd / pi E_d(y), over the probability of this lobe: s.weight is Kd / P(diffuse) for cosine sampling.
       const DirectSample direct = lights_.Irradiance(y.point, y.side, 1, rng);
+      ++rays;
       const std::optional<Rgb> scattered = field ? field->ScatteredAt(*hit, y.onFront) : std::nullopt;
       radiance = radiance + throughput * s.weight * (direct.irradiance + scattered.value_or(Rgb{})) * float(kInvPi);
       if (scattered) break;  // the field holds the rest of this path's light
@@ -58,6 +61,7 @@ DirectSample IrradianceGatherer::Gather(Point3 p, Normal3 n, uint32_t paths, Rng
   const ImportanceMap* map = guide_ ? guide_->At(p, n) : nullptr;
   SampleMean mean;
   IncidentMoments sum;  // of the paths, each at weight 1
+  uint64_t rays = direct ? paths : 0;  // the light samples at p, and below the paths' own
   for (uint32_t k = 0; k < paths; ++k) {
     IncidentMoments path;
     IncidentMoments* const each = moments != nullptr ? &path : nullptr;
@@ -65,7 +69,7 @@ DirectSample IrradianceGatherer::Gather(Point3 p, Normal3 n, uint32_t paths, Rng
     const Point2 u = rng.Uniform2();
     const auto [local, factor] = FirstDirection(map, u);  // factor: cos / pdf
     const Vector3 w = frame.ToWorld(local);
-    const Rgb scattered = ScatteredRadiance(origin, w, rng, field) * factor;
+    const Rgb scattered = ScatteredRadiance(origin, w, rng, field, rays) * factor;
     if (each == nullptr) {
       mean.Add(e + scattered);
       continue;
@@ -78,6 +82,7 @@ DirectSample IrradianceGatherer::Gather(Point3 p, Normal3 n, uint32_t paths, Rng
     moments->Add(sum, 1.0f / float(paths));
     moments->covariance.Add(mean.VectorCovariance(), 1);
   }
+  raysCast_.fetch_add(rays, std::memory_order_relaxed);
   return mean.Result();
 }
 

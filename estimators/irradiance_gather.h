@@ -24,6 +24,7 @@
 // The relative noise is the S paths' standard error over their mean. Deterministic for a given Rng stream.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <utility>
@@ -73,6 +74,10 @@ class IrradianceGatherer {
   static constexpr uint32_t kPilotPaths = 64;
   DirectSample AdaptiveScatteredIrradiance(Point3 p, Normal3 n, double target, uint32_t maxPaths, Rng& rng,
                                            const ScatteredLightField& field, IncidentMoments* moments = nullptr) const;
+  // The rays its paths have cast so far, over every thread: each segment and each light sample (the work the
+  // rounds weigh against the shadow rays' and the photons', baker/photons/progressive.h). A count, not a time, so
+  // that what is planned from it is the same on any machine.
+  uint64_t RaysCast() const { return raysCast_.load(std::memory_order_relaxed); }
 
  private:
   // The mean over `paths` paths of E_d (one light sample, when `direct`) + pi L_s.
@@ -82,13 +87,15 @@ class IrradianceGatherer {
   static std::pair<Vector3, float> FirstDirection(const ImportanceMap* map, Point2 u);
   // L_s along the ray from p (already offset) in direction d: radiance that scattered at least once [W/(m^2 sr)];
   // with a field, ended at the first diffuse hit where it can be read.
-  Rgb ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, const ScatteredLightField* field = nullptr) const;
+  // `rays` counts the rays it casts.
+  Rgb ScatteredRadiance(Point3 origin, Vector3 d, Rng& rng, const ScatteredLightField* field, uint64_t& rays) const;
 
   const Scene& scene_;
   const RayScene& rays_;
   const LightSampler& lights_;
   uint32_t maxDepth_;
   const ImportanceCache* guide_;
+  mutable std::atomic<uint64_t> raysCast_{0};
 };
 
 }  // namespace pb

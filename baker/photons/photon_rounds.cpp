@@ -128,6 +128,16 @@ void PhotonRounds::TraceRound() {
   });
 }
 
+namespace {
+
+// The rays a photon cast on average: one to each surface it met and one for its end where it left the scene.
+double RaysPerPhoton(const TraceStats& s) {
+  const double rays = double(s.diffuseBounces + s.SpecularEvents() + s.absorbed + s.escaped + s.forbidden + s.truncated);
+  return s.emitted > 0 ? rays / double(s.emitted) : 0.0;
+}
+
+}  // namespace
+
 // Where the rounds of --target-noise stand after one (baker/photons/progressive.h).
 RoundState PhotonRounds::StateAfterRound() const {
   const bool sampled = settings_.sampledDirect;
@@ -144,7 +154,10 @@ RoundState PhotonRounds::StateAfterRound() const {
           .traceSeconds = now.traced,
           .binSeconds = now.binned - start.binned,
           .estimateSeconds = now.elapsed - start.elapsed - (now.traced - start.traced) - (now.binned - start.binned),
-          .bytesPerPhoton = std::max(double(store_.StoredHits() * sizeof(PhotonHit)), PeakMemoryBytes() - baseline_) / emitted};
+          .bytesPerPhoton = std::max(double(store_.StoredHits() * sizeof(PhotonHit)), PeakMemoryBytes() - baseline_) / emitted,
+          .raysPerPhoton = RaysPerPhoton(store_.stats),
+          .pointWork = double(work_.pointSamples),
+          .gatheredWork = double(work_.gatheredRays)};
 }
 
 // Ends the rounds (true) when the target is met, Ctrl-C came or the next round cannot help or fit; else sets the

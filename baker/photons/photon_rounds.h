@@ -86,6 +86,9 @@ class PhotonRounds {
   // Ctrl-C (`interrupted`) or the deadline stopped a later round's estimate: the rounds end, the bake keeping the
   // round before's vertices (reported, and warned about).
   void EstimateInterrupted(bool interrupted);
+  // The work of the round's estimate, over every process (IrradianceField::Work): the samples drawn at the points and
+  // the gathered paths' rays, which the next round's plan weighs each source's noise against (SharesByWork).
+  void CountEstimateWork(uint64_t pointSamples, uint64_t gatheredRays) { work_ = {pointSamples, gatheredRays}; }
   // The time [s since the bake began] after which a round's estimate takes no more vertices: kEstimateDeadlineShare
   // of --max-seconds with rounds, else none (infinity); Ctrl-C stops it too. The first round's pilot foretells its
   // estimate (FitFirstEstimate), and is off by 2-3x on some scenes: this bounds the bake whatever it foretold.
@@ -173,6 +176,9 @@ class PhotonRounds {
   ClockReading ReadClock() const { return {clock_.Elapsed(), clock_.Seconds("trace"), clock_.Seconds("bin")}; }
   ClockReading roundStart_;  // when the round began
   uint32_t traced_ = 0;      // rounds traced, on every process (report_.rounds is rank 0's alone)
+  struct {
+    uint64_t pointSamples = 0, gatheredRays = 0;
+  } work_;  // CountEstimateWork's
 };
 
 }  // namespace pb

@@ -156,18 +156,18 @@ double BakeDirectionNoise(const BakedMesh& baked) {
   return WeightedPercentile(baked.directionNoise, DisplayWeights(baked), 0.95);
 }
 
-constexpr double kPointShare = 0.6;
-
 namespace {
 
 // The remedy for a statistic(photonScale, pointScale) of the bake that falls as either scale does: the points'
-// own part first, to 60% of the target where it is more, which leaves 80% to the photons': raising the photons
-// instead where the points hold most of the target costs them a square of what is left (at 90%, 5x).
+// own part first, to `share` of the target where it is more (by default 60%, which leaves 80% to the photons':
+// raising the photons instead where the points hold most of the target costs them a square of what is left (at
+// 90%, 5x)).
 template <typename Statistic>
-NoiseRemedy RemedyFor(Statistic statistic, double target, uint64_t photons, uint32_t pointSamples, bool raisePoints) {
+NoiseRemedy RemedyFor(Statistic statistic, double target, uint64_t photons, uint32_t pointSamples, bool raisePoints,
+                      double share) {
   NoiseRemedy remedy{photons, pointSamples};
-  if (raisePoints && pointSamples > 0 && statistic(0, 1) > kPointShare * target) {
-    const double s = LargestScaleWithin(kPointShare * target, [&](double k) { return statistic(0, k); });
+  if (raisePoints && pointSamples > 0 && statistic(0, 1) > share * target) {
+    const double s = LargestScaleWithin(share * target, [&](double k) { return statistic(0, k); });
     if (s > 0) remedy.pointSamples = uint32_t(std::min(std::ceil(pointSamples / s), 1e6));
   }
   const double pointScale = double(pointSamples) / double(std::max(remedy.pointSamples, 1u));
@@ -179,15 +179,15 @@ NoiseRemedy RemedyFor(Statistic statistic, double target, uint64_t photons, uint
 }  // namespace
 
 NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
-                           bool raisePoints, double gatheredScale) {
+                           bool raisePoints, double gatheredScale, double pointShare) {
   const VertexNoise vertices(baked);
   // The points' part alone (k = 0) is their samples', without the gathered paths', which their samples cannot lower.
   return RemedyFor([&](double k, double s) { return vertices.Percentile(k, s, k == 0 ? 0 : gatheredScale); }, target,
-                   photons, pointSamples, raisePoints);
+                   photons, pointSamples, raisePoints, pointShare);
 }
 
 NoiseRemedy RemedyForError(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
-                           bool raisePoints, bool bandwidthFollows, double gatheredScale) {
+                           bool raisePoints, bool bandwidthFollows, double gatheredScale, double pointShare) {
   // The points' part alone leaves the bias and the gathered paths' noise out: their samples cannot lower either.
   // With h chosen again for n / k photons, h^6 ~ k: the photons' variance (~ k / h^2) and the bias's square (~ h^4)
   // both scale as k^(2/3).
@@ -197,7 +197,23 @@ NoiseRemedy RemedyForError(const BakedMesh& baked, double target, uint64_t photo
     return bandwidthFollows ? PredictedError(baked, std::cbrt(k * k), s, std::cbrt(k * k), g).Total()
                             : PredictedError(baked, k, s, 1, g).Total();
   };
-  return RemedyFor(statistic, target, photons, pointSamples, raisePoints);
+  return RemedyFor(statistic, target, photons, pointSamples, raisePoints, pointShare);
+}
+
+TargetShares SharesByWork(const NoiseParts& alone, double bias, const RoundState& state, double target) {
+  if (state.raysPerPhoton <= 0) return {};
+  const bool points = state.raiseShadowRays && state.shadowRays > 0, gathered = state.raiseGapPaths && state.gapPaths > 0;
+  // The variance left to the sources the rounds raise, and each one's weight sqrt(A_i C_i).
+  double budget = target * target - bias * bias;
+  if (!points) budget -= alone.points * alone.points;
+  if (!gathered) budget -= alone.gathered * alone.gathered;
+  const double photonsWeight = alone.photons * std::sqrt(state.raysPerPhoton * double(state.photons));
+  const double pointsWeight = points ? alone.points * std::sqrt(state.pointWork) : 0.0;
+  const double gatheredWeight = gathered ? alone.gathered * std::sqrt(state.gatheredWork) : 0.0;
+  const double weights = photonsWeight + pointsWeight + gatheredWeight;
+  if (!(budget > 0) || !(weights > 0)) return {};
+  const auto share = [&](double weight) { return std::sqrt(budget * weight / weights) / target; };
+  return {points ? share(pointsWeight) : kPointShare, gathered ? share(gatheredWeight) : kGatheredShare};
 }
 
 namespace {
@@ -223,20 +239,20 @@ double RoundSeconds(const RoundState& state, uint64_t n, double rayGrowth) {
 }
 
 // The shadow rays of the next round where the points hold the noise, and how much their cost grows. From rays alike
-// at every point: each takes its own count, to kPointShare of the target, the one its direct light's noise (the
+// at every point: each takes its own count, to its share of the target (TargetShares), the one its direct light's noise (the
 // points' noise over the direct light's share of H) predicts. From a count already per point: its target lowered as
 // `variance` (the points' variance that the remedy asks for, as a fraction of today's) asks, and the most raised.
 struct PointRays {
   uint32_t most = 0;
   double target = 0, growth = 1;
 };
-PointRays PointRaysFor(const BakedMesh& baked, const RoundState& state, uint32_t uniform, double target) {
+PointRays PointRaysFor(const BakedMesh& baked, const RoundState& state, uint32_t uniform, double target, double share) {
   const double variance = double(state.shadowRays) / double(uniform);
   if (state.directNoise > 0) {
     const double growth = std::pow(variance, -0.5 / LightSampler::kStratifiedOrder);
     return {SquareAtLeast(state.shadowRays * growth), state.directNoise * std::sqrt(variance), growth};
   }
-  PointRays next{SquareAtLeast(4.0 * uniform), kPointShare * target, 1};
+  PointRays next{SquareAtLeast(4.0 * uniform), share * target, 1};
   double rays = 0;
   const size_t n = baked.irradianceNoise.size();
   for (size_t v = 0; v < n; ++v) {
@@ -253,17 +269,25 @@ PointRays PointRaysFor(const BakedMesh& baked, const RoundState& state, uint32_t
 
 // The paths gathered in gaps, raised where their own noise alone passes half the target, to half of it: the
 // factor by which their variance is to fall (1: as they are). Their noise falls as one over the root of the paths.
-constexpr double kGatheredShare = 0.5;
 constexpr uint32_t kMostGapPaths = 1 << 16;
-double GatheredScale(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits) {
+double GatheredScale(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits, double share) {
   if (!state.raiseGapPaths || state.gapPaths == 0) return 1;
   const VertexNoise vertices(baked);
   const auto alone = [&](double g) {
     return limits.error ? PredictedError(baked, 0, 0, 0, g).Total() : vertices.Percentile(0, 0, g);
   };
-  if (alone(1) <= kGatheredShare * limits.target) return 1;
-  const double g = LargestScaleWithin(kGatheredShare * limits.target, alone);
+  if (alone(1) <= share * limits.target) return 1;
+  const double g = LargestScaleWithin(share * limits.target, alone);
   return std::max(g, double(state.gapPaths) / kMostGapPaths);
+}
+
+// The shares of the round's target (SharesByWork), from each source's part of the statistic the target bounds.
+TargetShares PlannedShares(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits) {
+  if (state.raysPerPhoton <= 0) return {};
+  if (!limits.error) return SharesByWork(BakeNoiseParts(baked), 0, state, limits.target);
+  const NoiseParts alone{PredictedError(baked, 1, 0, 0, 0).noise, PredictedError(baked, 0, 1, 0, 0).noise,
+                         PredictedError(baked, 0, 0, 0, 1).noise};
+  return SharesByWork(alone, PredictedError(baked).bias, state, limits.target);
 }
 
 // Why no photon count helps, or what caps it.
@@ -285,12 +309,13 @@ std::string StopReason(const BakedMesh& baked, const NoiseRemedy& remedy, const 
 NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const RoundLimits& given) {
   RoundLimits limits = given;
   limits.target *= kPlanMargin;
-  const double gatheredScale = GatheredScale(baked, state, limits);
+  const TargetShares shares = PlannedShares(baked, state, limits);
+  const double gatheredScale = GatheredScale(baked, state, limits, shares.gathered);
   const NoiseRemedy remedy =
       limits.error ? RemedyForError(baked, limits.target, state.photons, state.shadowRays, state.raiseShadowRays,
-                                    state.bandwidthFollows, gatheredScale)
+                                    state.bandwidthFollows, gatheredScale, shares.points)
                    : RemedyForNoise(baked, limits.target, state.photons, state.shadowRays, state.raiseShadowRays,
-                                    gatheredScale);
+                                    gatheredScale, shares.points);
   NextRound next{state.photons, state.shadowRays, state.directNoise, ""};
   double rayGrowth = 1;
   if (gatheredScale < 1) {  // the gathering's cost grows with its paths, at most as the estimate's
@@ -298,7 +323,7 @@ NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const R
     rayGrowth = double(next.gapPaths) / double(state.gapPaths);
   }
   if (remedy.pointSamples > state.shadowRays) {
-    const PointRays rays = PointRaysFor(baked, state, remedy.pointSamples, limits.target);
+    const PointRays rays = PointRaysFor(baked, state, remedy.pointSamples, limits.target, shares.points);
     next.shadowRays = std::max(rays.most, state.shadowRays), next.directNoise = rays.target;
     rayGrowth = std::max(rayGrowth, rays.growth);
   }

@@ -105,22 +105,27 @@ std::vector<BakeError> PredictedErrorPerSurface(const BakedMesh& baked, size_t s
 // weights as BakeNoise's; 0 without.
 double BakeDirectionNoise(const BakedMesh& baked);
 
+// The shares of a round's target that the points' own noise and the gathered paths' take when the work of each is
+// not known (SharesByWork).
+constexpr double kPointShare = 0.6, kGatheredShare = 0.5;
+
 // What would bring the bake's noise to `target`: the photon count, and the samples per point (shadow rays or
-// --reference paths) when the points' own noise alone passes 60% of it and `raisePoints` (to 60%; else the current
-// count). photons is the current count when no photon count reaches the target (the points' noise holds it).
+// --reference paths) when the points' own noise alone passes pointShare of it and `raisePoints` (to that share; else
+// the current count). photons is the current count when no photon count reaches the target (the points' noise holds it).
 struct NoiseRemedy {
   uint64_t photons = 0;
   uint32_t pointSamples = 0;
 };
 NoiseRemedy RemedyForNoise(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
-                           bool raisePoints = true, double gatheredScale = 1);
+                           bool raisePoints = true, double gatheredScale = 1, double pointShare = kPointShare);
 // The same for the predicted error (PredictedError): the photons' variance falls with their count, the points'
 // with their samples, and the smoothing bias with neither (h is held); photons is the current count where the
 // bias, or the points' noise, holds the error above the target.
 // With bandwidthFollows (--h auto chosen again each round), the photons' variance and the bias both fall with the
 // photons, as (n / n')^(2/3).
 NoiseRemedy RemedyForError(const BakedMesh& baked, double target, uint64_t photons, uint32_t pointSamples,
-                           bool raisePoints = true, bool bandwidthFollows = false, double gatheredScale = 1);
+                           bool raisePoints = true, bool bandwidthFollows = false, double gatheredScale = 1,
+                           double pointShare = kPointShare);
 
 // Where a bake with --target-noise stands after a round, and what bounds the next.
 struct RoundState {
@@ -136,7 +141,26 @@ struct RoundState {
   double binSeconds = 0;       // the last round's binning [s]
   double estimateSeconds = 0;  // the last round's estimate, everything after binning [s]
   double bytesPerPhoton = 0;   // the bake's memory per emitted photon: its peak beyond what it held before tracing, at least the store's
+  // The work each source took (RoundWork); all 0: not counted, and the plan gives the sources fixed shares.
+  double raysPerPhoton = 0;    // rays a photon cast on average (its segments)
+  double pointWork = 0;        // the last round's samples at the points (shadow rays, or --reference's paths)
+  double gatheredWork = 0;     // the rays of the last round's gathered paths (segments and light samples)
 };
+
+// The share of the target that each source's noise is planned to take, as a fraction of the target (the photons
+// take what the others leave). With the sources' work counted, the least work that meets the target: a source
+// whose variance A_i cost C_i (rays) costs C_i A_i / V_i to bring to V_i, so the least total over the V_i that sum
+// to the target's variance (less the bias's square, less the noise of the sources the rounds may not raise) gives
+// each V_i in proportion to sqrt(A_i C_i) (Lagrange). The work is counted in rays, a shadow ray, a path's segment
+// and a photon's alike, not timed, so that the plan, and the bytes, are the same on any machine and thread count;
+// the least total is flat about its optimum (a cost ratio off by 2 costs about 6% more work). Without counts, the
+// points' noise takes kPointShare of the target and the gathered paths' kGatheredShare.
+struct TargetShares {
+  double points = kPointShare, gathered = kGatheredShare;
+};
+// `alone`: each source's noise (or error) alone at today's samples, the statistic's; `bias`: the error's smoothing
+// bias (0 for a noise target).
+TargetShares SharesByWork(const NoiseParts& alone, double bias, const RoundState& state, double target);
 struct RoundLimits {
   float target = 0;           // --target-noise, or --target-error with `error`
   uint64_t maxPhotons = 0;    // --max-photons

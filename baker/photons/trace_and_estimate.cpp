@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <functional>
 #include <span>
@@ -86,6 +87,13 @@ void FinishAtTheFewestSamples(BakedMesh& baked, Lit& lit, const PreparedScene& s
   TakeUntakenChunks(baked, rest, taken);
 }
 
+// The work of a round's estimate (`work`: this process's), over every process, to the rounds.
+void CountTheWork(const FieldWork& work, PhotonRounds& rounds, const Distribution* d) {
+  std::array<int64_t, 2> counts{int64_t(work.pointSamples), int64_t(work.gatheredRays)};
+  if (d != nullptr) d->SumOnAll(counts);
+  rounds.CountEstimateWork(uint64_t(counts[0]), uint64_t(counts[1]));
+}
+
 // The bake's noise, predicted error and the noise's parts, from its vertices'.
 void JudgeTheVertices(Lit& lit, StageClock& clock) {
   clock.Time("noise", [&] {
@@ -107,6 +115,7 @@ std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& sce
   const double deadline = rounds.EstimateDeadline();
   std::vector<char> taken((base.VertexCount() + kVertexChunk - 1) / kVertexChunk, 0);
   std::atomic<bool> stopped{false};
+  const FieldWork before = lit.field->Work();
   const auto owns = [&](size_t chunk) {
     if (mayStop && (stopped || (d == nullptr && InterruptRequested()) || clock.Elapsed() > deadline)) {
       stopped = true;
@@ -126,6 +135,7 @@ std::optional<BakedMesh> EstimateUntilStopped(Lit& lit, const PreparedScene& sce
     for (size_t c = 0; c < taken.size(); ++c) taken[c] = d->ChunkHolder(c) != Distribution::kNobody;
     stopped = std::find(taken.begin(), taken.end(), 0) != taken.end();
   }
+  CountTheWork(lit.field->Work() - before, rounds, d);
   if (!stopped) return baked;
   const bool interrupted = d == nullptr && InterruptRequested();
   if (lit.baked.mesh.VertexCount() > 0) {

@@ -344,13 +344,20 @@ TEST(Direct, ASampledBakeIsTheSameOnAnyThreadCount) {
 // ---- the per-point reference (--reference SPP; estimators/irradiance_gather.h) ----
 
 // Over a black floor only the direct light arrives: the gathered E matches Lambert within 5 of its own standard
-// errors at every point, and the mean z^2 is near 1 (independent paths: the standard error is the true one).
+// errors at every point, and the mean z^2 is near 1 (independent paths: the standard error is the true one). Each
+// path casts two rays, which the gatherer counts (the work the rounds weigh, baker/photons/progressive.h): the light
+// sample at the point and its one segment, which leaves the scene or ends on the black light.
 TEST(Reference, OverABlackFloorItIsLambertsDirectLight) {
-  const LambertScores s = AgainstLambert("reference-lambert", 16, [](const test::TracedScene& scene, Point3 p, Rng& rng) {
+  uint64_t rays = 0, paths = 0;
+  const LambertScores s = AgainstLambert("reference-lambert", 16, [&](const test::TracedScene& scene, Point3 p, Rng& rng) {
     const LightSampler lights(scene.scene, scene.lights, *scene.rays);
-    return IrradianceGatherer(scene.scene, *scene.rays, lights).Irradiance(p, {0, 1, 0}, 64, rng);
+    const IrradianceGatherer gatherer(scene.scene, *scene.rays, lights);
+    const DirectSample e = gatherer.Irradiance(p, {0, 1, 0}, 64, rng);
+    rays += gatherer.RaysCast(), paths += 64;
+    return e;
   });
   EXPECT_NEAR(s.meanZ2, 1.0, 0.5);
+  EXPECT_EQ(rays, 2 * paths);
 }
 
 // Inside a closed grey sphere (albedo 1/2) around a small light, every bounce counts: E = Phi / (A (1 - rho))

@@ -329,6 +329,38 @@ TEST(RoundPlan, RaisesTheGatheredPathsWhereTheyHoldTheNoise) {
   EXPECT_NEAR(double(PlanNextRound(baked, state, error).gapPaths), 4096, 0.02 * 4096) << "the same for a target error";
 }
 
+// The same point's 6%, half the shadow rays' and half the gathered paths' (4.24% each), the photons' none, with the
+// work counted: the last round's gathered paths cast 9 times the rays of its shadow rays. The least work that meets
+// the target gives each source a variance in proportion to sqrt(A_i C_i), here 1 : 3 of the target's 0.03^2: the
+// points' noise to 0.5 of the target (so each point's direct target 1.5%) and the gathered paths' to sqrt(0.75) of
+// it, so the paths rise by 0.0018 / 0.000675 = 2.67 (to 683), not by 8 (to 2,048) as with the fixed shares, and the
+// rounds' work to about 8 + 9 x 2.67 = 32 rays for every one of the last round's shadow rays, where the fixed
+// shares' would be 5.6 + 9 x 8 = 78.
+TEST(RoundPlan, TheTargetIsSharedByTheWorkEachSourceTook) {
+  BakedMesh baked = NoisyTriangle(0.06, 0.0);
+  baked.gatheredVarianceShare.assign(3, 0.5);
+  RoundState state = Round(256, true);
+  state.gapPaths = 256, state.raiseGapPaths = true;
+  state.raysPerPhoton = 3, state.pointWork = 1e6, state.gatheredWork = 9e6;
+  const TargetShares shares = SharesByWork(BakeNoiseParts(baked), 0, state, 0.03);
+  EXPECT_NEAR(shares.points, 0.5, 1e-9);
+  EXPECT_NEAR(shares.gathered, std::sqrt(0.75), 1e-9);
+  const NextRound next = PlanNextRound(baked, state, kLimits);
+  ASSERT_EQ(next.stop, "");
+  EXPECT_NEAR(next.directNoise, 0.015, 1e-9);
+  EXPECT_NEAR(double(next.gapPaths), 683, 0.02 * 683);
+  EXPECT_EQ(next.photons, state.photons) << "the photons' noise is none";
+  // Work alike: the two sources take the target's variance in halves.
+  state.gatheredWork = 1e6;
+  EXPECT_NEAR(SharesByWork(BakeNoiseParts(baked), 0, state, 0.03).gathered, std::sqrt(0.5), 1e-9);
+  // A bias of 2% leaves 0.03^2 - 0.02^2 to the noise; rays given (--direct-samples) keep their 4.24% out of it too,
+  // which passes it: the shares are then the fixed ones, and the remedies say what holds the error.
+  const TargetShares biased = SharesByWork(BakeNoiseParts(baked), 0.02, state, 0.03);
+  EXPECT_NEAR(biased.points, std::sqrt(0.5 * (0.0009 - 0.0004)) / 0.03, 1e-9);
+  state.raiseShadowRays = false;
+  EXPECT_EQ(SharesByWork(BakeNoiseParts(baked), 0.02, state, 0.03).gathered, kGatheredShare);
+}
+
 // Photons' noise only: n (noise / target)^2 with 10% to spare; within --max-photons, the store's memory and the
 // time budget, each of which ends the rounds when it leaves no step of 1.25 n.
 TEST(RoundPlan, GrowsThePhotonsWithinEveryLimit) {
