@@ -6,5 +6,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install-deps.sh
 build=${BUILD_DIR:-build}
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DPB_TEST_SOURCES_ONLY= "$@" >/dev/null  # all tests unless "$@" says
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DPB_TEST_SOURCES_ONLY= -DPB_BENCHMARKS=ON "$@" >/dev/null  # all tests and benchmarks unless "$@" says
 cmake --build "$build"

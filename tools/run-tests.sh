@@ -22,9 +22,10 @@ seed_test_costs() {
 }
 phase_start=$SECONDS
 # With the sanitizer pass, the plain tree builds and runs only the tests that pass leaves out or cannot run
-# (tools/plain-only-tests.sh): every test runs once, in the tree that checks the most.
+# (tools/plain-only-tests.sh): every test runs once, in the tree that checks the most. No benchmark there: no test
+# runs one (22 s of compiling; tools/build.sh builds them again).
 if [ "${SANITIZE:-1}" != 0 ]; then
-  bash tools/build.sh "-DPB_TEST_SOURCES_ONLY=$(bash tools/plain-only-tests.sh)"
+  bash tools/build.sh "-DPB_TEST_SOURCES_ONLY=$(bash tools/plain-only-tests.sh)" -DPB_BENCHMARKS=OFF
 else
   bash tools/build.sh
 fi
