@@ -200,16 +200,23 @@ NoiseRemedy RemedyForError(const BakedMesh& baked, double target, uint64_t photo
   return RemedyFor(statistic, target, photons, pointSamples, raisePoints, pointShare);
 }
 
-TargetShares SharesByWork(const NoiseParts& alone, double bias, const RoundState& state, double target) {
+TargetShares SharesByWork(const NoiseParts& alone, double bias, const RoundState& state, double target,
+                          double mostPhotons) {
   if (state.raysPerPhoton <= 0) return {};
   const bool points = state.raiseShadowRays && state.shadowRays > 0, gathered = state.raiseGapPaths && state.gapPaths > 0;
   // The variance left to the sources the rounds raise, and each one's weight sqrt(A_i C_i).
   double budget = target * target - bias * bias;
   if (!points) budget -= alone.points * alone.points;
   if (!gathered) budget -= alone.gathered * alone.gathered;
-  const double photonsWeight = alone.photons * std::sqrt(state.raysPerPhoton * double(state.photons));
+  double photonsWeight = alone.photons * std::sqrt(state.raysPerPhoton * double(state.photons));
   const double pointsWeight = points ? alone.points * std::sqrt(state.pointWork) : 0.0;
   const double gatheredWeight = gathered ? alone.gathered * std::sqrt(state.gatheredWork) : 0.0;
+  // Photons past their most (--max-photons, memory) are held there, and the others share what that leaves.
+  const double photonsVariance = alone.photons * alone.photons;
+  const double growth = mostPhotons / double(std::max<uint64_t>(state.photons, 1));
+  if (budget > 0 && photonsWeight > 0 &&
+      photonsVariance * (photonsWeight + pointsWeight + gatheredWeight) > growth * budget * photonsWeight)
+    budget -= photonsVariance / std::max(growth, 1.0), photonsWeight = 0;
   const double weights = photonsWeight + pointsWeight + gatheredWeight;
   if (!(budget > 0) || !(weights > 0)) return {};
   const auto share = [&](double weight) { return std::sqrt(budget * weight / weights) / target; };
@@ -284,10 +291,12 @@ double GatheredScale(const BakedMesh& baked, const RoundState& state, const Roun
 // The shares of the round's target (SharesByWork), from each source's part of the statistic the target bounds.
 TargetShares PlannedShares(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits) {
   if (state.raysPerPhoton <= 0) return {};
-  if (!limits.error) return SharesByWork(BakeNoiseParts(baked), 0, state, limits.target);
+  const double most = std::min(double(limits.maxPhotons), state.bytesPerPhoton > 0 ? limits.maxStoreBytes / state.bytesPerPhoton
+                                                                                    : double(limits.maxPhotons));
+  if (!limits.error) return SharesByWork(BakeNoiseParts(baked), 0, state, limits.target, most);
   const NoiseParts alone{PredictedError(baked, 1, 0, 0, 0).noise, PredictedError(baked, 0, 1, 0, 0).noise,
                          PredictedError(baked, 0, 0, 0, 1).noise};
-  return SharesByWork(alone, PredictedError(baked).bias, state, limits.target);
+  return SharesByWork(alone, PredictedError(baked).bias, state, limits.target, most);
 }
 
 // Why no photon count helps, or what caps it.

@@ -159,8 +159,11 @@ struct TargetShares {
   double points = kPointShare, gathered = kGatheredShare;
 };
 // `alone`: each source's noise (or error) alone at today's samples, the statistic's; `bias`: the error's smoothing
-// bias (0 for a noise target).
-TargetShares SharesByWork(const NoiseParts& alone, double bias, const RoundState& state, double target);
+// bias (0 for a noise target); `mostPhotons`: what --max-photons and the memory let the photons reach. Photons that
+// the least work would raise past it are held there (a bound met, the others share what they leave: Kuhn-Tucker);
+// where even that leaves no variance to share, the fixed shares, and the remedies then say what holds the rounds.
+TargetShares SharesByWork(const NoiseParts& alone, double bias, const RoundState& state, double target,
+                          double mostPhotons);
 struct RoundLimits {
   float target = 0;           // --target-noise, or --target-error with `error`
   uint64_t maxPhotons = 0;    // --max-photons

@@ -342,7 +342,7 @@ TEST(RoundPlan, TheTargetIsSharedByTheWorkEachSourceTook) {
   RoundState state = Round(256, true);
   state.gapPaths = 256, state.raiseGapPaths = true;
   state.raysPerPhoton = 3, state.pointWork = 1e6, state.gatheredWork = 9e6;
-  const TargetShares shares = SharesByWork(BakeNoiseParts(baked), 0, state, 0.03);
+  const TargetShares shares = SharesByWork(BakeNoiseParts(baked), 0, state, 0.03, 1e8);
   EXPECT_NEAR(shares.points, 0.5, 1e-9);
   EXPECT_NEAR(shares.gathered, std::sqrt(0.75), 1e-9);
   const NextRound next = PlanNextRound(baked, state, kLimits);
@@ -352,13 +352,28 @@ TEST(RoundPlan, TheTargetIsSharedByTheWorkEachSourceTook) {
   EXPECT_EQ(next.photons, state.photons) << "the photons' noise is none";
   // Work alike: the two sources take the target's variance in halves.
   state.gatheredWork = 1e6;
-  EXPECT_NEAR(SharesByWork(BakeNoiseParts(baked), 0, state, 0.03).gathered, std::sqrt(0.5), 1e-9);
+  EXPECT_NEAR(SharesByWork(BakeNoiseParts(baked), 0, state, 0.03, 1e8).gathered, std::sqrt(0.5), 1e-9);
   // A bias of 2% leaves 0.03^2 - 0.02^2 to the noise; rays given (--direct-samples) keep their 4.24% out of it too,
   // which passes it: the shares are then the fixed ones, and the remedies say what holds the error.
-  const TargetShares biased = SharesByWork(BakeNoiseParts(baked), 0.02, state, 0.03);
+  const TargetShares biased = SharesByWork(BakeNoiseParts(baked), 0.02, state, 0.03, 1e8);
   EXPECT_NEAR(biased.points, std::sqrt(0.5 * (0.0009 - 0.0004)) / 0.03, 1e-9);
   state.raiseShadowRays = false;
-  EXPECT_EQ(SharesByWork(BakeNoiseParts(baked), 0.02, state, 0.03).gathered, kGatheredShare);
+  EXPECT_EQ(SharesByWork(BakeNoiseParts(baked), 0.02, state, 0.03, 1e8).gathered, kGatheredShare);
+}
+
+// Half of the 6% the photons' (3 rays each), half the shadow rays' (as many rays as the photons cast a third of):
+// the points take 1 / (1 + sqrt 3) of the target's variance, which asks the photons to grow 3.15-fold. Where they may
+// grow only 2.5-fold (--max-photons, memory), they are held there and the points take what that leaves,
+// 0.03^2 - 0.0018 / 2.5; where only 2-fold, nothing is left and the shares are the fixed ones (the rounds then stop
+// on what holds them, as the box under a ulimit does: MemoryLimit.RoundsUnderAUlimitStopAtItAndWriteTheirOutputs).
+TEST(RoundPlan, PhotonsHeldAtTheirMostLeaveTheRestToTheOthers) {
+  const BakedMesh baked = NoisyTriangle(0.06, 0.5);
+  RoundState state = Round(256, true);
+  state.raysPerPhoton = 3, state.pointWork = 1e6;
+  const NoiseParts parts = BakeNoiseParts(baked);
+  EXPECT_NEAR(SharesByWork(parts, 0, state, 0.03, 1e8).points, std::sqrt(1 / (1 + std::sqrt(3.0))), 1e-9);
+  EXPECT_NEAR(SharesByWork(parts, 0, state, 0.03, 2.5e6).points, std::sqrt(0.0009 - 0.0018 / 2.5) / 0.03, 1e-9);
+  EXPECT_EQ(SharesByWork(parts, 0, state, 0.03, 2e6).points, kPointShare);
 }
 
 // Photons' noise only: n (noise / target)^2 with 10% to spare; within --max-photons, the store's memory and the
