@@ -61,7 +61,7 @@ struct SurfaceLight {
 
 // The work of the field's reads so far, counted over every thread: the samples drawn at the points (shadow rays, or
 // --reference's paths) and the rays of the paths gathered in gaps (segments and light samples). What the rounds
-// weigh each source's noise against (baker/photons/progressive.h, RoundWork).
+// weigh each source's noise against (baker/photons/progressive.h, SharesByWork).
 struct FieldWork {
   uint64_t pointSamples = 0, gatheredRays = 0;
   FieldWork operator-(const FieldWork& o) const { return {pointSamples - o.pointSamples, gatheredRays - o.gatheredRays}; }

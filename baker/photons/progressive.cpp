@@ -215,8 +215,10 @@ TargetShares SharesByWork(const NoiseParts& alone, double bias, const RoundState
   const double photonsVariance = alone.photons * alone.photons;
   const double growth = mostPhotons / double(std::max<uint64_t>(state.photons, 1));
   if (budget > 0 && photonsWeight > 0 &&
-      photonsVariance * (photonsWeight + pointsWeight + gatheredWeight) > growth * budget * photonsWeight)
-    budget -= photonsVariance / std::max(growth, 1.0), photonsWeight = 0;
+      photonsVariance * (photonsWeight + pointsWeight + gatheredWeight) > growth * budget * photonsWeight) {
+    budget -= photonsVariance / std::max(growth, 1.0);
+    photonsWeight = 0;
+  }
   const double weights = photonsWeight + pointsWeight + gatheredWeight;
   if (!(budget > 0) || !(weights > 0)) return {};
   const auto share = [&](double weight) { return std::sqrt(budget * weight / weights) / target; };

@@ -141,7 +141,7 @@ struct RoundState {
   double binSeconds = 0;       // the last round's binning [s]
   double estimateSeconds = 0;  // the last round's estimate, everything after binning [s]
   double bytesPerPhoton = 0;   // the bake's memory per emitted photon: its peak beyond what it held before tracing, at least the store's
-  // The work each source took (RoundWork); all 0: not counted, and the plan gives the sources fixed shares.
+  // The work each source took (SharesByWork); all 0: not counted, and the plan gives the sources fixed shares.
   double raysPerPhoton = 0;    // rays a photon cast on average (its segments)
   double pointWork = 0;        // the last round's samples at the points (shadow rays, or --reference's paths)
   double gatheredWork = 0;     // the rays of the last round's gathered paths (segments and light samples)
@@ -153,8 +153,8 @@ struct RoundState {
 // to the target's variance (less the bias's square, less the noise of the sources the rounds may not raise) gives
 // each V_i in proportion to sqrt(A_i C_i) (Lagrange). The work is counted in rays, a shadow ray, a path's segment
 // and a photon's alike, not timed, so that the plan, and the bytes, are the same on any machine and thread count;
-// the least total is flat about its optimum (a cost ratio off by 2 costs about 6% more work). Without counts, the
-// points' noise takes kPointShare of the target and the gathered paths' kGatheredShare.
+// the least total is flat about its optimum (two sources alike, one's cost misjudged by 2x: 3% more work; by 4x:
+// 12%). Without counts, the points' noise takes kPointShare of the target and the gathered paths' kGatheredShare.
 struct TargetShares {
   double points = kPointShare, gathered = kGatheredShare;
 };
