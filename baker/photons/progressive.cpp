@@ -290,11 +290,16 @@ double GatheredScale(const BakedMesh& baked, const RoundState& state, const Roun
   return std::max(g, double(state.gapPaths) / kMostGapPaths);
 }
 
+// The most photons the rounds may reach: --max-photons, and what the store's memory holds.
+double MostPhotons(const RoundState& state, const RoundLimits& limits) {
+  const double most = double(limits.maxPhotons);
+  return state.bytesPerPhoton > 0 ? std::min(most, limits.maxStoreBytes / state.bytesPerPhoton) : most;
+}
+
 // The shares of the round's target (SharesByWork), from each source's part of the statistic the target bounds.
 TargetShares PlannedShares(const BakedMesh& baked, const RoundState& state, const RoundLimits& limits) {
   if (state.raysPerPhoton <= 0) return {};
-  const double most = std::min(double(limits.maxPhotons), state.bytesPerPhoton > 0 ? limits.maxStoreBytes / state.bytesPerPhoton
-                                                                                    : double(limits.maxPhotons));
+  const double most = MostPhotons(state, limits);
   if (!limits.error) return SharesByWork(BakeNoiseParts(baked), 0, state, limits.target, most);
   const NoiseParts alone{PredictedError(baked, 1, 0, 0, 0).noise, PredictedError(baked, 0, 1, 0, 0).noise,
                          PredictedError(baked, 0, 0, 0, 1).noise};
@@ -340,8 +345,7 @@ NextRound PlanNextRound(const BakedMesh& baked, const RoundState& state, const R
   }
   double photons = remedy.photons > state.photons ? std::max(1.25, 1.1 * remedy.photons / double(state.photons)) * double(state.photons)
                                                   : double(state.photons);
-  photons = std::min(photons, double(limits.maxPhotons));
-  if (state.bytesPerPhoton > 0) photons = std::min(photons, limits.maxStoreBytes / state.bytesPerPhoton);
+  photons = std::min(photons, MostPhotons(state, limits));
   next.photons = std::max(state.photons, uint64_t(std::ceil(photons)));  // ceil: 1.25 n stays a step of 1.25 n
   // A step worth a round: 1.25 times the photons or the gathered paths, or the points' target first set or lowered
   // by 10% or more.
